@@ -1,0 +1,254 @@
+//! The device side of the link: bytes in, frames decoded, requests dispatched, replies out.
+//!
+//! This is the firmware's whole main-loop logic, kept in the core so the host's `inproc`
+//! link runs exactly the code the MCU runs. The firmware only moves bytes between its UART
+//! and [`Device::receive`].
+//!
+//! Every frame gets exactly one reply: the answer to the request, or an
+//! [`DeviceToHost::Error`] naming what was wrong with it (with [`UNPAIRED_REQUEST_ID`] when
+//! the frame was too damaged to carry a readable request id). Nothing a peer sends can
+//! panic the device or leave it in a state other than "waiting for the next frame".
+
+use heapless::String;
+
+use crate::frame::{self, FrameDecoder, FrameError};
+use crate::icd::{
+    DeviceInfo, DeviceToHost, ErrorCode, Header, HostToDevice, LinkStats, HOST_TO_DEVICE_VARIANTS,
+    MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, PROTOCOL_VERSION, UNPAIRED_REQUEST_ID,
+};
+
+/// Static facts about the device, reported in the handshake.
+#[derive(Clone, Copy, Debug)]
+pub struct DeviceConfig {
+    /// Firmware identification, e.g. `tracker-firmware 0.1.0 (mps2-an386)`.
+    pub firmware: &'static str,
+    /// Differs from boot to boot.
+    pub boot_id: u32,
+    /// Track table size.
+    pub max_tracks: u16,
+    /// Plots accepted per scan.
+    pub max_plots_per_scan: u16,
+}
+
+/// The link endpoint and request dispatcher of the tracker device.
+#[derive(Clone, Debug)]
+pub struct Device {
+    config: DeviceConfig,
+    decoder: FrameDecoder,
+    stats: LinkStats,
+    scratch: [u8; MAX_FRAME_BYTES],
+    tx: [u8; MAX_ENCODED_FRAME_BYTES],
+}
+
+impl Device {
+    /// A device waiting for its first frame.
+    pub const fn new(config: DeviceConfig) -> Self {
+        Device {
+            config,
+            decoder: FrameDecoder::new(),
+            stats: LinkStats {
+                bytes_in: 0,
+                frames_ok: 0,
+                bad_cobs: 0,
+                bad_crc: 0,
+                oversize: 0,
+                malformed: 0,
+                unknown_message: 0,
+                version_mismatch: 0,
+                request_errors: 0,
+                frames_out: 0,
+            },
+            scratch: [0; MAX_FRAME_BYTES],
+            tx: [0; MAX_ENCODED_FRAME_BYTES],
+        }
+    }
+
+    /// The link counters.
+    pub fn stats(&self) -> LinkStats {
+        self.stats
+    }
+
+    /// Takes one byte from the link; when it completes a frame, handles it and hands the
+    /// encoded reply to `send`.
+    pub fn receive(&mut self, byte: u8, send: &mut impl FnMut(&[u8])) {
+        self.stats.bytes_in = self.stats.bytes_in.wrapping_add(1);
+        let Some(result) = self.decoder.push(byte) else {
+            return;
+        };
+        let decoded = result
+            .map_err(|e| (None, e))
+            .and_then(|p| frame::decode_payload::<HostToDevice>(p, HOST_TO_DEVICE_VARIANTS));
+        let (request_id, reply) = match decoded {
+            Ok((header, request)) => {
+                self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
+                (header.request_id, self.handle(request))
+            }
+            Err((header, error)) => {
+                self.count(error);
+                let id = header.map_or(UNPAIRED_REQUEST_ID, |h| h.request_id);
+                (id, DeviceToHost::Error(error.code()))
+            }
+        };
+        if matches!(reply, DeviceToHost::Error(_)) && request_id != UNPAIRED_REQUEST_ID {
+            self.stats.request_errors = self.stats.request_errors.wrapping_add(1);
+        }
+        self.reply(request_id, &reply, send);
+    }
+
+    /// Carries out one decoded request.
+    pub fn handle(&mut self, request: HostToDevice) -> DeviceToHost {
+        match request {
+            HostToDevice::Hello => DeviceToHost::HelloAck(self.info()),
+            HostToDevice::Echo(bytes) => DeviceToHost::Echo(bytes),
+            HostToDevice::GetStats => DeviceToHost::Stats(self.stats),
+            // The tracking messages are defined in the ICD; the track table that answers
+            // them is not on the device yet.
+            HostToDevice::Configure(_)
+            | HostToDevice::Plots(_)
+            | HostToDevice::OwnShip(_)
+            | HostToDevice::Assign(_)
+            | HostToDevice::Command(_)
+            | HostToDevice::GetTracks => DeviceToHost::Error(ErrorCode::Unsupported),
+        }
+    }
+
+    fn info(&self) -> DeviceInfo {
+        let mut firmware = String::new();
+        // Truncate rather than fail: the name is informational.
+        for c in self.config.firmware.chars() {
+            if firmware.push(c).is_err() {
+                break;
+            }
+        }
+        DeviceInfo {
+            protocol: PROTOCOL_VERSION,
+            firmware,
+            max_frame_bytes: MAX_FRAME_BYTES as u16,
+            max_tracks: self.config.max_tracks,
+            max_plots_per_scan: self.config.max_plots_per_scan,
+            boot_id: self.config.boot_id,
+        }
+    }
+
+    fn count(&mut self, error: FrameError) {
+        let s = &mut self.stats;
+        let counter = match error {
+            FrameError::Cobs => &mut s.bad_cobs,
+            FrameError::Crc => &mut s.bad_crc,
+            FrameError::Oversize => &mut s.oversize,
+            FrameError::Malformed | FrameError::BufferTooSmall => &mut s.malformed,
+            FrameError::UnknownMessage => &mut s.unknown_message,
+            FrameError::VersionMismatch { .. } => &mut s.version_mismatch,
+        };
+        *counter = counter.wrapping_add(1);
+    }
+
+    fn reply(&mut self, request_id: u32, body: &DeviceToHost, send: &mut impl FnMut(&[u8])) {
+        let header = Header {
+            protocol: PROTOCOL_VERSION,
+            request_id,
+        };
+        let encoded = match frame::encode(&header, body, &mut self.scratch, &mut self.tx) {
+            Ok(n) => n,
+            // Cannot happen for ICD messages (a test proves the largest fit); answer with
+            // the smallest message rather than stay silent.
+            Err(_) => {
+                let err = DeviceToHost::Error(ErrorCode::Malformed);
+                match frame::encode(&header, &err, &mut self.scratch, &mut self.tx) {
+                    Ok(n) => n,
+                    Err(_) => return,
+                }
+            }
+        };
+        self.stats.frames_out = self.stats.frames_out.wrapping_add(1);
+        if let Some(bytes) = self.tx.get(..encoded) {
+            send(bytes);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::frame::decode_payload;
+    use std::vec::Vec;
+
+    const CONFIG: DeviceConfig = DeviceConfig {
+        firmware: "test",
+        boot_id: 42,
+        max_tracks: 64,
+        max_plots_per_scan: 256,
+    };
+
+    /// Runs bytes through a device and decodes every reply.
+    fn exchange(dev: &mut Device, bytes: &[u8]) -> Vec<(Header, DeviceToHost)> {
+        let mut wire = Vec::new();
+        for &b in bytes {
+            dev.receive(b, &mut |out| wire.extend_from_slice(out));
+        }
+        let mut dec = FrameDecoder::new();
+        let mut replies = Vec::new();
+        for b in wire {
+            if let Some(r) = dec.push(b) {
+                replies.push(decode_payload(r.unwrap(), u32::MAX).unwrap());
+            }
+        }
+        replies
+    }
+
+    fn request(id: u32, body: &HostToDevice) -> Vec<u8> {
+        let mut scratch = [0u8; MAX_FRAME_BYTES];
+        let mut out = [0u8; MAX_ENCODED_FRAME_BYTES];
+        let h = Header {
+            protocol: PROTOCOL_VERSION,
+            request_id: id,
+        };
+        let n = frame::encode(&h, body, &mut scratch, &mut out).unwrap();
+        out[..n].to_vec()
+    }
+
+    #[test]
+    fn handshake_reports_the_device() {
+        let mut dev = Device::new(CONFIG);
+        let r = exchange(&mut dev, &request(1, &HostToDevice::Hello));
+        let [(h, DeviceToHost::HelloAck(info))] = &r[..] else {
+            panic!("{r:?}")
+        };
+        assert_eq!(h.request_id, 1);
+        assert_eq!(info.protocol, PROTOCOL_VERSION);
+        assert_eq!(info.boot_id, 42);
+    }
+
+    #[test]
+    fn every_frame_gets_one_reply_and_errors_are_counted() {
+        let mut dev = Device::new(CONFIG);
+        let mut stream = request(1, &HostToDevice::Hello);
+        stream.extend_from_slice(&[1, 2, 3, 0]); // garbage
+        let mut bad = request(2, &HostToDevice::GetStats);
+        bad[1] ^= 0x10;
+        stream.extend_from_slice(&bad);
+        stream.extend_from_slice(&request(3, &HostToDevice::GetStats));
+        let r = exchange(&mut dev, &stream);
+        assert_eq!(r.len(), 4);
+        assert!(matches!(r[1].1, DeviceToHost::Error(_)));
+        assert_eq!(r[1].0.request_id, UNPAIRED_REQUEST_ID);
+        assert!(matches!(r[2].1, DeviceToHost::Error(ErrorCode::BadCrc)));
+        let DeviceToHost::Stats(s) = r[3].1 else {
+            panic!()
+        };
+        assert_eq!(
+            s.frames_ok, 2,
+            "stats are read while handling the 3rd good frame"
+        );
+        assert_eq!(s.rejected(), 2);
+        assert_eq!(r[3].0.request_id, 3);
+    }
+
+    #[test]
+    fn tracking_messages_are_refused_until_implemented() {
+        let mut dev = Device::new(CONFIG);
+        let r = exchange(&mut dev, &request(8, &HostToDevice::GetTracks));
+        assert_eq!(r[0].1, DeviceToHost::Error(ErrorCode::Unsupported));
+        assert_eq!(dev.stats().request_errors, 1);
+    }
+}

@@ -1,0 +1,348 @@
+//! Framing: COBS + CRC-32 around postcard, and a byte-at-a-time decoder that resynchronises.
+//!
+//! A UART delivers bytes with no boundaries, sometimes damaged. The 0x00 delimiter that COBS
+//! guarantees never appears inside a frame, so after any damage the decoder drops what it has
+//! and starts clean at the next delimiter: one bad frame never costs the good frame after it.
+//! The CRC catches the damage COBS cannot see (flipped bits that leave the encoding valid).
+
+use crc::{Crc, CRC_32_ISO_HDLC};
+use serde::{de::DeserializeOwned, Serialize};
+
+use crate::icd::{ErrorCode, Header, MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, PROTOCOL_VERSION};
+
+/// CRC-32/ISO-HDLC (the Ethernet and zlib CRC), table-driven: 1 KiB of flash.
+const CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
+
+/// Bytes of CRC after the payload.
+pub const CRC_BYTES: usize = 4;
+
+/// Why a frame could not be read. Each maps onto an [`ErrorCode`] for the peer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum FrameError {
+    /// Invalid COBS.
+    Cobs,
+    /// CRC mismatch, or too short to carry a CRC.
+    Crc,
+    /// Longer than [`MAX_ENCODED_FRAME_BYTES`] before the delimiter.
+    Oversize,
+    /// CRC fine, content did not decode.
+    Malformed,
+    /// A message index this version does not know.
+    UnknownMessage,
+    /// The sender's protocol version differs from ours.
+    VersionMismatch {
+        /// The version in the frame.
+        theirs: u16,
+    },
+    /// The message does not fit into the output buffer (a bug on the sending side).
+    BufferTooSmall,
+}
+
+impl FrameError {
+    /// The code to report to the peer.
+    pub fn code(self) -> ErrorCode {
+        match self {
+            FrameError::Cobs => ErrorCode::BadCobs,
+            FrameError::Crc => ErrorCode::BadCrc,
+            FrameError::Oversize => ErrorCode::Oversize,
+            FrameError::Malformed | FrameError::BufferTooSmall => ErrorCode::Malformed,
+            FrameError::UnknownMessage => ErrorCode::UnknownMessage,
+            FrameError::VersionMismatch { .. } => ErrorCode::VersionMismatch {
+                device: PROTOCOL_VERSION,
+            },
+        }
+    }
+}
+
+impl core::fmt::Display for FrameError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            FrameError::Cobs => f.write_str("invalid COBS encoding"),
+            FrameError::Crc => f.write_str("CRC mismatch"),
+            FrameError::Oversize => f.write_str("frame longer than the maximum"),
+            FrameError::Malformed => f.write_str("frame content does not decode"),
+            FrameError::UnknownMessage => f.write_str("unknown message"),
+            FrameError::VersionMismatch { theirs } => write!(
+                f,
+                "protocol version {theirs} does not match ours ({PROTOCOL_VERSION})"
+            ),
+            FrameError::BufferTooSmall => f.write_str("message does not fit the frame buffer"),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for FrameError {}
+
+/// Encodes `header` and `body` as one delimited frame into `out`; returns the bytes used.
+///
+/// `scratch` holds the unencoded frame; [`MAX_FRAME_BYTES`] is always enough for the ICD's
+/// messages, and `out` needs [`MAX_ENCODED_FRAME_BYTES`].
+pub fn encode<T: Serialize>(
+    header: &Header,
+    body: &T,
+    scratch: &mut [u8],
+    out: &mut [u8],
+) -> Result<usize, FrameError> {
+    let n = postcard::to_slice(&(header, body), scratch)
+        .map_err(|_| FrameError::BufferTooSmall)?
+        .len();
+    let crc = CRC32.checksum(scratch.get(..n).ok_or(FrameError::BufferTooSmall)?);
+    scratch
+        .get_mut(n..n + CRC_BYTES)
+        .ok_or(FrameError::BufferTooSmall)?
+        .copy_from_slice(&crc.to_le_bytes());
+    let used =
+        cobs::try_encode(&scratch[..n + CRC_BYTES], out).map_err(|_| FrameError::BufferTooSmall)?;
+    *out.get_mut(used).ok_or(FrameError::BufferTooSmall)? = 0;
+    Ok(used + 1)
+}
+
+/// Splits a decoded, CRC-checked payload into its header and body.
+///
+/// The version is checked before the body is read, and a message index past the ones this
+/// version knows is reported as [`FrameError::UnknownMessage`] rather than as damage.
+pub fn decode_payload<T: DeserializeOwned>(
+    payload: &[u8],
+    known_variants: u32,
+) -> Result<(Header, T), (Option<Header>, FrameError)> {
+    let (header, rest): (Header, _) =
+        postcard::take_from_bytes(payload).map_err(|_| (None, FrameError::Malformed))?;
+    if header.protocol != PROTOCOL_VERSION {
+        return Err((
+            Some(header),
+            FrameError::VersionMismatch {
+                theirs: header.protocol,
+            },
+        ));
+    }
+    let (variant, _): (u32, _) =
+        postcard::take_from_bytes(rest).map_err(|_| (Some(header), FrameError::Malformed))?;
+    if variant >= known_variants {
+        return Err((Some(header), FrameError::UnknownMessage));
+    }
+    match postcard::from_bytes(rest) {
+        Ok(body) => Ok((header, body)),
+        Err(_) => Err((Some(header), FrameError::Malformed)),
+    }
+}
+
+/// Reassembles frames from bytes that arrive one at a time or in pieces.
+///
+/// Holds at most [`MAX_ENCODED_FRAME_BYTES`]; a longer run without a delimiter is dropped
+/// whole and reported once, at its delimiter.
+#[derive(Clone, Debug)]
+pub struct FrameDecoder {
+    buf: [u8; MAX_ENCODED_FRAME_BYTES],
+    len: usize,
+    overflowed: bool,
+}
+
+impl Default for FrameDecoder {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl FrameDecoder {
+    /// An empty decoder.
+    pub const fn new() -> Self {
+        FrameDecoder {
+            buf: [0; MAX_ENCODED_FRAME_BYTES],
+            len: 0,
+            overflowed: false,
+        }
+    }
+
+    /// Bytes held of a frame not yet delimited.
+    pub fn pending(&self) -> usize {
+        self.len
+    }
+
+    /// Feeds one byte. At a delimiter returns the checked payload (header and body, CRC
+    /// removed) or why the frame was rejected. Empty frames (repeated delimiters, which a
+    /// sender may use to flush the line) return `None`.
+    pub fn push(&mut self, byte: u8) -> Option<Result<&[u8], FrameError>> {
+        if byte != 0 {
+            match self.buf.get_mut(self.len) {
+                Some(slot) if !self.overflowed => {
+                    *slot = byte;
+                    self.len += 1;
+                }
+                _ => self.overflowed = true,
+            }
+            return None;
+        }
+        let (len, overflowed) = (self.len, self.overflowed);
+        self.len = 0;
+        self.overflowed = false;
+        if overflowed {
+            return Some(Err(FrameError::Oversize));
+        }
+        if len == 0 {
+            return None;
+        }
+        let frame = &mut self.buf[..len];
+        let n = match cobs::decode_in_place(frame) {
+            Ok(n) => n,
+            Err(_) => return Some(Err(FrameError::Cobs)),
+        };
+        if n <= CRC_BYTES || n > MAX_FRAME_BYTES {
+            return Some(Err(FrameError::Crc));
+        }
+        let (payload, crc) = frame[..n].split_at(n - CRC_BYTES);
+        let mut expected = [0u8; CRC_BYTES];
+        expected.copy_from_slice(crc);
+        if CRC32.checksum(payload) != u32::from_le_bytes(expected) {
+            return Some(Err(FrameError::Crc));
+        }
+        Some(Ok(payload))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::icd::{DeviceToHost, HostToDevice, HOST_TO_DEVICE_VARIANTS, MAX_ECHO_BYTES};
+    use heapless::Vec;
+
+    fn frame_of(header: Header, body: &HostToDevice) -> std::vec::Vec<u8> {
+        let mut scratch = [0u8; MAX_FRAME_BYTES];
+        let mut out = [0u8; MAX_ENCODED_FRAME_BYTES];
+        let n = encode(&header, body, &mut scratch, &mut out).unwrap();
+        out[..n].to_vec()
+    }
+
+    fn hdr(id: u32) -> Header {
+        Header {
+            protocol: PROTOCOL_VERSION,
+            request_id: id,
+        }
+    }
+
+    /// Feeds bytes, collecting what each delimiter yields.
+    fn feed(
+        dec: &mut FrameDecoder,
+        bytes: &[u8],
+    ) -> std::vec::Vec<Result<HostToDevice, FrameError>> {
+        let mut out = std::vec::Vec::new();
+        for &b in bytes {
+            if let Some(r) = dec.push(b) {
+                out.push(r.and_then(|p| {
+                    decode_payload::<HostToDevice>(p, HOST_TO_DEVICE_VARIANTS)
+                        .map(|(_, m)| m)
+                        .map_err(|(_, e)| e)
+                }));
+            }
+        }
+        out
+    }
+
+    fn echo(n: usize) -> HostToDevice {
+        HostToDevice::Echo((0..n).map(|i| (i * 7 + 1) as u8).collect())
+    }
+
+    #[test]
+    fn frames_round_trip_at_every_size() {
+        let mut dec = FrameDecoder::new();
+        for n in (0..=MAX_ECHO_BYTES).step_by(37).chain([MAX_ECHO_BYTES]) {
+            let msg = echo(n);
+            let got = feed(&mut dec, &frame_of(hdr(1), &msg));
+            assert_eq!(got, [Ok(msg)]);
+        }
+    }
+
+    #[test]
+    fn a_flipped_bit_is_caught_and_the_next_frame_survives() {
+        let msg = echo(100);
+        let good = frame_of(hdr(1), &msg);
+        let mut dec = FrameDecoder::new();
+        for bit in 0..(good.len() - 1) * 8 {
+            let mut bad = good.clone();
+            bad[bit / 8] ^= 1 << (bit % 8);
+            let mut stream = bad;
+            stream.extend_from_slice(&good);
+            let got = feed(&mut dec, &stream);
+            // A flip may create a 0x00 and split the frame: every piece is rejected, and the
+            // good frame after it always comes through.
+            assert_eq!(got.last(), Some(&Ok(msg.clone())), "bit {bit}");
+            assert!(got[..got.len() - 1].iter().all(|r| r.is_err()), "bit {bit}");
+            assert!(!got[..got.len() - 1].is_empty(), "bit {bit} went unnoticed");
+        }
+    }
+
+    #[test]
+    fn truncated_and_garbage_frames_are_rejected() {
+        let msg = echo(40);
+        let good = frame_of(hdr(5), &msg);
+        let mut dec = FrameDecoder::new();
+        let mut stream = good[..good.len() / 2].to_vec();
+        stream.push(0);
+        stream.extend_from_slice(&[0x13, 0x37, 0xff, 0x42, 0]);
+        stream.extend_from_slice(&good);
+        let got = feed(&mut dec, &stream);
+        assert_eq!(got.len(), 3);
+        assert!(got[0].is_err() && got[1].is_err());
+        assert_eq!(got[2], Ok(msg));
+    }
+
+    #[test]
+    fn oversize_is_reported_once_then_resyncs() {
+        let mut dec = FrameDecoder::new();
+        let mut stream = std::vec![0x55u8; MAX_ENCODED_FRAME_BYTES * 3];
+        stream.push(0);
+        let msg = HostToDevice::Hello;
+        stream.extend_from_slice(&frame_of(hdr(9), &msg));
+        assert_eq!(
+            feed(&mut dec, &stream),
+            [Err(FrameError::Oversize), Ok(msg)]
+        );
+    }
+
+    #[test]
+    fn version_and_unknown_message_are_told_apart_from_damage() {
+        let mut dec = FrameDecoder::new();
+        let wrong = Header {
+            protocol: PROTOCOL_VERSION + 1,
+            request_id: 3,
+        };
+        let got = feed(&mut dec, &frame_of(wrong, &HostToDevice::Hello));
+        assert_eq!(
+            got,
+            [Err(FrameError::VersionMismatch {
+                theirs: PROTOCOL_VERSION + 1
+            })]
+        );
+        // A hand-built frame with message index 200: valid COBS and CRC.
+        let mut scratch = [0u8; MAX_FRAME_BYTES];
+        let mut out = [0u8; MAX_ENCODED_FRAME_BYTES];
+        let n = encode(&hdr(4), &200u32, &mut scratch, &mut out).unwrap();
+        let got = feed(&mut dec, &out[..n]);
+        assert_eq!(got, [Err(FrameError::UnknownMessage)]);
+        // Known index, body cut short.
+        let n = encode(&hdr(4), &1u32, &mut scratch, &mut out).unwrap();
+        assert_eq!(feed(&mut dec, &out[..n]), [Err(FrameError::Malformed)]);
+    }
+
+    #[test]
+    fn device_messages_use_the_same_framing() {
+        let mut scratch = [0u8; MAX_FRAME_BYTES];
+        let mut out = [0u8; MAX_ENCODED_FRAME_BYTES];
+        let body = DeviceToHost::Echo(Vec::from_slice(&[0, 0, 0]).unwrap());
+        let n = encode(&hdr(77), &body, &mut scratch, &mut out).unwrap();
+        assert!(!out[..n - 1].contains(&0));
+        let mut dec = FrameDecoder::new();
+        let mut got = None;
+        for &b in &out[..n] {
+            if let Some(r) = dec.push(b) {
+                got = Some(
+                    decode_payload::<DeviceToHost>(r.unwrap(), u32::MAX)
+                        .map_err(|(_, e)| e)
+                        .unwrap(),
+                );
+            }
+        }
+        assert_eq!(got, Some((hdr(77), body)));
+    }
+}

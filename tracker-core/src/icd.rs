@@ -1,0 +1,569 @@
+//! Interface control document: the wire types shared by the firmware and the host.
+//!
+//! One module, both sides (the postcard-rpc ICD pattern). A frame on the link is
+//!
+//! ```text
+//! COBS( postcard(Header) ‖ postcard(body) ‖ CRC-32/ISO-HDLC little-endian ) ‖ 0x00
+//! ```
+//!
+//! where the body is a [`HostToDevice`] from the host or a [`DeviceToHost`] from the device.
+//! Framing lives in [`crate::frame`]. Every frame carries the [`PROTOCOL_VERSION`] so a
+//! mismatched peer is told so instead of being misread, and a request id that the device
+//! echoes in its reply so the host can pair responses and retry lost requests.
+//!
+//! Compatibility rule: variants and fields are only ever appended; any change that alters
+//! the encoding of an existing variant bumps [`PROTOCOL_VERSION`].
+
+use heapless::{String, Vec};
+use serde::{Deserialize, Serialize};
+
+/// Bumped on every incompatible change to the types of this module.
+pub const PROTOCOL_VERSION: u16 = 1;
+
+/// Largest decoded frame: header + body + CRC, before COBS.
+pub const MAX_FRAME_BYTES: usize = 1024;
+
+/// Largest frame on the wire: COBS adds one byte per 254 and the 0x00 delimiter.
+pub const MAX_ENCODED_FRAME_BYTES: usize = cobs::max_encoding_length(MAX_FRAME_BYTES) + 1;
+
+/// Payload capacity of [`HostToDevice::Echo`]; sized so the largest echo fills a frame.
+pub const MAX_ECHO_BYTES: usize = 1000;
+
+/// Radar plots carried by one [`HostToDevice::Plots`] message (a scan may take several).
+pub const MAX_PLOTS_PER_MESSAGE: usize = 48;
+
+/// Track states carried by one [`DeviceToHost::Tracks`] message.
+pub const MAX_TRACKS_PER_MESSAGE: usize = 24;
+
+/// Plot indices one track's rough gate can return in a [`GatedPlots`] entry.
+pub const MAX_PLOTS_PER_GATE: usize = 8;
+
+/// Gate results per [`DeviceToHost::Gated`] message.
+pub const MAX_GATES_PER_MESSAGE: usize = 16;
+
+/// Assignments per [`HostToDevice::Assign`] message.
+pub const MAX_ASSIGNMENTS_PER_MESSAGE: usize = 48;
+
+/// Request id the device uses when it cannot tell which request a reply belongs to
+/// (the frame was too damaged to read its header). Hosts never send it.
+pub const UNPAIRED_REQUEST_ID: u32 = 0;
+
+/// Opens every frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Header {
+    /// The sender's [`PROTOCOL_VERSION`].
+    pub protocol: u16,
+    /// Chosen by the host, echoed by the device; never [`UNPAIRED_REQUEST_ID`] from a host.
+    pub request_id: u32,
+}
+
+/// Messages from the host to the device.
+///
+/// Variant order is part of the wire format: append only.
+// No heap to box into: one message is decoded at a time, so its size is what it is.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum HostToDevice {
+    /// Handshake: the device answers [`DeviceToHost::HelloAck`] when the versions agree.
+    Hello,
+    /// Link test: the device returns the bytes unchanged in [`DeviceToHost::Echo`].
+    Echo(Vec<u8, MAX_ECHO_BYTES>),
+    /// Read the link and dispatch counters ([`DeviceToHost::Stats`]).
+    GetStats,
+    /// Choose the filter and its parameters for every track from now on.
+    Configure(TrackerConfig),
+    /// Radar plots of one scan (possibly one part of several).
+    Plots(PlotBatch),
+    /// Own-ship sensor data for the dead-reckoning filter.
+    OwnShip(NavSample),
+    /// The host's choice of plot for each gated track, closing a scan.
+    Assign(AssignmentBatch),
+    /// Operator commands: acquire or cancel targets.
+    Command(TrackCommand),
+    /// Ask for every live track ([`DeviceToHost::Tracks`], possibly in several parts).
+    GetTracks,
+}
+
+/// Number of [`HostToDevice`] variants this version knows. A frame naming a higher
+/// variant index is an unknown message (a newer host), not a damaged one.
+pub const HOST_TO_DEVICE_VARIANTS: u32 = 9;
+
+/// Messages from the device to the host.
+///
+/// Variant order is part of the wire format: append only.
+// No heap to box into: one message is decoded at a time, so its size is what it is.
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum DeviceToHost {
+    /// Handshake reply.
+    HelloAck(DeviceInfo),
+    /// The bytes of a [`HostToDevice::Echo`], unchanged.
+    Echo(Vec<u8, MAX_ECHO_BYTES>),
+    /// Link and dispatch counters.
+    Stats(LinkStats),
+    /// A request was understood and carried out; nothing else to report.
+    Ack,
+    /// Per-track plots inside the rough gates (answers [`HostToDevice::Plots`]).
+    Gated(GatedBatch),
+    /// Track states (answers [`HostToDevice::Assign`] and [`HostToDevice::GetTracks`]).
+    Tracks(TrackBatch),
+    /// The request failed; the device state is unchanged by it.
+    Error(ErrorCode),
+}
+
+/// What a device reports in its handshake.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DeviceInfo {
+    /// The device's [`PROTOCOL_VERSION`].
+    pub protocol: u16,
+    /// Firmware name and version, e.g. `tracker-firmware 0.1.0 (mps2-an386)`.
+    pub firmware: String<48>,
+    /// Frames are at most this long (decoded bytes).
+    pub max_frame_bytes: u16,
+    /// Size of the track table.
+    pub max_tracks: u16,
+    /// Plots the device accepts per scan.
+    pub max_plots_per_scan: u16,
+    /// Changes on every boot, so a host can tell a reset device from the one it knew.
+    pub boot_id: u32,
+}
+
+/// Why a request failed, or why a frame was rejected.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ErrorCode {
+    /// The COBS encoding was invalid (a damaged or truncated frame).
+    BadCobs,
+    /// The CRC did not match (a damaged frame).
+    BadCrc,
+    /// The frame exceeded [`MAX_ENCODED_FRAME_BYTES`] before its delimiter.
+    Oversize,
+    /// CRC correct but the content did not decode (a peer bug, not line noise).
+    Malformed,
+    /// A message this version does not know (the peer is newer).
+    UnknownMessage,
+    /// The peer speaks another protocol version; `device` is ours.
+    VersionMismatch {
+        /// The device's protocol version.
+        device: u16,
+    },
+    /// Known message, but this firmware does not implement it (yet).
+    Unsupported,
+    /// A configured limit was exceeded (plots per scan, tracks per table).
+    CapacityExceeded,
+    /// A value was out of range or not finite.
+    InvalidValue,
+    /// The request does not fit the device's state (e.g. assignments for no open scan).
+    OutOfSequence,
+}
+
+/// Counters the device keeps about its link; all wrap at `u32::MAX`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct LinkStats {
+    /// Bytes received.
+    pub bytes_in: u32,
+    /// Frames that decoded and were dispatched.
+    pub frames_ok: u32,
+    /// Frames rejected for bad COBS.
+    pub bad_cobs: u32,
+    /// Frames rejected for a CRC mismatch (including frames too short to hold one).
+    pub bad_crc: u32,
+    /// Frames longer than the maximum.
+    pub oversize: u32,
+    /// Frames whose content did not decode.
+    pub malformed: u32,
+    /// Frames naming an unknown message.
+    pub unknown_message: u32,
+    /// Frames from another protocol version.
+    pub version_mismatch: u32,
+    /// Requests answered with an [`ErrorCode`] other than the framing ones above.
+    pub request_errors: u32,
+    /// Frames sent.
+    pub frames_out: u32,
+}
+
+impl LinkStats {
+    /// Frames rejected for any reason.
+    pub fn rejected(&self) -> u32 {
+        self.bad_cobs
+            .wrapping_add(self.bad_crc)
+            .wrapping_add(self.oversize)
+            .wrapping_add(self.malformed)
+            .wrapping_add(self.unknown_message)
+            .wrapping_add(self.version_mismatch)
+    }
+}
+
+/// Which filter every track runs, with its parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum FilterChoice {
+    /// α-β with fixed gains.
+    AlphaBeta {
+        /// Position gain.
+        alpha: f32,
+        /// Velocity gain.
+        beta: f32,
+    },
+    /// Critically damped α-β-γ with all poles at `xi`.
+    AlphaBetaGamma {
+        /// Fading-memory parameter ξ in (0, 1).
+        xi: f32,
+    },
+    /// Constant-velocity Kalman filter.
+    KalmanCv {
+        /// Process noise intensity (m²/s³ for the continuous model).
+        q: f32,
+        /// Measurement noise variance per axis (m²).
+        r: f32,
+    },
+}
+
+/// Tracker configuration sent with [`HostToDevice::Configure`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct TrackerConfig {
+    /// The filter every new track runs.
+    pub filter: FilterChoice,
+    /// Rough gate half-width in standard deviations of the predicted position.
+    pub gate_sigmas: f32,
+    /// Smallest rough gate radius, metres.
+    pub min_gate_m: f32,
+    /// Largest rough gate radius, metres.
+    pub max_gate_m: f32,
+}
+
+/// One radar plot: a detection in polar coordinates relative to own ship.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Plot {
+    /// Range, metres.
+    pub range_m: f32,
+    /// Bearing, radians clockwise from true north.
+    pub bearing_rad: f32,
+}
+
+/// Plots of one scan, or one part of them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlotBatch {
+    /// Scan number, increasing by one per antenna revolution.
+    pub scan: u32,
+    /// Scan time, milliseconds since the tracker started.
+    pub time_ms: u64,
+    /// Index of this part, from 0.
+    pub part: u8,
+    /// Number of parts this scan is sent in.
+    pub parts: u8,
+    /// The plots of this part.
+    pub plots: Vec<Plot, MAX_PLOTS_PER_MESSAGE>,
+}
+
+/// Own-ship sensor readings at one instant; `None` where a sensor has nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct NavSample {
+    /// Milliseconds since the tracker started.
+    pub time_ms: u64,
+    /// GPS position east, north, metres in the local frame.
+    pub gps_position_m: Option<[f32; 2]>,
+    /// GPS velocity east, north, m/s.
+    pub gps_velocity_mps: Option<[f32; 2]>,
+    /// Loran-C position east, north, metres.
+    pub loran_position_m: Option<[f32; 2]>,
+    /// Speed log, m/s.
+    pub speedlog_mps: Option<f32>,
+    /// Gyro heading, radians from true north.
+    pub gyro_heading_rad: Option<f32>,
+}
+
+/// The plots inside one track's rough gate.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GatedPlots {
+    /// Track number.
+    pub track: u16,
+    /// Predicted position east, north, metres relative to own ship.
+    pub predicted_m: [f32; 2],
+    /// Innovation covariance [s_xx, s_xy, s_yy], m², for the host's refined gate.
+    pub innovation_cov_m2: [f32; 3],
+    /// Indices into the scan's plots, in the order they were sent.
+    pub plots: Vec<u16, MAX_PLOTS_PER_GATE>,
+}
+
+/// Rough-gate results of one scan, or one part of them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GatedBatch {
+    /// The scan these gates belong to.
+    pub scan: u32,
+    /// Index of this part, from 0.
+    pub part: u8,
+    /// Number of parts.
+    pub parts: u8,
+    /// Per-track gates.
+    pub gates: Vec<GatedPlots, MAX_GATES_PER_MESSAGE>,
+}
+
+/// The plot the host chose for one track; `plot: None` coasts the track.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct Assignment {
+    /// Track number.
+    pub track: u16,
+    /// Index of the plot in the scan, or `None` to coast.
+    pub plot: Option<u16>,
+}
+
+/// Assignments for one scan, or one part of them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AssignmentBatch {
+    /// The scan the assignments close.
+    pub scan: u32,
+    /// Index of this part, from 0.
+    pub part: u8,
+    /// Number of parts.
+    pub parts: u8,
+    /// The assignments of this part.
+    pub assignments: Vec<Assignment, MAX_ASSIGNMENTS_PER_MESSAGE>,
+    /// Indices of plots in no gate that should start tentative tracks.
+    pub initiate: Vec<u16, MAX_ASSIGNMENTS_PER_MESSAGE>,
+}
+
+/// Operator commands.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum TrackCommand {
+    /// Start a track on a plot of the last scan.
+    Acquire {
+        /// Index of the plot in the last scan.
+        plot: u16,
+    },
+    /// Drop one track.
+    Cancel {
+        /// Track number.
+        track: u16,
+    },
+    /// Drop every track.
+    CancelAll,
+}
+
+/// Life-cycle state of a track.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum TrackStatus {
+    /// Started, not yet confirmed (M of N).
+    Tentative,
+    /// Confirmed and updated this scan.
+    Confirmed,
+    /// Confirmed but not seen this scan; running on prediction.
+    Coasting,
+    /// Dropped after too many misses; reported once.
+    Lost,
+}
+
+/// A track's filtered state, relative to own ship.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct TrackState {
+    /// Track number.
+    pub track: u16,
+    /// Life-cycle state.
+    pub status: TrackStatus,
+    /// Position east, north, metres.
+    pub position_m: [f32; 2],
+    /// Velocity east, north, m/s.
+    pub velocity_mps: [f32; 2],
+    /// Position variances and covariance [p_xx, p_xy, p_yy], m².
+    pub position_cov_m2: [f32; 3],
+    /// Scans since the track started.
+    pub age_scans: u16,
+    /// Hits in the last 10 scans, one bit a scan, newest lowest.
+    pub hit_history: u16,
+}
+
+/// Track states, or one part of them.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrackBatch {
+    /// The scan the states belong to.
+    pub scan: u32,
+    /// Index of this part, from 0.
+    pub part: u8,
+    /// Number of parts.
+    pub parts: u8,
+    /// The states of this part.
+    pub tracks: Vec<TrackState, MAX_TRACKS_PER_MESSAGE>,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn round_trip<T: Serialize + serde::de::DeserializeOwned + PartialEq + core::fmt::Debug>(
+        v: &T,
+    ) {
+        let mut buf = [0u8; MAX_FRAME_BYTES];
+        let bytes = postcard::to_slice(v, &mut buf).expect("fits in a frame");
+        let back: T = postcard::from_bytes(bytes).expect("decodes");
+        assert_eq!(&back, v);
+    }
+
+    fn largest_echo() -> Vec<u8, MAX_ECHO_BYTES> {
+        let mut v = Vec::new();
+        for i in 0..MAX_ECHO_BYTES {
+            v.push(i as u8).unwrap();
+        }
+        v
+    }
+
+    #[test]
+    fn every_host_message_round_trips() {
+        let mut plots = Vec::new();
+        plots
+            .push(Plot {
+                range_m: 1852.0,
+                bearing_rad: 0.5,
+            })
+            .unwrap();
+        let msgs = [
+            HostToDevice::Hello,
+            HostToDevice::Echo(largest_echo()),
+            HostToDevice::GetStats,
+            HostToDevice::Configure(TrackerConfig {
+                filter: FilterChoice::KalmanCv { q: 0.1, r: 100.0 },
+                gate_sigmas: 4.0,
+                min_gate_m: 50.0,
+                max_gate_m: 2000.0,
+            }),
+            HostToDevice::Plots(PlotBatch {
+                scan: 7,
+                time_ms: 21_000,
+                part: 0,
+                parts: 1,
+                plots,
+            }),
+            HostToDevice::OwnShip(NavSample {
+                time_ms: 1000,
+                gps_position_m: Some([1.0, 2.0]),
+                ..NavSample::default()
+            }),
+            HostToDevice::Assign(AssignmentBatch {
+                scan: 7,
+                part: 0,
+                parts: 1,
+                assignments: Vec::from_slice(&[Assignment {
+                    track: 3,
+                    plot: Some(0),
+                }])
+                .unwrap(),
+                initiate: Vec::new(),
+            }),
+            HostToDevice::Command(TrackCommand::CancelAll),
+            HostToDevice::GetTracks,
+        ];
+        for m in &msgs {
+            round_trip(m);
+        }
+    }
+
+    #[test]
+    fn every_device_message_round_trips() {
+        let msgs = [
+            DeviceToHost::HelloAck(DeviceInfo {
+                protocol: PROTOCOL_VERSION,
+                firmware: String::try_from("tracker-firmware 0.1.0").unwrap(),
+                max_frame_bytes: MAX_FRAME_BYTES as u16,
+                max_tracks: 64,
+                max_plots_per_scan: 256,
+                boot_id: 0xdead_beef,
+            }),
+            DeviceToHost::Echo(largest_echo()),
+            DeviceToHost::Stats(LinkStats {
+                frames_ok: 3,
+                ..LinkStats::default()
+            }),
+            DeviceToHost::Ack,
+            DeviceToHost::Error(ErrorCode::VersionMismatch { device: 1 }),
+        ];
+        for m in &msgs {
+            round_trip(m);
+        }
+    }
+
+    #[test]
+    fn variant_count_matches_the_enum() {
+        // The last variant's index is the count minus one: keeps HOST_TO_DEVICE_VARIANTS
+        // honest when a variant is appended.
+        let mut buf = [0u8; 8];
+        let bytes = postcard::to_slice(&HostToDevice::GetTracks, &mut buf).unwrap();
+        assert_eq!(u32::from(bytes[0]) + 1, HOST_TO_DEVICE_VARIANTS);
+    }
+
+    #[test]
+    fn largest_messages_fit_a_frame() {
+        let mut buf = [0u8; MAX_FRAME_BYTES];
+        let header = Header {
+            protocol: PROTOCOL_VERSION,
+            request_id: u32::MAX,
+        };
+        let full_tracks = TrackBatch {
+            scan: u32::MAX,
+            part: 0,
+            parts: 1,
+            tracks: core::iter::repeat_n(
+                TrackState {
+                    track: u16::MAX,
+                    status: TrackStatus::Coasting,
+                    position_m: [1e5; 2],
+                    velocity_mps: [1.0; 2],
+                    position_cov_m2: [1.0; 3],
+                    age_scans: u16::MAX,
+                    hit_history: u16::MAX,
+                },
+                MAX_TRACKS_PER_MESSAGE,
+            )
+            .collect(),
+        };
+        let full_plots = PlotBatch {
+            scan: u32::MAX,
+            time_ms: u64::MAX,
+            part: 0,
+            parts: 1,
+            plots: core::iter::repeat_n(
+                Plot {
+                    range_m: 1.0,
+                    bearing_rad: 1.0,
+                },
+                MAX_PLOTS_PER_MESSAGE,
+            )
+            .collect(),
+        };
+        let full_gates = GatedBatch {
+            scan: u32::MAX,
+            part: 0,
+            parts: 1,
+            gates: core::iter::repeat_n(
+                GatedPlots {
+                    track: u16::MAX,
+                    predicted_m: [1.0; 2],
+                    innovation_cov_m2: [1.0; 3],
+                    plots: core::iter::repeat_n(u16::MAX, MAX_PLOTS_PER_GATE).collect(),
+                },
+                MAX_GATES_PER_MESSAGE,
+            )
+            .collect(),
+        };
+        let crc = 4;
+        for body in [
+            DeviceToHost::Echo(largest_echo()),
+            DeviceToHost::Tracks(full_tracks),
+            DeviceToHost::Gated(full_gates),
+        ] {
+            let n = postcard::to_slice(&(header, body), &mut buf).unwrap().len();
+            assert!(n + crc <= MAX_FRAME_BYTES, "{n}");
+        }
+        let n = postcard::to_slice(&(header, HostToDevice::Plots(full_plots)), &mut buf)
+            .unwrap()
+            .len();
+        assert!(n + crc <= MAX_FRAME_BYTES, "{n}");
+    }
+}

@@ -1,0 +1,32 @@
+//! # tracker-core
+//!
+//! The `no_std` heart of an ARPA-style marine radar tracker (automatic radar plotting aid).
+//! It runs unchanged on a Cortex-M4F (the firmware, in `f32`) and on the host (in `f64`,
+//! or in `f32` to reproduce the MCU bit for bit through the `inproc` link).
+//!
+//! ## Design
+//!
+//! The split follows the source thesis, which ran its tracker on a TMS320C6711 DSP board
+//! beside a PC: the device predicts every track and does the cheap *rough* validation
+//! gating; the host does the *refined* gating, data association and display. What crosses
+//! between them is defined once, here:
+//!
+//! - [`icd`]: the wire types (the interface control document), versioned;
+//! - [`frame`]: COBS + CRC-32 framing around postcard, with a resynchronising decoder;
+//! - [`device`]: the device's request dispatcher, shared by the firmware and the host's
+//!   in-process link, so both run the same code.
+//!
+//! Everything is fixed-capacity (`heapless`), allocation-free and `#![forbid(unsafe_code)]`.
+//! Nothing reachable from link input panics: malformed bytes become counted errors.
+//!
+//! ## Features
+//!
+//! All opt-in. `std` adds `std::error::Error` impls for the host; `defmt` derives
+//! `defmt::Format` for the firmware's logs; `serde` adds serialisation to non-wire types.
+#![cfg_attr(not(any(test, feature = "std")), no_std)]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
+
+pub mod device;
+pub mod frame;
+pub mod icd;

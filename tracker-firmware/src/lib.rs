@@ -1,0 +1,103 @@
+//! # tracker-firmware
+//!
+//! The tracker on a DSP-class Cortex-M4F, standing in for the source thesis's TMS320C6711
+//! board. All tracking logic lives in `tracker-core`; this crate owns the chip: reset and
+//! fault handling, the UART the host link runs on, logging, and the instruction counter the
+//! benchmarks use.
+//!
+//! The main loop ([`serve`]) moves bytes between the UART and
+//! [`tracker_core::device::Device`], which decodes frames, dispatches requests and encodes
+//! replies. Any byte sequence is valid input: damaged frames become counted errors.
+//!
+//! Logging is defmt: over semihosting under QEMU (decoded by `defmt-print`, see
+//! `scripts/qemu-run`). Panics print through defmt and end in a HardFault, whose handler
+//! exits QEMU with code 1 so a test run fails loudly.
+#![no_std]
+#![deny(missing_docs)]
+
+pub mod board;
+pub mod icount;
+pub mod uart;
+
+use core::mem::MaybeUninit;
+
+use cortex_m_rt::{exception, ExceptionFrame};
+use embedded_hal_nb::serial::{Read, Write};
+use tracker_core::device::{Device, DeviceConfig};
+
+#[cfg(feature = "qemu")]
+use defmt_semihosting as _;
+use panic_probe as _;
+
+/// Tracks the firmware holds (reported to the host; the table itself comes with tracking).
+pub const MAX_TRACKS: u16 = 64;
+
+/// Plots accepted per scan.
+pub const MAX_PLOTS_PER_SCAN: u16 = 256;
+
+/// Device configuration of this build.
+pub fn device_config() -> DeviceConfig {
+    DeviceConfig {
+        firmware: concat!(
+            "tracker-firmware ",
+            env!("CARGO_PKG_VERSION"),
+            " (mps2-an386)"
+        ),
+        boot_id: boot_id(),
+        max_tracks: MAX_TRACKS,
+        max_plots_per_scan: MAX_PLOTS_PER_SCAN,
+    }
+}
+
+/// Serves the host link forever: every received byte goes to the device, every reply goes
+/// out through `uart`.
+pub fn serve<U>(uart: &mut U, device: &mut Device) -> !
+where
+    U: Read<u8> + Write<u8>,
+{
+    let mut overruns: u32 = 0;
+    loop {
+        match uart.read() {
+            Ok(byte) => device.receive(byte, &mut |reply| {
+                for &b in reply {
+                    // The UART reports no TX errors; WouldBlock just waits.
+                    let _ = nb::block!(uart.write(b));
+                }
+            }),
+            Err(nb::Error::WouldBlock) => {}
+            Err(nb::Error::Other(_)) => {
+                // A lost byte damages at most the frame it was in; the CRC catches that.
+                overruns = overruns.wrapping_add(1);
+                defmt::warn!("uart overrun #{}", overruns);
+            }
+        }
+    }
+}
+
+/// A number that changes on every reset without power loss: a counter kept in RAM that
+/// cortex-m-rt does not initialise, mixed with a constant so a cold boot's garbage and a
+/// warm boot's count are both valid ids.
+fn boot_id() -> u32 {
+    #[link_section = ".uninit.BOOT_COUNT"]
+    static mut BOOT_COUNT: MaybeUninit<[u32; 2]> = MaybeUninit::uninit();
+    const MAGIC: u32 = 0xB007_C0DE;
+    // SAFETY: called from `main` before anything else runs; a plain [u32; 2] has no
+    // invalid bit patterns, so reading whatever RAM held is sound.
+    unsafe {
+        let cell = &mut *core::ptr::addr_of_mut!(BOOT_COUNT);
+        let [magic, count] = cell.assume_init_read();
+        let next = if magic == MAGIC {
+            count.wrapping_add(1)
+        } else {
+            1
+        };
+        cell.write([MAGIC, next]);
+        next.wrapping_mul(0x9E37_79B9) ^ MAGIC
+    }
+}
+
+#[exception]
+unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
+    defmt::error!("HardFault at pc={=u32:#010x}", frame.pc());
+    board::exit(1)
+}

@@ -1,0 +1,12 @@
+//! # tracker-host
+//!
+//! The PC side of the tracker: the link to the firmware (on QEMU, a board, or in-process),
+//! and the commands a navigator, an integrator and a firmware engineer use. The binary is a
+//! thin shell over [`cli::run`], so tests drive exactly what users run.
+#![warn(missing_docs)]
+
+pub mod bench_mcu;
+pub mod cli;
+pub mod link;
+pub mod link_check;
+pub mod qemu;

@@ -1,0 +1,452 @@
+//! The host end of the link: transports (in-process, TCP, serial, QEMU) and a request/response
+//! client speaking the ICD of `tracker_core::icd`.
+
+use std::collections::VecDeque;
+use std::fmt;
+use std::io::{self, Read, Write};
+use std::net::TcpStream;
+use std::str::FromStr;
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context};
+use tracker_core::device::{Device, DeviceConfig};
+use tracker_core::frame::{self, FrameDecoder, FrameError};
+use tracker_core::icd::{
+    DeviceToHost, Header, HostToDevice, MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, PROTOCOL_VERSION,
+    UNPAIRED_REQUEST_ID,
+};
+
+use crate::qemu::QemuLink;
+
+/// Where the firmware runs, as given to `--link`.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum LinkSpec {
+    /// The device code in this process: no MCU needed.
+    Inproc,
+    /// The firmware under `qemu-system-arm` (mps2-an386), over a loopback socket.
+    Qemu,
+    /// A device (or a QEMU started by hand) behind a TCP socket.
+    Tcp(String),
+    /// A board on a serial port.
+    Serial {
+        /// Device path, e.g. `/dev/ttyACM0`.
+        path: String,
+        /// Baud rate.
+        baud: u32,
+    },
+}
+
+/// Default serial rate for boards.
+pub const DEFAULT_BAUD: u32 = 115_200;
+
+impl FromStr for LinkSpec {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "inproc" => return Ok(LinkSpec::Inproc),
+            "qemu" => return Ok(LinkSpec::Qemu),
+            _ => {}
+        }
+        if let Some(addr) = s.strip_prefix("tcp:") {
+            if addr
+                .rsplit_once(':')
+                .is_none_or(|(_, p)| p.parse::<u16>().is_err())
+            {
+                return Err(format!("`{s}`: expected tcp:HOST:PORT"));
+            }
+            return Ok(LinkSpec::Tcp(addr.to_string()));
+        }
+        if let Some(rest) = s.strip_prefix("serial:") {
+            let (path, baud) = match rest.rsplit_once('@') {
+                Some((p, b)) => (
+                    p,
+                    b.parse()
+                        .map_err(|_| format!("`{s}`: baud rate `{b}` is not a number"))?,
+                ),
+                None => (rest, DEFAULT_BAUD),
+            };
+            if path.is_empty() {
+                return Err(format!("`{s}`: expected serial:PATH[@BAUD]"));
+            }
+            return Ok(LinkSpec::Serial {
+                path: path.to_string(),
+                baud,
+            });
+        }
+        Err(format!(
+            "`{s}`: expected inproc, qemu, tcp:HOST:PORT or serial:PATH[@BAUD]"
+        ))
+    }
+}
+
+impl fmt::Display for LinkSpec {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            LinkSpec::Inproc => f.write_str("inproc"),
+            LinkSpec::Qemu => f.write_str("qemu"),
+            LinkSpec::Tcp(a) => write!(f, "tcp:{a}"),
+            LinkSpec::Serial { path, baud } => write!(f, "serial:{path}@{baud}"),
+        }
+    }
+}
+
+/// A byte pipe to the device.
+pub trait Transport: Send {
+    /// Sends all of `bytes`.
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()>;
+    /// Reads what has arrived, waiting up to `timeout`; `Ok(0)` when nothing came.
+    fn read(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize>;
+}
+
+/// The device code running inside the host process.
+pub struct InprocTransport {
+    device: Box<Device>,
+    outbox: VecDeque<u8>,
+}
+
+impl InprocTransport {
+    /// A fresh in-process device.
+    pub fn new() -> Self {
+        InprocTransport {
+            device: Box::new(Device::new(DeviceConfig {
+                firmware: concat!("tracker-core ", env!("CARGO_PKG_VERSION"), " (inproc)"),
+                boot_id: fastrand::u32(1..),
+                max_tracks: 64,
+                max_plots_per_scan: 256,
+            })),
+            outbox: VecDeque::new(),
+        }
+    }
+}
+
+impl Default for InprocTransport {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Transport for InprocTransport {
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+        let outbox = &mut self.outbox;
+        for &b in bytes {
+            self.device.receive(b, &mut |reply| outbox.extend(reply));
+        }
+        Ok(())
+    }
+
+    fn read(&mut self, buf: &mut [u8], _timeout: Duration) -> io::Result<usize> {
+        let n = buf.len().min(self.outbox.len());
+        for (dst, src) in buf.iter_mut().zip(self.outbox.drain(..n)) {
+            *dst = src;
+        }
+        Ok(n)
+    }
+}
+
+/// A TCP socket (QEMU's `-serial tcp:` or a network bridge to a board).
+pub struct TcpTransport {
+    stream: TcpStream,
+}
+
+impl TcpTransport {
+    /// Connects, with Nagle off: without it every small frame waits ~40 ms.
+    pub fn connect(addr: &str) -> anyhow::Result<Self> {
+        let stream = TcpStream::connect(addr).with_context(|| format!("connecting to {addr}"))?;
+        Self::from_stream(stream)
+    }
+
+    /// Wraps a connected stream.
+    pub fn from_stream(stream: TcpStream) -> anyhow::Result<Self> {
+        stream.set_nodelay(true)?;
+        Ok(TcpTransport { stream })
+    }
+}
+
+impl Transport for TcpTransport {
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.stream.write_all(bytes)
+    }
+
+    fn read(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        self.stream
+            .set_read_timeout(Some(timeout.max(Duration::from_millis(1))))?;
+        match self.stream.read(buf) {
+            Ok(0) => Err(io::Error::new(
+                io::ErrorKind::UnexpectedEof,
+                "the device closed the link",
+            )),
+            Ok(n) => Ok(n),
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
+                ) =>
+            {
+                Ok(0)
+            }
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// A board on a serial port.
+pub struct SerialTransport {
+    port: Box<dyn serialport::SerialPort>,
+}
+
+impl SerialTransport {
+    /// Opens `path` at `baud`, 8N1.
+    pub fn open(path: &str, baud: u32) -> anyhow::Result<Self> {
+        let port = serialport::new(path, baud)
+            .timeout(Duration::from_millis(100))
+            .open()
+            .with_context(|| format!("opening serial port {path}"))?;
+        Ok(SerialTransport { port })
+    }
+}
+
+impl Transport for SerialTransport {
+    fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
+        self.port.write_all(bytes)
+    }
+
+    fn read(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
+        self.port
+            .set_timeout(timeout.max(Duration::from_millis(1)))
+            .map_err(io::Error::other)?;
+        match self.port.read(buf) {
+            Ok(n) => Ok(n),
+            Err(e) if e.kind() == io::ErrorKind::TimedOut => Ok(0),
+            Err(e) => Err(e),
+        }
+    }
+}
+
+/// Opens the link `spec` names. `firmware` overrides the ELF QEMU runs.
+pub fn open(
+    spec: &LinkSpec,
+    opts: &crate::qemu::QemuOptions,
+) -> anyhow::Result<Box<dyn Transport>> {
+    Ok(match spec {
+        LinkSpec::Inproc => Box::new(InprocTransport::new()),
+        LinkSpec::Qemu => Box::new(QemuLink::start(opts)?),
+        LinkSpec::Tcp(addr) => Box::new(TcpTransport::connect(addr)?),
+        LinkSpec::Serial { path, baud } => Box::new(SerialTransport::open(path, *baud)?),
+    })
+}
+
+/// What went wrong with a request.
+#[derive(Debug)]
+pub enum RequestError {
+    /// No reply within the timeout.
+    Timeout,
+    /// The transport failed.
+    Io(io::Error),
+    /// The request could not be encoded.
+    Encode(FrameError),
+}
+
+impl fmt::Display for RequestError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RequestError::Timeout => f.write_str("no reply from the device"),
+            RequestError::Io(e) => write!(f, "link failed: {e}"),
+            RequestError::Encode(e) => write!(f, "request not encodable: {e}"),
+        }
+    }
+}
+
+impl std::error::Error for RequestError {}
+
+impl From<io::Error> for RequestError {
+    fn from(e: io::Error) -> Self {
+        RequestError::Io(e)
+    }
+}
+
+/// Host-side counters.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ClientStats {
+    /// Frames sent (requests and raw frames).
+    pub frames_sent: u64,
+    /// Reply frames that decoded.
+    pub frames_received: u64,
+    /// Reply frames that failed to decode (damaged on the way back).
+    pub frames_damaged: u64,
+    /// Replies that answered no outstanding request (late or unpaired).
+    pub unmatched: u64,
+}
+
+/// Request/response over a [`Transport`].
+pub struct Client {
+    transport: Box<dyn Transport>,
+    decoder: Box<FrameDecoder>,
+    inbox: VecDeque<u8>,
+    next_id: u32,
+    /// How long to wait for a reply.
+    pub timeout: Duration,
+    stats: ClientStats,
+    scratch: Vec<u8>,
+    out: Vec<u8>,
+}
+
+impl Client {
+    /// A client over `transport`; nothing is sent until the first request.
+    pub fn new(transport: Box<dyn Transport>) -> Self {
+        Client {
+            transport,
+            decoder: Box::new(FrameDecoder::new()),
+            inbox: VecDeque::new(),
+            next_id: 1,
+            timeout: Duration::from_secs(5),
+            stats: ClientStats::default(),
+            scratch: vec![0; MAX_FRAME_BYTES],
+            out: vec![0; MAX_ENCODED_FRAME_BYTES + 1],
+        }
+    }
+
+    /// Host-side counters.
+    pub fn stats(&self) -> ClientStats {
+        self.stats
+    }
+
+    /// The next request id (never [`UNPAIRED_REQUEST_ID`]).
+    pub fn allocate_id(&mut self) -> u32 {
+        let id = self.next_id;
+        self.next_id = self.next_id.wrapping_add(1).max(1);
+        id
+    }
+
+    /// Encodes a frame: a leading delimiter (so any garbage before it ends as a frame of
+    /// its own instead of spoiling this one), then the frame with its own delimiter.
+    pub fn encode(&mut self, header: &Header, body: &HostToDevice) -> Result<Vec<u8>, FrameError> {
+        self.out[0] = 0;
+        let n = frame::encode(header, body, &mut self.scratch, &mut self.out[1..])?;
+        Ok(self.out[..n + 1].to_vec())
+    }
+
+    /// Sends bytes as they are (for tests of bad input).
+    pub fn send_raw(&mut self, bytes: &[u8]) -> Result<(), RequestError> {
+        self.stats.frames_sent += 1;
+        self.transport.write_all(bytes)?;
+        Ok(())
+    }
+
+    /// Sends `body` and waits for the reply carrying its request id; other frames that
+    /// arrive meanwhile are counted and dropped.
+    pub fn request(&mut self, body: &HostToDevice) -> Result<DeviceToHost, RequestError> {
+        let id = self.allocate_id();
+        let header = Header {
+            protocol: PROTOCOL_VERSION,
+            request_id: id,
+        };
+        let bytes = self.encode(&header, body).map_err(RequestError::Encode)?;
+        self.send_raw(&bytes)?;
+        self.reply_to(id)
+    }
+
+    /// Waits for the reply to request `id`.
+    pub fn reply_to(&mut self, id: u32) -> Result<DeviceToHost, RequestError> {
+        let deadline = Instant::now() + self.timeout;
+        loop {
+            match self.next_frame(deadline)? {
+                Some((h, body)) if h.request_id == id => return Ok(body),
+                Some(_) => self.stats.unmatched += 1,
+                None => return Err(RequestError::Timeout),
+            }
+        }
+    }
+
+    /// The next reply frame, or `None` at the deadline.
+    pub fn next_frame(
+        &mut self,
+        deadline: Instant,
+    ) -> Result<Option<(Header, DeviceToHost)>, RequestError> {
+        loop {
+            while let Some(b) = self.inbox.pop_front() {
+                match self.decoder.push(b) {
+                    None => {}
+                    Some(Ok(payload)) => match frame::decode_payload(payload, u32::MAX) {
+                        Ok(frame) => {
+                            self.stats.frames_received += 1;
+                            return Ok(Some(frame));
+                        }
+                        Err(_) => self.stats.frames_damaged += 1,
+                    },
+                    Some(Err(_)) => self.stats.frames_damaged += 1,
+                }
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return Ok(None);
+            }
+            let mut buf = [0u8; 4096];
+            let n = self.transport.read(&mut buf, deadline - now)?;
+            self.inbox.extend(&buf[..n]);
+        }
+    }
+
+    /// Handshake: checks the device speaks our protocol version.
+    pub fn hello(&mut self) -> anyhow::Result<tracker_core::icd::DeviceInfo> {
+        match self.request(&HostToDevice::Hello)? {
+            DeviceToHost::HelloAck(info) if info.protocol == PROTOCOL_VERSION => Ok(info),
+            DeviceToHost::HelloAck(info) => bail!(
+                "device speaks protocol {}, this host {}",
+                info.protocol,
+                PROTOCOL_VERSION
+            ),
+            DeviceToHost::Error(e) => bail!("device refused the handshake: {e:?}"),
+            other => bail!("unexpected handshake reply: {other:?}"),
+        }
+    }
+}
+
+/// Replies carrying [`UNPAIRED_REQUEST_ID`] answer frames the device could not read.
+pub fn is_unpaired(h: &Header) -> bool {
+    h.request_id == UNPAIRED_REQUEST_ID
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn link_specs_parse() {
+        assert_eq!("inproc".parse(), Ok(LinkSpec::Inproc));
+        assert_eq!("qemu".parse(), Ok(LinkSpec::Qemu));
+        assert_eq!(
+            "tcp:127.0.0.1:4000".parse(),
+            Ok(LinkSpec::Tcp("127.0.0.1:4000".into()))
+        );
+        assert_eq!(
+            "serial:/dev/ttyACM0@921600".parse(),
+            Ok(LinkSpec::Serial {
+                path: "/dev/ttyACM0".into(),
+                baud: 921_600
+            })
+        );
+        assert_eq!(
+            "serial:/dev/ttyUSB1".parse(),
+            Ok(LinkSpec::Serial {
+                path: "/dev/ttyUSB1".into(),
+                baud: DEFAULT_BAUD
+            })
+        );
+        for bad in ["", "tcp:host", "serial:", "serial:/dev/x@fast", "usb"] {
+            assert!(bad.parse::<LinkSpec>().is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn inproc_client_handshakes_and_echoes() {
+        let mut c = Client::new(Box::new(InprocTransport::new()));
+        let info = c.hello().unwrap();
+        assert_eq!(info.protocol, PROTOCOL_VERSION);
+        let body = HostToDevice::Echo((0..=255u8).collect());
+        let HostToDevice::Echo(sent) = body.clone() else {
+            unreachable!()
+        };
+        assert_eq!(c.request(&body).unwrap(), DeviceToHost::Echo(sent));
+    }
+}
