@@ -28,5 +28,7 @@
 #![warn(missing_docs)]
 
 pub mod device;
+pub mod filter;
 pub mod frame;
 pub mod icd;
+pub mod scalar;

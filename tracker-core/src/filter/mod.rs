@@ -1,0 +1,158 @@
+//! Single-target tracking filters, one per file, behind one small trait.
+//!
+//! Every filter tracks a target's position in a plane: east and north in metres, time
+//! steps in seconds. A scan is `predict(dt)` then `update(z)`; a missed detection is
+//! `predict(dt)` alone (the track coasts). The first measurement starts the filter with
+//! position = measurement and every derivative zero, so results compare across filters
+//! and across tools.
+//!
+//! | file | filter | source |
+//! |---|---|---|
+//! | [`gh`] | the g-h-k-l engine the next three share | Brookner's notation |
+//! | [`alpha_beta`] | α-β: fixed, Benedict–Bordner, least-squares schedule, fading memory | thesis eq. 2-1 to 2-4 |
+//! | [`alpha_beta_gamma`] | α-β-γ, critically damped, and the paper as printed | `000` eq. 1-7 |
+//! | [`alpha_beta_gamma_eta`] | α-β-γ-η (constant jerk), critically damped | `001` eq. 1-8 |
+//! | [`sswt`] | switched slide-window tracker | thesis §2.3.1, eq. 2-14 |
+//! | [`kalman`] | Kalman, constant velocity and constant acceleration | thesis eq. 2-6 to 2-13 |
+//!
+//! Bad input never corrupts a filter: a non-finite measurement or a non-positive interval
+//! is refused with a [`FilterError`] and the state stays as it was.
+
+pub mod alpha_beta;
+pub mod alpha_beta_gamma;
+pub mod alpha_beta_gamma_eta;
+pub mod gh;
+pub mod kalman;
+pub mod sswt;
+
+use crate::scalar::Scalar;
+
+/// A position or velocity in the local plane: `[east, north]`.
+pub type Vec2<S> = [S; 2];
+
+/// What a filter knows about its target after the last update.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Estimate<S> {
+    /// Position `[east, north]`, metres.
+    pub position_m: Vec2<S>,
+    /// Velocity `[east, north]`, m/s.
+    pub velocity_mps: Vec2<S>,
+}
+
+/// Why a filter refused an input. The filter's state is unchanged.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum FilterError {
+    /// A measurement was NaN or infinite.
+    NonFinite,
+    /// The time step was not positive and finite.
+    BadInterval,
+    /// A gain or parameter is outside the range where the filter is defined or stable.
+    BadParameter,
+}
+
+impl core::fmt::Display for FilterError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(match self {
+            FilterError::NonFinite => "measurement is not finite",
+            FilterError::BadInterval => "time step is not positive and finite",
+            FilterError::BadParameter => "parameter out of range",
+        })
+    }
+}
+
+#[cfg(feature = "std")]
+impl std::error::Error for FilterError {}
+
+/// A single-target tracking filter.
+pub trait Filter<S: Scalar> {
+    /// (Re)starts on a first measurement: position = `z`, every derivative zero.
+    fn start(&mut self, z: Vec2<S>) -> Result<(), FilterError>;
+    /// Predicts `dt` seconds past the last update (or prediction); returns the predicted
+    /// position.
+    fn predict(&mut self, dt: S) -> Result<Vec2<S>, FilterError>;
+    /// Corrects the prediction with a measured position; returns the innovation
+    /// `z − prediction`.
+    fn update(&mut self, z: Vec2<S>) -> Result<Vec2<S>, FilterError>;
+    /// Position and velocity now.
+    fn estimate(&self) -> Estimate<S>;
+    /// The last predicted position.
+    fn prediction(&self) -> Vec2<S>;
+    /// The last innovation.
+    fn innovation(&self) -> Vec2<S>;
+}
+
+/// Checks a measurement before it touches any state.
+pub(crate) fn check_measurement<S: Scalar>(z: &Vec2<S>) -> Result<(), FilterError> {
+    if z.iter().all(|v| v.is_finite()) {
+        Ok(())
+    } else {
+        Err(FilterError::NonFinite)
+    }
+}
+
+/// Checks a time step before it touches any state.
+pub(crate) fn check_interval<S: Scalar>(dt: S) -> Result<(), FilterError> {
+    if dt.is_finite() && dt > S::ZERO {
+        Ok(())
+    } else {
+        Err(FilterError::BadInterval)
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod testing {
+    //! Helpers shared by the filters' tests.
+    use super::*;
+
+    /// Runs `f` over `(t, [x, y])` samples; returns estimates after each update.
+    pub fn run<S: Scalar, F: Filter<S>>(
+        f: &mut F,
+        samples: &[(f64, [f64; 2])],
+    ) -> std::vec::Vec<Estimate<f64>> {
+        let mut out = std::vec::Vec::new();
+        let mut last_t = None;
+        for &(t, z) in samples {
+            let zs = [S::of(z[0]), S::of(z[1])];
+            match last_t {
+                None => f.start(zs).unwrap(),
+                Some(t0) => {
+                    f.predict(S::of(t - t0)).unwrap();
+                    f.update(zs).unwrap();
+                }
+            }
+            last_t = Some(t);
+            let e = f.estimate();
+            out.push(Estimate {
+                position_m: e.position_m.map(S::to_f64),
+                velocity_mps: e.velocity_mps.map(S::to_f64),
+            });
+        }
+        out
+    }
+
+    /// Samples of a polynomial trajectory `x(t) = Σ c_i t^i` on both axes.
+    pub fn polynomial(cx: &[f64], cy: &[f64], n: usize, dt: f64) -> std::vec::Vec<(f64, [f64; 2])> {
+        let eval = |c: &[f64], t: f64| c.iter().rev().fold(0.0, |acc, &ci| acc * t + ci);
+        (0..n)
+            .map(|i| {
+                let t = i as f64 * dt;
+                (t, [eval(cx, t), eval(cy, t)])
+            })
+            .collect()
+    }
+
+    /// Deterministic Gaussian noise for tests.
+    pub struct Noise(rand::rngs::SmallRng);
+
+    impl Noise {
+        pub fn new(seed: u64) -> Self {
+            use rand::SeedableRng;
+            Noise(rand::rngs::SmallRng::seed_from_u64(seed))
+        }
+        pub fn gauss(&mut self, sigma: f64) -> f64 {
+            use rand_distr::Distribution;
+            rand_distr::Normal::new(0.0, sigma).map_or(0.0, |n| n.sample(&mut self.0))
+        }
+    }
+}
