@@ -20,7 +20,9 @@
 use core::fmt::Debug;
 use core::ops::{Add, Sub};
 
+use fixed::types::extra::U44;
 use fixed::types::{I18F14, I2F30};
+use fixed::FixedI64;
 
 /// Fixed-point state word: `I18F14` (see the module docs).
 pub type Fix = I18F14;
@@ -49,8 +51,8 @@ pub trait Scalar:
     fn gain_from_ratio(num: u32, den: u32) -> Self::Gain;
     /// `self + e·g`: the filter's update step.
     fn add_scaled(self, e: Self, g: Self::Gain) -> Self;
-    /// `self · num / den`, for rescaling per-scan derivatives when the interval changes.
-    /// `den` must be positive.
+    /// `self · num / den`, for rescaling per-scan derivatives when the interval changes;
+    /// rounds to nearest. `den` must be positive (fixed point gives 0 otherwise).
     fn rescale(self, num: Self, den: Self) -> Self;
     /// `self / den` (for output conversion; `den` positive).
     fn div(self, den: Self) -> Self;
@@ -147,12 +149,24 @@ impl Scalar for Fix {
     }
     #[inline]
     fn add_scaled(self, e: Self, g: FixGain) -> Self {
-        e.saturating_mul_add(g, self)
+        // The exact product (I36F44 in an i64), rounded to nearest: truncation would bias
+        // every update the same way, and a long-memory filter (the least-squares schedule,
+        // ξ near 1) integrates that bias into a velocity drift.
+        let product = e.wide_mul(g);
+        let half = FixedI64::<U44>::from_bits(1 << (44 - 14 - 1));
+        self.saturating_add(Fix::saturating_from_num(product.saturating_add(half)))
     }
     fn rescale(self, num: Self, den: Self) -> Self {
         // Widen so the product cannot overflow before the division brings it back.
         let wide = i64::from(self.to_bits()) * i64::from(num.to_bits());
-        let q = wide.checked_div(i64::from(den.to_bits())).unwrap_or(0);
+        let den = i64::from(den.to_bits());
+        if den <= 0 {
+            return Fix::ZERO;
+        }
+        // Round to nearest: truncation would bias every rescale the same way, and a filter
+        // with a long memory (the least-squares schedule) integrates that bias.
+        let half = if wide < 0 { -(den / 2) } else { den / 2 };
+        let q = wide.saturating_add(half) / den;
         Fix::from_bits(q.clamp(i64::from(i32::MIN), i64::from(i32::MAX)) as i32)
     }
     fn div(self, den: Self) -> Self {

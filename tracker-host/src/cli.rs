@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 use crate::link::{self, Client, LinkSpec};
 use crate::qemu::{self, QemuOptions};
-use crate::{bench_mcu, link_check};
+use crate::{bench_mcu, link_check, replay};
 
 /// ARPA-style marine radar target tracker: host side.
 #[derive(Debug, Parser)]
@@ -44,6 +44,24 @@ pub enum Command {
         /// Seed for frame sizes and contents.
         #[arg(long, default_value_t = 1)]
         seed: u64,
+    },
+    /// Run one single-target filter over recorded measurements (CSV `t,x,y` in, CSV out).
+    Replay {
+        /// The filter.
+        #[arg(long, value_enum)]
+        filter: replay::FilterKind,
+        /// Gain options (each filter takes the ones that apply to it).
+        #[command(flatten)]
+        gains: replay::GainArgs,
+        /// Measurements: CSV with a header holding t,x,y (s, m).
+        #[arg(long, value_name = "CSV")]
+        input: PathBuf,
+        /// Estimates: CSV t,x,y,vx,vy,px,py,ex,ey.
+        #[arg(long, value_name = "CSV")]
+        output: PathBuf,
+        /// Number type.
+        #[arg(long, value_enum, default_value_t = replay::ScalarKind::F64)]
+        scalar: replay::ScalarKind,
     },
     /// Instruction counts on the emulated Cortex-M4F, as CSV.
     BenchMcu {
@@ -115,6 +133,26 @@ where
             } else {
                 ExitCode::FAILURE
             })
+        }
+        Command::Replay {
+            filter,
+            gains,
+            input,
+            output,
+            scalar,
+        } => {
+            let spec = replay::FilterSpec::from_args(*filter, gains)?;
+            let measurements = replay::read_measurements(input)?;
+            let rows = replay::run(&spec, *scalar, &measurements)?;
+            replay::write_estimates(output, &rows)?;
+            eprintln!(
+                "replay: {} measurements through {:?} ({:?}) -> {}",
+                rows.len(),
+                spec,
+                scalar,
+                output.display()
+            );
+            Ok(ExitCode::SUCCESS)
         }
         Command::BenchMcu { elf } => {
             let rows = bench_mcu::run(elf.as_deref().or(cli.firmware.as_deref()))?;

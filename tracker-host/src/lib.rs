@@ -10,3 +10,4 @@ pub mod cli;
 pub mod link;
 pub mod link_check;
 pub mod qemu;
+pub mod replay;

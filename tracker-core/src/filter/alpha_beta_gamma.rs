@@ -7,8 +7,12 @@
 //! The paper's printed formulas differ: eq. 6 prints β = 1.5(1 − ξ)³(1 + ξ), but its own
 //! Table 2 (ξ = 0.9: α = 0.271, β = 0.0285, γ = 0.001) agrees with (1 − ξ)²; its
 //! γ = (1 − ξ)³ (eq. 7) is 2k, and its eq. 3 then adds 2γ/T²·ε, twice the critically damped
-//! acceleration gain. [`AbgGains::SeedLiteral`] runs eq. 1-7 exactly as printed, for
-//! reproducing the paper; [`AbgGains::PaperTable`] runs Table 2's values through eq. 3.
+//! acceleration gain, which moves the poles from ξ = 0.9 to 0.81 and 0.945 ± 0.087j.
+//!
+//! [`AbgGains::SeedLiteral`] runs the paper as it ran: Table 2's α, β, γ through eq. 1-4
+//! exactly as printed. [`AbgGains::PrintedEq6`] also takes eq. 6's (1 − ξ)³ literally;
+//! that filter is unstable at ξ = 0.9 (a pole pair at |z| = 1.006, tested), so the paper
+//! cannot have run it: it is kept only to show why.
 
 use super::gh::{GhFilter, Schedule};
 use super::FilterError;
@@ -34,14 +38,14 @@ pub enum AbgGains {
         /// ξ in [0, 1].
         xi: f64,
     },
-    /// The paper exactly as printed: α = 1 − ξ³, β = 1.5(1 − ξ)³(1 + ξ), γ = (1 − ξ)³,
-    /// acceleration update 2γ/T²·ε (eq. 3, 5-7).
+    /// The paper as run: Table 2's gains, α = 1 − ξ³, β = 1.5(1 − ξ)²(1 + ξ),
+    /// γ = (1 − ξ)³, through eq. 3's acceleration update 2γ/T²·ε.
     SeedLiteral {
         /// ξ in [0, 1].
         xi: f64,
     },
-    /// The paper's Table 2 gains (β with (1 − ξ)², γ = (1 − ξ)³) through its eq. 3.
-    PaperTable {
+    /// Eq. 5-7 to the letter, β = 1.5(1 − ξ)³(1 + ξ): unstable at ξ = 0.9.
+    PrintedEq6 {
         /// ξ in [0, 1].
         xi: f64,
     },
@@ -62,11 +66,11 @@ impl AbgGains {
             }
             AbgGains::SeedLiteral { xi } => {
                 let m = 1.0 - xi;
-                [1.0 - xi * xi * xi, 1.5 * m * m * m * (1.0 + xi), m * m * m]
-            }
-            AbgGains::PaperTable { xi } => {
-                let m = 1.0 - xi;
                 [1.0 - xi * xi * xi, 1.5 * m * m * (1.0 + xi), m * m * m]
+            }
+            AbgGains::PrintedEq6 { xi } => {
+                let m = 1.0 - xi;
+                [1.0 - xi * xi * xi, 1.5 * m * m * m * (1.0 + xi), m * m * m]
             }
         }
     }
@@ -85,7 +89,7 @@ impl AbgGains {
                 .all(|g| g.is_finite() && (0.0..=2.0).contains(g)),
             AbgGains::FadingMemory { xi }
             | AbgGains::SeedLiteral { xi }
-            | AbgGains::PaperTable { xi } => (0.0..=1.0).contains(&xi),
+            | AbgGains::PrintedEq6 { xi } => (0.0..=1.0).contains(&xi),
         };
         if ok {
             Ok(())
@@ -106,7 +110,7 @@ impl AbgGains {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::filter::gh::pole_mismatch;
+    use crate::filter::gh::{pole_mismatch, spectral_radius};
     use crate::filter::testing::{polynomial, run};
     use crate::filter::Filter;
 
@@ -126,9 +130,18 @@ mod tests {
                 "xi {xi}"
             );
         }
-        // The paper as printed does not place them there.
+    }
+
+    #[test]
+    fn the_papers_gains_move_the_poles() {
+        // As run (Table 2 through eq. 3): poles 0.810 and 0.945 ± 0.087j, so the slowest
+        // mode decays at |z| = 0.949 instead of 0.9.
+        let rho = spectral_radius(AbgGains::SeedLiteral { xi: 0.9 }.gains());
+        assert!((rho - 0.9488).abs() < 1e-3, "{rho}");
         assert!(pole_mismatch(AbgGains::SeedLiteral { xi: 0.9 }.gains(), 0.9) > 1e-4);
-        assert!(pole_mismatch(AbgGains::PaperTable { xi: 0.9 }.gains(), 0.9) > 1e-4);
+        // Eq. 6 to the letter: a pole pair at |z| = 1.006, outside the unit circle.
+        let rho = spectral_radius(AbgGains::PrintedEq6 { xi: 0.9 }.gains());
+        assert!((rho - 1.0059).abs() < 1e-3, "{rho}");
     }
 
     #[test]

@@ -175,12 +175,15 @@ impl<S: Scalar, const N: usize> Filter<S> for GhFilter<S, N> {
     }
 }
 
-/// Checks that every closed-loop pole of a constant-gain g-h-k-l filter sits at `xi`:
-/// the characteristic polynomial of (I − K·H)·Φ (one axis, per-scan units) must be
-/// (z − ξ)^N. Compared at several z rather than through an eigen-solver, which is
-/// ill-conditioned for repeated roots. Returns the largest mismatch.
+/// How far the characteristic polynomial of a constant-gain g-h-k-l filter's closed loop,
+/// (I − K·H)·Φ for one axis in per-scan units, is from `expected` (monic, degree N),
+/// compared at several z rather than through an eigen-solver, which is ill-conditioned for
+/// repeated roots. Returns the largest mismatch.
 #[cfg(test)]
-pub(crate) fn pole_mismatch<const N: usize>(gains: [f64; N], xi: f64) -> f64
+pub(crate) fn char_poly_mismatch<const N: usize>(
+    gains: [f64; N],
+    expected: impl Fn(f64) -> f64,
+) -> f64
 where
     nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
 {
@@ -195,11 +198,42 @@ where
     let a = (SMatrix::<f64, N, N>::identity() - kh) * phi;
     [-1.5, -0.3, 0.2, 0.7, 1.1, 2.0]
         .iter()
-        .map(|&z| {
-            let det = (SMatrix::<f64, N, N>::identity() * z - a).determinant();
-            (det - (z - xi).powi(N as i32)).abs()
-        })
+        .map(|&z| ((SMatrix::<f64, N, N>::identity() * z - a).determinant() - expected(z)).abs())
         .fold(0.0, f64::max)
+}
+
+/// The largest pole modulus of a constant-gain filter, from the growth of (I − K·H)·Φ's
+/// powers (Gelfand's formula): robust for repeated and complex poles alike.
+#[cfg(test)]
+pub(crate) fn spectral_radius<const N: usize>(gains: [f64; N]) -> f64 {
+    use nalgebra::SMatrix;
+    let phi = SMatrix::<f64, N, N>::from_fn(|i, j| {
+        f64::from(BINOMIAL[j][i]) * f64::from(u8::from(j >= i))
+    });
+    let mut kh = SMatrix::<f64, N, N>::zeros();
+    for (i, g) in gains.iter().enumerate() {
+        kh[(i, 0)] = *g;
+    }
+    let a = (SMatrix::<f64, N, N>::identity() - kh) * phi;
+    // Square 12 times: A^4096, rescaled each step to stay in range.
+    let mut m = a;
+    let mut log_scale = 0.0;
+    for _ in 0..12 {
+        m = m * m;
+        let n = m.norm();
+        log_scale = 2.0 * log_scale + n.ln();
+        m /= n;
+    }
+    (log_scale / 4096.0).exp()
+}
+
+/// [`char_poly_mismatch`] against (z − ξ)^N: zero when every pole sits at ξ.
+#[cfg(test)]
+pub(crate) fn pole_mismatch<const N: usize>(gains: [f64; N], xi: f64) -> f64
+where
+    nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
+{
+    char_poly_mismatch(gains, |z| (z - xi).powi(N as i32))
 }
 
 #[cfg(test)]
