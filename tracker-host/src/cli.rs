@@ -52,7 +52,7 @@ pub enum Command {
         filter: replay::FilterKind,
         /// Gain options (each filter takes the ones that apply to it).
         #[command(flatten)]
-        gains: replay::GainArgs,
+        gains: Box<replay::GainArgs>,
         /// Measurements: CSV with a header holding t,x,y (s, m).
         #[arg(long, value_name = "CSV")]
         input: PathBuf,
