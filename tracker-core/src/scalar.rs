@@ -18,11 +18,8 @@
 //! overflow pins the value at the format's limit instead of wrapping to the opposite sign.
 
 use core::fmt::Debug;
-use core::ops::{Add, Sub};
 
-use fixed::types::extra::U44;
 use fixed::types::{I18F14, I2F30};
-use fixed::FixedI64;
 
 /// Fixed-point state word: `I18F14` (see the module docs).
 pub type Fix = I18F14;
@@ -31,9 +28,7 @@ pub type Fix = I18F14;
 pub type FixGain = I2F30;
 
 /// A number a g-h-family filter can run in.
-pub trait Scalar:
-    Copy + Debug + PartialEq + PartialOrd + Add<Output = Self> + Sub<Output = Self>
-{
+pub trait Scalar: Copy + Debug + PartialEq + PartialOrd {
     /// A gain: the same type for floats, a finer format for fixed point.
     type Gain: Copy + Debug + PartialEq;
     /// Zero.
@@ -56,6 +51,10 @@ pub trait Scalar:
     fn rescale(self, num: Self, den: Self) -> Self;
     /// `self / den` (for output conversion; `den` positive).
     fn div(self, den: Self) -> Self;
+    /// `self + o` (saturating for fixed point: one `QADD` on the M4).
+    fn plus(self, o: Self) -> Self;
+    /// `self − o` (saturating for fixed point: one `QSUB`).
+    fn minus(self, o: Self) -> Self;
     /// `self · o` (saturating for fixed point).
     fn mul(self, o: Self) -> Self;
     /// `self · k` for a small integer `k` (the prediction's binomial coefficients).
@@ -100,6 +99,14 @@ macro_rules! float_scalar {
                 self / den
             }
             #[inline]
+            fn plus(self, o: Self) -> Self {
+                self + o
+            }
+            #[inline]
+            fn minus(self, o: Self) -> Self {
+                self - o
+            }
+            #[inline]
             fn mul(self, o: Self) -> Self {
                 self * o
             }
@@ -109,7 +116,11 @@ macro_rules! float_scalar {
             }
             #[inline]
             fn is_finite(self) -> bool {
-                <$t>::is_finite(self)
+                // x − x is 0 for every finite x and NaN for NaN and ±∞: one subtract and
+                // one compare on the FPU, where the bit test costs a dozen integer ops.
+                #[allow(clippy::eq_op)]
+                let zero = self - self;
+                zero == 0.0
             }
         }
     };
@@ -149,12 +160,25 @@ impl Scalar for Fix {
     }
     #[inline]
     fn add_scaled(self, e: Self, g: FixGain) -> Self {
-        // The exact product (I36F44 in an i64), rounded to nearest: truncation would bias
-        // every update the same way, and a long-memory filter (the least-squares schedule,
-        // ξ near 1) integrates that bias into a velocity drift.
-        let product = e.wide_mul(g);
-        let half = FixedI64::<U44>::from_bits(1 << (44 - 14 - 1));
-        self.saturating_add(Fix::saturating_from_num(product.saturating_add(half)))
+        // e·g rounded to nearest, as the high word of a 64-bit product: I18F14 × I2F30 has
+        // 44 fractional bits, so scale e by 4 first (two saturating adds) and keep bits
+        // 32..64, which the M4 does in one SMMULR. Rounding, not truncation: truncation
+        // biases every update the same way, and a long-memory filter (least-squares
+        // schedule, ξ near 1) integrates that bias into a velocity drift. The scaling
+        // saturates innovations beyond ±32,768 m, far outside any validation gate; in
+        // exchange the product always fits 32 bits and needs no clamp.
+        let e2 = e.to_bits().saturating_add(e.to_bits());
+        let e4 = e2.saturating_add(e2);
+        let product = (i64::from(e4) * i64::from(g.to_bits()) + (1 << 31)) >> 32;
+        self.saturating_add(Fix::from_bits(product as i32))
+    }
+    #[inline]
+    fn plus(self, o: Self) -> Self {
+        self.saturating_add(o)
+    }
+    #[inline]
+    fn minus(self, o: Self) -> Self {
+        self.saturating_sub(o)
     }
     fn rescale(self, num: Self, den: Self) -> Self {
         // Widen so the product cannot overflow before the division brings it back.
@@ -211,6 +235,20 @@ mod tests {
     fn fixed_saturates_instead_of_wrapping() {
         let big = Fix::of(120_000.0);
         assert_eq!(big.add_scaled(big, FixGain::from_num(1.5)), Fix::MAX);
+        assert_eq!(
+            Fix::ZERO.add_scaled(Fix::MIN, FixGain::from_num(1.99)),
+            Fix::of(-65_536.0 * 0.995)
+        );
+        // Products round to nearest: 3 LSB × 0.5 = 1.5 LSB → 2 LSB; −1.5 → −1 (ties up).
+        let half = FixGain::from_num(0.5);
+        assert_eq!(
+            Fix::ZERO.add_scaled(Fix::from_bits(3), half),
+            Fix::from_bits(2)
+        );
+        assert_eq!(
+            Fix::ZERO.add_scaled(Fix::from_bits(-3), half),
+            Fix::from_bits(-1)
+        );
         assert_eq!(Fix::of(1e9), Fix::MAX);
         assert_eq!(Fix::of(f64::NAN), Fix::ZERO);
         assert_eq!(big.times(3), Fix::MAX);

@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 use crate::link::{self, Client, LinkSpec};
 use crate::qemu::{self, QemuOptions};
-use crate::{bench_mcu, link_check, replay};
+use crate::{bench_mcu, link_check, precision, replay};
 
 /// ARPA-style marine radar target tracker: host side.
 #[derive(Debug, Parser)]
@@ -62,6 +62,15 @@ pub enum Command {
         /// Number type.
         #[arg(long, value_enum, default_value_t = replay::ScalarKind::F64)]
         scalar: replay::ScalarKind,
+    },
+    /// How far f32 and fixed point drift from f64 on a long run, per filter.
+    Precision {
+        /// Scans in the run.
+        #[arg(long, default_value_t = 100_000)]
+        scans: usize,
+        /// Noise seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
     },
     /// Instruction counts on the emulated Cortex-M4F, as CSV.
     BenchMcu {
@@ -152,6 +161,14 @@ where
                 scalar,
                 output.display()
             );
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Precision { scans, seed } => {
+            println!(
+                "{} scans at 2.5 s, 70 to 99 km from the origin, 15 m noise, seed {seed}",
+                scans
+            );
+            print!("{}", precision::table(&precision::run(*scans, *seed)?));
             Ok(ExitCode::SUCCESS)
         }
         Command::BenchMcu { elf } => {

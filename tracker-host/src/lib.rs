@@ -9,5 +9,6 @@ pub mod bench_mcu;
 pub mod cli;
 pub mod link;
 pub mod link_check;
+pub mod precision;
 pub mod qemu;
 pub mod replay;

@@ -21,7 +21,7 @@ use tracker_core::filter::alpha_beta_gamma::AbgGains;
 use tracker_core::filter::alpha_beta_gamma_eta::AbgeGains;
 use tracker_core::filter::kalman::{KalmanConfig, QModel};
 use tracker_core::filter::sswt::SswtConfig;
-use tracker_core::filter::Filter;
+use tracker_core::filter::{self, Filter, Interval};
 use tracker_core::scalar::{Fix, Real, Scalar};
 
 /// Filters `replay` runs.
@@ -385,18 +385,17 @@ fn drive<S: Scalar, F: Filter<S>>(
     let mut prev_t = None;
     for (i, m) in input.iter().enumerate() {
         let line = i + 2;
-        let z = [S::of(m.x), S::of(m.y)];
+        let z = filter::Measurement::new([S::of(m.x), S::of(m.y)])
+            .map_err(|e| anyhow!("input line {line}: {e}"))?;
         let (p, e) = match prev_t {
             None => {
-                f.start(z).map_err(|e| anyhow!("input line {line}: {e}"))?;
-                (z, [S::ZERO; 2])
+                f.start(z);
+                (z.position_m(), [S::ZERO; 2])
             }
             Some(t0) => {
-                let p = f
-                    .predict(S::of(m.t - t0))
+                let dt = Interval::new(S::of(m.t - t0))
                     .map_err(|e| anyhow!("input line {line}: {e} (in {})", S::NAME))?;
-                let e = f.update(z).map_err(|e| anyhow!("input line {line}: {e}"))?;
-                (p, e)
+                (f.predict(dt), f.update(z))
             }
         };
         prev_t = Some(m.t);

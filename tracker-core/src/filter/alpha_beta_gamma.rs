@@ -155,7 +155,7 @@ mod tests {
         let d = f.derivatives();
         assert!((d[0][2] - 0.6).abs() < 1e-9 && (d[1][2] + 0.1).abs() < 1e-9);
         // Prediction one scan ahead is exact too.
-        let p = f.predict(3.0).unwrap();
+        let p = f.predict(crate::filter::Interval::new(3.0).unwrap());
         let t1 = t + 3.0;
         assert!((p[1] - (-4.0 * t1 - 0.05 * t1 * t1)).abs() < 1e-5);
     }

@@ -13,7 +13,7 @@
 //! integer multiples only, no gain divided by T. That is what makes the fixed-point filter
 //! exact and cheap. When the interval changes, `q_i` is rescaled by `(T_new/T_old)^i` once.
 
-use super::{check_interval, check_measurement, Estimate, Filter, FilterError, Vec2};
+use super::{Estimate, Filter, Interval, Measurement, Vec2};
 use crate::scalar::Scalar;
 
 /// Binomial coefficients C(j, i) for j, i < 4.
@@ -33,31 +33,40 @@ pub enum Schedule<G, const N: usize> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GhFilter<S: Scalar, const N: usize> {
     schedule: Schedule<S::Gain, N>,
+    /// The gains of the next update (kept current for the least-squares schedule).
+    gains: [S::Gain; N],
     /// Per axis (east, north): `[x, v·T, a·T²/2, j·T³/6][..N]`.
     q: [[S; N]; 2],
     /// The interval `q`'s derivatives are scaled to; zero before the first prediction.
     scan_s: S,
     prediction: Vec2<S>,
     innovation: Vec2<S>,
-    /// Measurements taken, the first included.
+    /// Measurements taken, the first included (kept by the least-squares schedule only).
     measurements: u32,
 }
 
 impl<S: Scalar, const N: usize> GhFilter<S, N> {
     /// A filter with the given gain schedule, waiting for its first measurement.
     pub fn with_schedule(schedule: Schedule<S::Gain, N>) -> Self {
-        GhFilter {
+        let mut f = GhFilter {
             schedule,
+            gains: [S::gain_from_ratio(0, 1); N],
             q: [[S::ZERO; N]; 2],
             scan_s: S::ZERO,
             prediction: [S::ZERO; 2],
             innovation: [S::ZERO; 2],
             measurements: 0,
-        }
+        };
+        f.gains = f.scheduled_gains();
+        f
     }
 
     /// The gains the next update will use.
     pub fn gains(&self) -> [S::Gain; N] {
+        self.gains
+    }
+
+    fn scheduled_gains(&self) -> [S::Gain; N] {
         match self.schedule {
             Schedule::Constant(g) => g,
             Schedule::LeastSquares => {
@@ -75,9 +84,20 @@ impl<S: Scalar, const N: usize> GhFilter<S, N> {
         }
     }
 
-    /// Measurements taken so far.
-    pub fn measurements(&self) -> u32 {
-        self.measurements
+    /// Rescales the per-scan derivatives to a new interval: q_i ·= (T_new/T_old)^i. Off the
+    /// hot path: scans usually repeat the same interval.
+    #[cold]
+    fn change_interval(&mut self, dt: S) {
+        if self.scan_s > S::ZERO {
+            for q in &mut self.q {
+                for (i, qi) in q.iter_mut().enumerate().skip(1) {
+                    for _ in 0..i {
+                        *qi = qi.rescale(dt, self.scan_s);
+                    }
+                }
+            }
+        }
+        self.scan_s = dt;
     }
 
     /// Per-axis derivatives in physical units: `[x, v, a, j][..N]` (m, m/s, m/s², m/s³).
@@ -102,8 +122,8 @@ impl<S: Scalar, const N: usize> GhFilter<S, N> {
 }
 
 impl<S: Scalar, const N: usize> Filter<S> for GhFilter<S, N> {
-    fn start(&mut self, z: Vec2<S>) -> Result<(), FilterError> {
-        check_measurement(&z)?;
+    fn start(&mut self, z: Measurement<S>) {
+        let z = z.position_m();
         self.q = [[S::ZERO; N]; 2];
         for (q, zi) in self.q.iter_mut().zip(z) {
             q[0] = zi;
@@ -111,48 +131,44 @@ impl<S: Scalar, const N: usize> Filter<S> for GhFilter<S, N> {
         self.prediction = z;
         self.innovation = [S::ZERO; 2];
         self.measurements = 1;
-        Ok(())
+        self.gains = self.scheduled_gains();
     }
 
-    fn predict(&mut self, dt: S) -> Result<Vec2<S>, FilterError> {
-        check_interval(dt)?;
+    #[inline]
+    fn predict(&mut self, dt: Interval<S>) -> Vec2<S> {
+        let dt = dt.seconds();
         if dt != self.scan_s {
-            if self.scan_s > S::ZERO {
-                for q in &mut self.q {
-                    for (i, qi) in q.iter_mut().enumerate().skip(1) {
-                        for _ in 0..i {
-                            *qi = qi.rescale(dt, self.scan_s);
-                        }
-                    }
-                }
-            }
-            self.scan_s = dt;
+            self.change_interval(dt);
         }
         for q in &mut self.q {
             for i in 0..N {
                 let mut acc = q[i];
                 for j in i + 1..N {
-                    acc = acc + q[j].times(BINOMIAL[j][i]);
+                    acc = acc.plus(q[j].times(BINOMIAL[j][i]));
                 }
                 q[i] = acc;
             }
         }
         self.prediction = [self.q[0][0], self.q[1][0]];
-        Ok(self.prediction)
+        self.prediction
     }
 
-    fn update(&mut self, z: Vec2<S>) -> Result<Vec2<S>, FilterError> {
-        check_measurement(&z)?;
-        let gains = self.gains();
+    #[inline]
+    fn update(&mut self, z: Measurement<S>) -> Vec2<S> {
+        let z = z.position_m();
+        let gains = self.gains;
         for (axis, (q, zi)) in self.q.iter_mut().zip(z).enumerate() {
-            let e = zi - q[0];
+            let e = zi.minus(q[0]);
             self.innovation[axis] = e;
             for (qi, &g) in q.iter_mut().zip(&gains) {
                 *qi = qi.add_scaled(e, g);
             }
         }
-        self.measurements = self.measurements.saturating_add(1);
-        Ok(self.innovation)
+        if let Schedule::LeastSquares = self.schedule {
+            self.measurements = self.measurements.saturating_add(1);
+            self.gains = self.scheduled_gains();
+        }
+        self.innovation
     }
 
     fn estimate(&self) -> Estimate<S> {
@@ -240,6 +256,7 @@ where
 mod tests {
     use super::*;
     use crate::filter::testing::{polynomial, run};
+    use crate::filter::FilterError;
     use crate::scalar::Fix;
 
     #[test]
@@ -263,21 +280,21 @@ mod tests {
     }
 
     #[test]
-    fn bad_input_leaves_the_state_alone() {
-        let mut f = GhFilter::<f32, 2>::with_schedule(Schedule::Constant([0.5, 0.2]));
-        f.start([1.0, 2.0]).unwrap();
-        f.predict(1.0).unwrap();
-        f.update([2.0, 3.0]).unwrap();
-        let before = f;
-        assert_eq!(f.update([f32::NAN, 0.0]), Err(FilterError::NonFinite));
-        assert_eq!(f.predict(0.0), Err(FilterError::BadInterval));
-        assert_eq!(f.predict(-1.0), Err(FilterError::BadInterval));
-        assert_eq!(f.predict(f32::INFINITY), Err(FilterError::BadInterval));
-        assert_eq!(f, before);
-        let mut x =
-            GhFilter::<Fix, 2>::with_schedule(Schedule::Constant([Fix::gain_from_f64(0.5); 2]));
-        x.start([Fix::ZERO; 2]).unwrap();
-        assert_eq!(x.predict(Fix::ZERO), Err(FilterError::BadInterval));
+    fn bad_input_is_refused_before_it_reaches_a_filter() {
+        assert_eq!(
+            Measurement::new([f32::NAN, 0.0]),
+            Err(FilterError::NonFinite)
+        );
+        assert_eq!(
+            Measurement::new([0.0, f32::INFINITY]),
+            Err(FilterError::NonFinite)
+        );
+        for dt in [0.0, -1.0, f32::INFINITY, f32::NAN] {
+            assert_eq!(Interval::new(dt), Err(FilterError::BadInterval), "{dt}");
+        }
+        assert_eq!(Interval::new(Fix::ZERO), Err(FilterError::BadInterval));
+        assert!(Interval::new(Fix::DELTA).is_ok());
+        assert!(Measurement::new([Fix::MAX, Fix::MIN]).is_ok());
     }
 
     #[test]

@@ -15,8 +15,9 @@
 //! | [`sswt`] | switched slide-window tracker | thesis §2.3.1, eq. 2-14 |
 //! | [`kalman`] | Kalman, constant velocity and constant acceleration | thesis eq. 2-6 to 2-13 |
 //!
-//! Bad input never corrupts a filter: a non-finite measurement or a non-positive interval
-//! is refused with a [`FilterError`] and the state stays as it was.
+//! Bad input never reaches a filter: measurements and intervals are validated once, where
+//! they enter, into [`Measurement`] and [`Interval`]; a NaN or a non-positive step is
+//! refused there with a [`FilterError`], and the filters' hot paths need no checks.
 
 pub mod alpha_beta;
 pub mod alpha_beta_gamma;
@@ -64,40 +65,71 @@ impl core::fmt::Display for FilterError {
 #[cfg(feature = "std")]
 impl std::error::Error for FilterError {}
 
+/// A measured position `[east, north]` in metres, known to be finite.
+///
+/// Validated once where data enters (a CSV line, a plot off the link), so the filters'
+/// hot paths carry no checks and cannot be handed a NaN.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measurement<S>(Vec2<S>);
+
+impl<S: Scalar> Measurement<S> {
+    /// Accepts a finite position.
+    #[inline]
+    pub fn new(position_m: Vec2<S>) -> Result<Self, FilterError> {
+        if position_m[0].is_finite() && position_m[1].is_finite() {
+            Ok(Measurement(position_m))
+        } else {
+            Err(FilterError::NonFinite)
+        }
+    }
+
+    /// The position, metres.
+    #[inline]
+    pub fn position_m(&self) -> Vec2<S> {
+        self.0
+    }
+}
+
+/// A time step in seconds, known to be positive and finite.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Interval<S>(S);
+
+impl<S: Scalar> Interval<S> {
+    /// Accepts a positive, finite step (in fixed point: at least one resolution step).
+    #[inline]
+    pub fn new(seconds: S) -> Result<Self, FilterError> {
+        if seconds > S::ZERO && seconds.is_finite() {
+            Ok(Interval(seconds))
+        } else {
+            Err(FilterError::BadInterval)
+        }
+    }
+
+    /// The step, seconds.
+    #[inline]
+    pub fn seconds(&self) -> S {
+        self.0
+    }
+}
+
 /// A single-target tracking filter.
+///
+/// Inputs arrive validated ([`Measurement`], [`Interval`]), so no call can fail or leave
+/// the state invalid.
 pub trait Filter<S: Scalar> {
     /// (Re)starts on a first measurement: position = `z`, every derivative zero.
-    fn start(&mut self, z: Vec2<S>) -> Result<(), FilterError>;
-    /// Predicts `dt` seconds past the last update (or prediction); returns the predicted
-    /// position.
-    fn predict(&mut self, dt: S) -> Result<Vec2<S>, FilterError>;
+    fn start(&mut self, z: Measurement<S>);
+    /// Predicts `dt` past the last update (or prediction); returns the predicted position.
+    fn predict(&mut self, dt: Interval<S>) -> Vec2<S>;
     /// Corrects the prediction with a measured position; returns the innovation
     /// `z − prediction`.
-    fn update(&mut self, z: Vec2<S>) -> Result<Vec2<S>, FilterError>;
+    fn update(&mut self, z: Measurement<S>) -> Vec2<S>;
     /// Position and velocity now.
     fn estimate(&self) -> Estimate<S>;
     /// The last predicted position.
     fn prediction(&self) -> Vec2<S>;
     /// The last innovation.
     fn innovation(&self) -> Vec2<S>;
-}
-
-/// Checks a measurement before it touches any state.
-pub(crate) fn check_measurement<S: Scalar>(z: &Vec2<S>) -> Result<(), FilterError> {
-    if z.iter().all(|v| v.is_finite()) {
-        Ok(())
-    } else {
-        Err(FilterError::NonFinite)
-    }
-}
-
-/// Checks a time step before it touches any state.
-pub(crate) fn check_interval<S: Scalar>(dt: S) -> Result<(), FilterError> {
-    if dt.is_finite() && dt > S::ZERO {
-        Ok(())
-    } else {
-        Err(FilterError::BadInterval)
-    }
 }
 
 #[cfg(test)]
@@ -113,12 +145,12 @@ pub(crate) mod testing {
         let mut out = std::vec::Vec::new();
         let mut last_t = None;
         for &(t, z) in samples {
-            let zs = [S::of(z[0]), S::of(z[1])];
+            let zs = Measurement::new([S::of(z[0]), S::of(z[1])]).unwrap();
             match last_t {
-                None => f.start(zs).unwrap(),
+                None => f.start(zs),
                 Some(t0) => {
-                    f.predict(S::of(t - t0)).unwrap();
-                    f.update(zs).unwrap();
+                    f.predict(Interval::new(S::of(t - t0)).unwrap());
+                    f.update(zs);
                 }
             }
             last_t = Some(t);

@@ -24,9 +24,14 @@
 //! time. With equal intervals that is exactly the weights above; with uneven ones it is
 //! still the best straight line, where fixed weights would bend it. The velocity estimate
 //! is that line's slope.
+//!
+//! Equal intervals are the common case and take a fast path: the weights above (and the
+//! slope's, per scan) are constants of M, computed once, applied to the positions relative
+//! to the newest (so every weight is below 1 in magnitude and fits the fixed-point gain
+//! format). The general fit runs only when the window holds uneven intervals.
 
 use super::alpha_beta::{AlphaBeta, AlphaBetaGains};
-use super::{check_interval, check_measurement, Estimate, Filter, FilterError, Vec2};
+use super::{Estimate, Filter, FilterError, Interval, Measurement, Vec2};
 use crate::scalar::Scalar;
 
 /// Longest window supported.
@@ -69,9 +74,23 @@ impl SswtConfig {
                 2.0 * (2.0 * k - 1.0) / (k * (k + 1.0))
             }
         };
+        // Weights of (x_i − x_newest), i = 1..M−1 oldest first: one-step prediction and
+        // slope per scan, for equal intervals.
+        let m = self.window as f64;
+        let mut w_predict = [S::gain_from_f64(0.0); MAX_WINDOW];
+        let mut w_slope = [S::gain_from_f64(0.0); MAX_WINDOW];
+        for i in 0..self.window - 1 {
+            let centred = (i + 1) as f64 - (m + 1.0) / 2.0;
+            w_predict[i] = S::gain_from_f64(1.0 / m + 6.0 * centred / (m * (m - 1.0)));
+            w_slope[i] = S::gain_from_f64(12.0 * centred / (m * (m * m - 1.0)));
+        }
         Ok(Sswt {
             window: self.window,
             a: S::gain_from_f64(alpha),
+            w_predict,
+            w_slope,
+            run: 0,
+            run_s: S::ZERO,
             start: self.start.build()?,
             times: [S::ZERO; MAX_WINDOW],
             positions: [[S::ZERO; 2]; MAX_WINDOW],
@@ -80,6 +99,7 @@ impl SswtConfig {
             prediction: [S::ZERO; 2],
             innovation: [S::ZERO; 2],
             velocity: [S::ZERO; 2],
+            velocity_per_s: S::ZERO,
             measurements: 0,
         })
     }
@@ -90,6 +110,13 @@ impl SswtConfig {
 pub struct Sswt<S: Scalar> {
     window: usize,
     a: S::Gain,
+    /// Equal-interval weights of (x_i − x_newest) for the one-step prediction.
+    w_predict: [S::Gain; MAX_WINDOW],
+    /// Equal-interval weights of (x_i − x_newest) for the slope, per scan.
+    w_slope: [S::Gain; MAX_WINDOW],
+    /// Equal intervals in a row ending at the newest entry, and their length.
+    run: usize,
+    run_s: S,
     start: AlphaBeta<S>,
     /// Times of the window's filtered positions relative to the newest (≤ 0), oldest first.
     times: [S; MAX_WINDOW],
@@ -100,7 +127,10 @@ pub struct Sswt<S: Scalar> {
     pending_s: S,
     prediction: Vec2<S>,
     innovation: Vec2<S>,
+    /// Velocity as a displacement over `velocity_per_s` seconds (divided out on demand, so
+    /// the hot path has no division).
     velocity: Vec2<S>,
+    velocity_per_s: S,
     measurements: u32,
 }
 
@@ -110,7 +140,32 @@ impl<S: Scalar> Sswt<S> {
         self.measurements as usize > self.window
     }
 
+    /// True when the window is full and its intervals, and the next one, all equal `dt`.
+    fn uniform(&self, dt: S) -> bool {
+        self.len == self.window && self.run + 1 >= self.window && dt == self.run_s
+    }
+
+    /// Σ w_i·(x_i − x_newest) over the window, per axis.
+    fn weighted(&self, w: &[S::Gain; MAX_WINDOW]) -> Vec2<S> {
+        let newest = self.positions[self.window - 1];
+        let mut out = [S::ZERO; 2];
+        for (p, &wi) in self.positions[..self.window - 1].iter().zip(w) {
+            for axis in 0..2 {
+                out[axis] = out[axis].add_scaled(p[axis].minus(newest[axis]), wi);
+            }
+        }
+        out
+    }
+
     fn push(&mut self, dt: S, z: Vec2<S>) {
+        if self.len > 0 {
+            if dt == self.run_s {
+                self.run = (self.run + 1).min(MAX_WINDOW);
+            } else {
+                self.run = 1;
+                self.run_s = dt;
+            }
+        }
         let n = self.len.min(self.window);
         if n == self.window {
             self.times.copy_within(1..n, 0);
@@ -118,7 +173,7 @@ impl<S: Scalar> Sswt<S> {
         }
         let n = if n == self.window { n - 1 } else { n };
         for t in &mut self.times[..n] {
-            *t = *t - dt;
+            *t = t.minus(dt);
         }
         self.times[n] = S::ZERO;
         self.positions[n] = z;
@@ -132,89 +187,104 @@ impl<S: Scalar> Sswt<S> {
         let times = &self.times[..n];
         let mut t_mean = S::ZERO;
         for &t in times {
-            t_mean = t_mean + t;
+            t_mean = t_mean.plus(t);
         }
         let t_mean = t_mean.div(count);
         let mut stt = S::ZERO;
         for &t in times {
-            let d = t - t_mean;
-            stt = stt + d.mul(d);
+            let d = t.minus(t_mean);
+            stt = stt.plus(d.mul(d));
         }
         let mut value = [S::ZERO; 2];
         let mut slope = [S::ZERO; 2];
         for axis in 0..2 {
             let mut mean = S::ZERO;
             for p in &self.positions[..n] {
-                mean = mean + p[axis];
+                mean = mean.plus(p[axis]);
             }
             let mean = mean.div(count);
             let mut s = S::ZERO;
             if stt > S::ZERO {
                 for (p, &t) in self.positions[..n].iter().zip(times) {
-                    s = s + (p[axis] - mean).rescale(t - t_mean, stt);
+                    s = s.plus(p[axis].minus(mean).rescale(t.minus(t_mean), stt));
                 }
             }
             slope[axis] = s;
-            value[axis] = mean + s.mul(at - t_mean);
+            value[axis] = mean.plus(s.mul(at.minus(t_mean)));
         }
         (value, slope)
     }
 }
 
 impl<S: Scalar> Filter<S> for Sswt<S> {
-    fn start(&mut self, z: Vec2<S>) -> Result<(), FilterError> {
-        self.start.start(z)?;
+    fn start(&mut self, z: Measurement<S>) {
+        self.start.start(z);
+        let z = z.position_m();
         self.len = 0;
+        self.run = 0;
         self.push(S::ZERO, z);
         self.pending_s = S::ZERO;
         self.prediction = z;
         self.innovation = [S::ZERO; 2];
         self.velocity = [S::ZERO; 2];
+        self.velocity_per_s = S::of(1.0);
         self.measurements = 1;
-        Ok(())
     }
 
-    fn predict(&mut self, dt: S) -> Result<Vec2<S>, FilterError> {
-        check_interval(dt)?;
-        let ahead = self.pending_s + dt;
+    fn predict(&mut self, dt: Interval<S>) -> Vec2<S> {
+        let ahead = self.pending_s.plus(dt.seconds());
         if self.in_window_phase() {
-            self.prediction = self.line_at(ahead).0;
+            self.prediction = if self.pending_s == S::ZERO && self.uniform(dt.seconds()) {
+                let newest = self.positions[self.window - 1];
+                let step = self.weighted(&self.w_predict);
+                [newest[0].plus(step[0]), newest[1].plus(step[1])]
+            } else {
+                self.line_at(ahead).0
+            };
         } else {
-            self.prediction = self.start.predict(dt)?;
+            self.prediction = self.start.predict(dt);
         }
         self.pending_s = ahead;
-        Ok(self.prediction)
+        self.prediction
     }
 
-    fn update(&mut self, z: Vec2<S>) -> Result<Vec2<S>, FilterError> {
-        check_measurement(&z)?;
+    fn update(&mut self, measurement: Measurement<S>) -> Vec2<S> {
+        let z = measurement.position_m();
         let filtered = if self.in_window_phase() {
             let mut f = self.prediction;
             for axis in 0..2 {
-                self.innovation[axis] = z[axis] - self.prediction[axis];
+                self.innovation[axis] = z[axis].minus(self.prediction[axis]);
                 f[axis] = self.prediction[axis].add_scaled(self.innovation[axis], self.a);
             }
             f
         } else {
-            self.innovation = self.start.update(z)?;
+            self.innovation = self.start.update(measurement);
             self.start.estimate().position_m
         };
         self.push(self.pending_s, filtered);
         self.pending_s = S::ZERO;
         self.measurements = self.measurements.saturating_add(1);
-        self.velocity = if self.in_window_phase() {
-            self.line_at(S::ZERO).1
+        if !self.in_window_phase() {
+            self.velocity = self.start.estimate().velocity_mps;
+            self.velocity_per_s = S::of(1.0);
+        } else if self.run + 1 >= self.window {
+            self.velocity = self.weighted(&self.w_slope);
+            self.velocity_per_s = self.run_s;
         } else {
-            self.start.estimate().velocity_mps
-        };
-        Ok(self.innovation)
+            self.velocity = self.line_at(S::ZERO).1;
+            self.velocity_per_s = S::of(1.0);
+        }
+        self.innovation
     }
 
     fn estimate(&self) -> Estimate<S> {
         let newest = self.len.saturating_sub(1);
         Estimate {
             position_m: self.positions[newest],
-            velocity_mps: self.velocity,
+            velocity_mps: [
+                self.velocity[0].div(self.velocity_per_s),
+                self.velocity[1].div(self.velocity_per_s),
+            ],
         }
     }
 
@@ -285,13 +355,15 @@ mod tests {
         };
         let mut f = cfg.build::<f64>().unwrap();
         let zs = [1.0, 4.0, 2.0, 7.0, 5.0];
-        f.start([zs[0], 0.0]).unwrap();
+        let m = |z: f64| Measurement::new([z, 0.0]).unwrap();
+        let dt = Interval::new(2.0).unwrap();
+        f.start(m(zs[0]));
         for &z in &zs[1..] {
-            f.predict(2.0).unwrap();
-            f.update([z, 0.0]).unwrap();
+            f.predict(dt);
+            f.update(m(z));
         }
         // α = 1: the filtered positions are the measurements; the window is the last 3.
-        let p = f.predict(2.0).unwrap();
+        let p = f.predict(dt);
         let expected = -2.0 / 3.0 * 2.0 + 1.0 / 3.0 * 7.0 + 4.0 / 3.0 * 5.0;
         assert!((p[0] - expected).abs() < 1e-12, "{p:?} vs {expected}");
     }
@@ -345,6 +417,43 @@ mod tests {
                 .map(|(a, b)| (a.position_m[0] - b.position_m[0]).abs())
                 .fold(0.0, f64::max);
             assert!(worst < bound, "{name}: {worst}");
+        }
+    }
+
+    #[test]
+    fn the_equal_interval_fast_path_is_the_general_fit() {
+        let mut noise = crate::filter::testing::Noise::new(4);
+        for m in 2..=MAX_WINDOW {
+            let cfg = SswtConfig {
+                window: m,
+                start: AlphaBetaGains::FadingMemory { xi: 0.6 },
+            };
+            let mut f = cfg.build::<f64>().unwrap();
+            let dt = Interval::new(2.5).unwrap();
+            f.start(Measurement::new([0.0, 0.0]).unwrap());
+            for k in 1..40 {
+                let t = k as f64 * 2.5;
+                f.predict(dt);
+                f.update(
+                    Measurement::new([7.0 * t + noise.gauss(9.0), -t + noise.gauss(9.0)]).unwrap(),
+                );
+                assert!(f.uniform(2.5) || k <= m, "M={m} k={k}");
+                let (general, slope) = f.line_at(2.5);
+                let v = f.estimate().velocity_mps;
+                let fast = f.predict(dt);
+                if !f.in_window_phase() {
+                    f.pending_s = 0.0;
+                    continue;
+                }
+                for axis in 0..2 {
+                    assert!((fast[axis] - general[axis]).abs() < 1e-9, "M={m} k={k}");
+                    if k > m + 1 {
+                        assert!((v[axis] - slope[axis]).abs() < 1e-9, "M={m} k={k}");
+                    }
+                }
+                // Undo the extra prediction: the next loop predicts again from the update.
+                f.pending_s = 0.0;
+            }
         }
     }
 

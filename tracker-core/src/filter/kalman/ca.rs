@@ -6,7 +6,7 @@
 use nalgebra::{Matrix3, Vector3};
 
 use super::{KalmanConfig, QModel};
-use crate::filter::{check_interval, check_measurement, Estimate, Filter, FilterError, Vec2};
+use crate::filter::{Estimate, Filter, FilterError, Interval, Measurement, Vec2};
 use crate::scalar::Real;
 
 /// The constant-acceleration Kalman filter.
@@ -91,8 +91,8 @@ impl<S: Real> KalmanCa<S> {
 }
 
 impl<S: Real> Filter<S> for KalmanCa<S> {
-    fn start(&mut self, z: Vec2<S>) -> Result<(), FilterError> {
-        check_measurement(&z)?;
+    fn start(&mut self, z: Measurement<S>) {
+        let z = z.position_m();
         self.x = [
             Vector3::new(z[0], S::ZERO, S::ZERO),
             Vector3::new(z[1], S::ZERO, S::ZERO),
@@ -100,11 +100,11 @@ impl<S: Real> Filter<S> for KalmanCa<S> {
         self.p = self.initial_covariance();
         self.prediction = z;
         self.innovation = [S::ZERO; 2];
-        Ok(())
     }
 
-    fn predict(&mut self, dt: S) -> Result<Vec2<S>, FilterError> {
-        check_interval(dt)?;
+    #[inline]
+    fn predict(&mut self, dt: Interval<S>) -> Vec2<S> {
+        let dt = dt.seconds();
         let zero = S::ZERO;
         let one = S::of(1.0);
         let f = Matrix3::new(
@@ -123,11 +123,12 @@ impl<S: Real> Filter<S> for KalmanCa<S> {
         }
         self.p = f * self.p * f.transpose() + self.process_noise(dt);
         self.prediction = [self.x[0][0], self.x[1][0]];
-        Ok(self.prediction)
+        self.prediction
     }
 
-    fn update(&mut self, z: Vec2<S>) -> Result<Vec2<S>, FilterError> {
-        check_measurement(&z)?;
+    #[inline]
+    fn update(&mut self, z: Measurement<S>) -> Vec2<S> {
+        let z = z.position_m();
         let s = self.p[(0, 0)] + self.r;
         let k: Vector3<S> = self.p.column(0) / s;
         for (axis, x) in self.x.iter_mut().enumerate() {
@@ -139,7 +140,7 @@ impl<S: Real> Filter<S> for KalmanCa<S> {
         let mut ikh = Matrix3::identity();
         ikh.set_column(0, &(Vector3::x() - k));
         self.p = ikh * self.p * ikh.transpose() + k * k.transpose() * self.r;
-        Ok(self.innovation)
+        self.innovation
     }
 
     fn estimate(&self) -> Estimate<S> {

@@ -1,0 +1,150 @@
+//! Every tracking filter of tracker-core on the emulated Cortex-M4F (f32 and fixed point):
+//! the host's known answers, rerun on the target's FPU and integer unit.
+#![no_std]
+#![no_main]
+
+use tracker_core::filter::{Filter, Interval, Measurement};
+use tracker_core::scalar::Scalar;
+use tracker_firmware as _; // panic handler, HardFault handler, defmt transport
+
+/// Feeds `x(t) = Σ c_i t^i` (same on both axes, north scaled by −0.5) every `dt` seconds
+/// for `n` scans; returns the largest position error over the last quarter and the final
+/// east velocity.
+pub fn track_polynomial<S: Scalar, F: Filter<S>>(
+    f: &mut F,
+    c: &[f64],
+    dt: f64,
+    n: usize,
+) -> (f64, f64) {
+    let eval = |t: f64| c.iter().rev().fold(0.0, |acc, &ci| acc * t + ci);
+    let slope = |t: f64| {
+        c.iter()
+            .enumerate()
+            .skip(1)
+            .map(|(i, ci)| i as f64 * ci * libm::pow(t, (i - 1) as f64))
+            .sum::<f64>()
+    };
+    let z = |t: f64| Measurement::new([S::of(eval(t)), S::of(-0.5 * eval(t))]);
+    let (Ok(first), Ok(step)) = (z(0.0), Interval::new(S::of(dt))) else {
+        defmt::panic!("bad test input");
+    };
+    f.start(first);
+    let mut worst = 0.0f64;
+    for k in 1..n {
+        let t = k as f64 * dt;
+        f.predict(step);
+        let Ok(m) = z(t) else {
+            defmt::panic!("bad measurement")
+        };
+        f.update(m);
+        if k > 3 * n / 4 {
+            let e = f.estimate();
+            let err = libm::fabs(e.position_m[0].to_f64() - eval(t))
+                + libm::fabs(e.position_m[1].to_f64() + 0.5 * eval(t));
+            worst = worst.max(err);
+        }
+    }
+    let t = (n - 1) as f64 * dt;
+    (worst, f.estimate().velocity_mps[0].to_f64() - slope(t))
+}
+
+#[defmt_test::tests]
+mod tests {
+    use super::track_polynomial;
+    use tracker_core::filter::alpha_beta::AlphaBetaGains;
+    use tracker_core::filter::alpha_beta_gamma::AbgGains;
+    use tracker_core::filter::alpha_beta_gamma_eta::AbgeGains;
+    use tracker_core::filter::kalman::{KalmanConfig, QModel};
+    use tracker_core::filter::sswt::SswtConfig;
+    use tracker_core::filter::{Filter, Interval, Measurement};
+    use tracker_core::scalar::Fix;
+
+    #[test]
+    fn alpha_beta_follows_constant_velocity() {
+        let design = AlphaBetaGains::FadingMemory { xi: 0.7 };
+        let (e, v) = track_polynomial::<f32, _>(
+            &mut design.build::<f32>().unwrap(),
+            &[1000.0, 6.0],
+            3.0,
+            200,
+        );
+        defmt::assert!(e < 0.05 && libm::fabs(v) < 1e-3, "f32 {} {}", e, v);
+        let (e, v) = track_polynomial::<Fix, _>(
+            &mut design.build::<Fix>().unwrap(),
+            &[1000.0, 6.0],
+            3.0,
+            200,
+        );
+        defmt::assert!(e < 0.01 && libm::fabs(v) < 1e-3, "fixed {} {}", e, v);
+    }
+
+    #[test]
+    fn alpha_beta_gamma_follows_constant_acceleration() {
+        let design = AbgGains::FadingMemory { xi: 0.8 };
+        let c = [-2000.0, 4.0, 0.05];
+        let (e, v) = track_polynomial::<f32, _>(&mut design.build::<f32>().unwrap(), &c, 2.5, 300);
+        defmt::assert!(e < 0.5 && libm::fabs(v) < 0.01, "f32 {} {}", e, v);
+        let (e, v) = track_polynomial::<Fix, _>(&mut design.build::<Fix>().unwrap(), &c, 2.5, 300);
+        defmt::assert!(e < 0.05 && libm::fabs(v) < 0.01, "fixed {} {}", e, v);
+    }
+
+    #[test]
+    fn alpha_beta_gamma_eta_follows_constant_jerk() {
+        let design = AbgeGains::FadingMemory { xi: 0.7 };
+        let c = [500.0, 3.0, 0.02, 0.0005];
+        let (e, v) = track_polynomial::<f32, _>(&mut design.build::<f32>().unwrap(), &c, 2.0, 250);
+        defmt::assert!(e < 1.0 && libm::fabs(v) < 0.05, "f32 {} {}", e, v);
+        let (e, v) = track_polynomial::<Fix, _>(&mut design.build::<Fix>().unwrap(), &c, 2.0, 250);
+        defmt::assert!(e < 0.1 && libm::fabs(v) < 0.05, "fixed {} {}", e, v);
+    }
+
+    #[test]
+    fn sswt_follows_a_straight_track() {
+        let cfg = SswtConfig {
+            window: 4,
+            start: AlphaBetaGains::BenedictBordner { alpha: 0.6 },
+        };
+        let (e, v) =
+            track_polynomial::<f32, _>(&mut cfg.build::<f32>().unwrap(), &[300.0, -9.0], 3.0, 150);
+        defmt::assert!(e < 0.05 && libm::fabs(v) < 1e-3, "f32 {} {}", e, v);
+        let (e, v) =
+            track_polynomial::<Fix, _>(&mut cfg.build::<Fix>().unwrap(), &[300.0, -9.0], 3.0, 150);
+        defmt::assert!(e < 0.01 && libm::fabs(v) < 1e-3, "fixed {} {}", e, v);
+    }
+
+    #[test]
+    fn kalman_cv_reaches_kalatas_steady_state_gain() {
+        let (q, r, dt) = (0.04f32, 225.0f32, 2.5f32);
+        let lambda = libm::sqrtf(q) * dt * dt / libm::sqrtf(r);
+        let root = libm::sqrtf(lambda * lambda + 8.0 * lambda);
+        let alpha = -(lambda * lambda + 8.0 * lambda - (lambda + 4.0) * root) / 8.0;
+        let mut f = KalmanConfig::new(q as f64, QModel::Discrete, r as f64)
+            .build_cv::<f32>()
+            .unwrap();
+        let origin = Measurement::new([0.0, 0.0]).unwrap();
+        f.start(origin);
+        for _ in 0..500 {
+            f.predict(Interval::new(dt).unwrap());
+            f.update(origin);
+        }
+        defmt::assert!(
+            libm::fabsf(f.gain()[0] - alpha) < 1e-4,
+            "{} vs {}",
+            f.gain()[0],
+            alpha
+        );
+        let (e, v) = track_polynomial::<f32, _>(&mut f, &[0.0, 5.0], 2.5, 200);
+        defmt::assert!(e < 0.05 && libm::fabs(v) < 0.01, "{} {}", e, v);
+    }
+
+    #[test]
+    fn kalman_ca_follows_constant_acceleration() {
+        let mut f = KalmanConfig::new(1e-6, QModel::Discrete, 25.0)
+            .build_ca::<f32>()
+            .unwrap();
+        let (e, v) = track_polynomial::<f32, _>(&mut f, &[10.0, 2.0, 0.05], 2.0, 300);
+        defmt::assert!(e < 1.0 && libm::fabs(v) < 0.05, "{} {}", e, v);
+        let p = f.covariance();
+        defmt::assert!(p[(0, 0)] > 0.0 && p[(1, 1)] > 0.0 && p[(2, 2)] > 0.0);
+    }
+}
