@@ -30,5 +30,7 @@
 pub mod device;
 pub mod filter;
 pub mod frame;
+pub mod geo;
 pub mod icd;
 pub mod scalar;
+pub mod sim;

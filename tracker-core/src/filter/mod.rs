@@ -175,12 +175,12 @@ pub(crate) mod testing {
     }
 
     /// Deterministic Gaussian noise for tests.
-    pub struct Noise(rand::rngs::SmallRng);
+    pub struct Noise(rand_pcg::Pcg32);
 
     impl Noise {
         pub fn new(seed: u64) -> Self {
-            use rand::SeedableRng;
-            Noise(rand::rngs::SmallRng::seed_from_u64(seed))
+            use rand_core::SeedableRng;
+            Noise(rand_pcg::Pcg32::seed_from_u64(seed))
         }
         pub fn gauss(&mut self, sigma: f64) -> f64 {
             use rand_distr::Distribution;

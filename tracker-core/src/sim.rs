@@ -1,0 +1,506 @@
+//! Scenario simulation: own ship, targets that manoeuvre, and the radar plots of each scan.
+//!
+//! Deterministic from a seed (PCG32 and `libm`, the same on the MCU and the host), so a run
+//! repeats exactly on either, as the thesis's DSP generated its own data. Fixed capacity,
+//! no heap.
+//!
+//! ## The sensor
+//!
+//! Range and bearing errors follow the IMO ARPA performance standard's sensor model
+//! (A.823(19) Appendix 3, the figures the accuracy issue uses): range, Gaussian pulse error
+//! σ 20 m plus target glint σ 30 m plus a uniform quantisation error of ±0.01 NM; bearing,
+//! beam shape σ 0.05° and encoder σ 0.03° plus uniform backlash ±0.05° and quantisation
+//! ±0.1°. Own-ship errors (gyro, log, roll) belong to the navigation filter and are not
+//! modelled here. Each target is detected with probability `pd`; clutter is a Poisson
+//! number of plots per scan spread uniformly over the radar's area.
+
+use heapless::Vec;
+use rand::RngExt;
+use rand_core::SeedableRng;
+use rand_distr::{Distribution, Normal, Poisson};
+use rand_pcg::Pcg32;
+
+use crate::geo::{self, EastNorth, METRES_PER_NM, MPS_PER_KNOT};
+use crate::icd::Plot;
+
+/// Most targets a scenario holds.
+pub const MAX_TARGETS: usize = 128;
+
+/// Most plots one scan produces (targets and clutter).
+pub const MAX_PLOTS: usize = 256;
+
+/// The radar's error and detection model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SensorModel {
+    /// Gaussian range errors (pulse, glint), m.
+    pub range_sigmas_m: [f32; 2],
+    /// Uniform range quantisation half-width, m.
+    pub range_quantisation_m: f32,
+    /// Gaussian bearing errors (beam shape, encoder), rad.
+    pub bearing_sigmas_rad: [f32; 2],
+    /// Uniform bearing error half-widths (backlash, quantisation), rad.
+    pub bearing_uniform_rad: [f32; 2],
+    /// Probability of detecting a target on a scan.
+    pub pd: f32,
+    /// Mean clutter plots per scan.
+    pub clutter_per_scan: f32,
+    /// Radar range, m.
+    pub max_range_m: f32,
+    /// Blind range around own ship, m.
+    pub min_range_m: f32,
+}
+
+impl SensorModel {
+    /// The IMO model, P_d = 0.9, 10 clutter plots a scan, 12 NM range.
+    pub fn imo() -> Self {
+        let deg = core::f32::consts::PI / 180.0;
+        SensorModel {
+            range_sigmas_m: [20.0, 30.0],
+            range_quantisation_m: 0.01 * METRES_PER_NM,
+            bearing_sigmas_rad: [0.05 * deg, 0.03 * deg],
+            bearing_uniform_rad: [0.05 * deg, 0.1 * deg],
+            pd: 0.9,
+            clutter_per_scan: 10.0,
+            max_range_m: 12.0 * METRES_PER_NM,
+            min_range_m: 0.2 * METRES_PER_NM,
+        }
+    }
+
+    /// Standard deviation of the range error, m.
+    pub fn range_sigma_m(&self) -> f32 {
+        let [a, b] = self.range_sigmas_m;
+        let q = self.range_quantisation_m;
+        libm::sqrtf(a * a + b * b + q * q / 3.0)
+    }
+
+    /// Standard deviation of the bearing error, rad.
+    pub fn bearing_sigma_rad(&self) -> f32 {
+        let [a, b] = self.bearing_sigmas_rad;
+        let [u, v] = self.bearing_uniform_rad;
+        libm::sqrtf(a * a + b * b + (u * u + v * v) / 3.0)
+    }
+}
+
+/// The kinds of scenario.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub enum ScenarioKind {
+    /// Targets scattered 2–10 NM around own ship on random courses at 5–20 kn, each
+    /// turning or changing speed now and then; a quarter of them in crossing pairs.
+    OpenSea,
+    /// Every target in a crossing pair: the two meet at one point 2–6 minutes in, at
+    /// crossing angles from 20° to 160°.
+    Crossing,
+}
+
+/// Scenario parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ScenarioConfig {
+    /// Which scenario.
+    pub kind: ScenarioKind,
+    /// Number of targets (at most [`MAX_TARGETS`]).
+    pub targets: usize,
+    /// Seed of every random draw.
+    pub seed: u64,
+    /// Antenna period, s (2–3 s: 20–30 rpm).
+    pub scan_s: f32,
+    /// Own ship's speed, m/s, on a steady course.
+    pub own_speed_mps: f32,
+    /// Own ship's course, rad true.
+    pub own_course_rad: f32,
+    /// The radar.
+    pub sensor: SensorModel,
+}
+
+impl ScenarioConfig {
+    /// Open sea, 40 targets, 2.5 s scans, own ship 12 kn on 000°.
+    pub fn open_sea(targets: usize, seed: u64) -> Self {
+        ScenarioConfig {
+            kind: ScenarioKind::OpenSea,
+            targets,
+            seed,
+            scan_s: 2.5,
+            own_speed_mps: 12.0 * MPS_PER_KNOT,
+            own_course_rad: 0.0,
+            sensor: SensorModel::imo(),
+        }
+    }
+}
+
+/// A ship in the simulation: where it is and how it moves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ship {
+    /// Identity (0 is own ship).
+    pub id: u16,
+    /// Position, local frame, m.
+    pub position_m: EastNorth,
+    /// Course, rad true.
+    pub course_rad: f32,
+    /// Speed, m/s.
+    pub speed_mps: f32,
+    turn_rate_rad_s: f32,
+    accel_mps2: f32,
+    manoeuvre_left_s: f32,
+    next_manoeuvre_s: f32,
+}
+
+impl Ship {
+    fn new(id: u16, position_m: EastNorth, course_rad: f32, speed_mps: f32) -> Self {
+        Ship {
+            id,
+            position_m,
+            course_rad,
+            speed_mps,
+            turn_rate_rad_s: 0.0,
+            accel_mps2: 0.0,
+            manoeuvre_left_s: 0.0,
+            next_manoeuvre_s: f32::INFINITY,
+        }
+    }
+
+    /// Velocity, m/s.
+    pub fn velocity_mps(&self) -> EastNorth {
+        geo::velocity(self.course_rad, self.speed_mps)
+    }
+
+    fn step(&mut self, dt: f32) {
+        // Midpoint rule on the course: exact for constant turn rate to second order.
+        let mid = self.course_rad + 0.5 * self.turn_rate_rad_s * dt;
+        let v = self.speed_mps + 0.5 * self.accel_mps2 * dt;
+        let (s, c) = libm::sincosf(mid);
+        self.position_m[0] += v * s * dt;
+        self.position_m[1] += v * c * dt;
+        self.course_rad = geo::wrap_2pi(self.course_rad + self.turn_rate_rad_s * dt);
+        self.speed_mps = (self.speed_mps + self.accel_mps2 * dt).clamp(0.5, 20.0);
+        if self.manoeuvre_left_s > 0.0 {
+            self.manoeuvre_left_s -= dt;
+            if self.manoeuvre_left_s <= 0.0 {
+                self.turn_rate_rad_s = 0.0;
+                self.accel_mps2 = 0.0;
+            }
+        }
+        self.next_manoeuvre_s -= dt;
+    }
+}
+
+/// The truth about one target at a scan.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Truth {
+    /// Target identity.
+    pub id: u16,
+    /// Position, local frame, m.
+    pub position_m: EastNorth,
+    /// Velocity, m/s.
+    pub velocity_mps: EastNorth,
+    /// Whether this scan detected it.
+    pub detected: bool,
+}
+
+/// One antenna revolution's output.
+#[derive(Clone, Debug, Default)]
+pub struct ScanOutput {
+    /// Scan number, from 0.
+    pub scan: u32,
+    /// Time of the scan, ms from the start.
+    pub time_ms: u64,
+    /// Own ship (truth), local frame.
+    pub own_position_m: EastNorth,
+    /// Own ship's velocity (truth), m/s.
+    pub own_velocity_mps: EastNorth,
+    /// Plots sorted by bearing, as the sweep delivers them.
+    pub plots: Vec<Plot, MAX_PLOTS>,
+    /// For each plot, the target it came from (`None`: clutter).
+    pub plot_source: Vec<Option<u16>, MAX_PLOTS>,
+    /// Every target's truth.
+    pub truth: Vec<Truth, MAX_TARGETS>,
+}
+
+/// A running scenario.
+#[derive(Clone, Debug)]
+pub struct Scenario {
+    config: ScenarioConfig,
+    rng: Pcg32,
+    own: Ship,
+    targets: Vec<Ship, MAX_TARGETS>,
+    scan: u32,
+    time_s: f64,
+}
+
+impl Scenario {
+    /// Places own ship and the targets.
+    pub fn new(config: ScenarioConfig) -> Self {
+        let mut rng = Pcg32::seed_from_u64(config.seed);
+        let own = Ship::new(0, [0.0, 0.0], config.own_course_rad, config.own_speed_mps);
+        let mut targets: Vec<Ship, MAX_TARGETS> = Vec::new();
+        let n = config.targets.min(MAX_TARGETS);
+        let crossing = match config.kind {
+            ScenarioKind::OpenSea => n / 4 * 2,
+            ScenarioKind::Crossing => n / 2 * 2,
+        };
+        let mut id = 1u16;
+        while (targets.len()) < crossing {
+            let [a, b] = crossing_pair(&mut rng, &own, id);
+            let _ = targets.push(a);
+            let _ = targets.push(b);
+            id += 2;
+        }
+        while targets.len() < n {
+            let range = rng.random_range(2.0..10.0) * METRES_PER_NM;
+            let bearing = rng.random_range(0.0..core::f32::consts::TAU);
+            let course = rng.random_range(0.0..core::f32::consts::TAU);
+            let speed = rng.random_range(5.0..20.0) * MPS_PER_KNOT;
+            let mut ship = Ship::new(
+                id,
+                geo::polar_to_local(own.position_m, range, bearing),
+                course,
+                speed,
+            );
+            ship.next_manoeuvre_s = rng.random_range(60.0..600.0);
+            let _ = targets.push(ship);
+            id += 1;
+        }
+        Scenario {
+            config,
+            rng,
+            own,
+            targets,
+            scan: 0,
+            time_s: 0.0,
+        }
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &ScenarioConfig {
+        &self.config
+    }
+
+    /// Own ship.
+    pub fn own_ship(&self) -> &Ship {
+        &self.own
+    }
+
+    /// The targets.
+    pub fn targets(&self) -> &[Ship] {
+        &self.targets
+    }
+
+    /// Produces the next scan's plots, then moves everything on by one antenna period.
+    pub fn next_scan(&mut self) -> ScanOutput {
+        let sensor = self.config.sensor;
+        let mut out = ScanOutput {
+            scan: self.scan,
+            time_ms: (self.time_s * 1000.0) as u64,
+            own_position_m: self.own.position_m,
+            own_velocity_mps: self.own.velocity_mps(),
+            ..ScanOutput::default()
+        };
+        let mut raw: Vec<(Plot, Option<u16>), MAX_PLOTS> = Vec::new();
+        for t in &self.targets {
+            let (range, bearing) = geo::range_bearing(self.own.position_m, t.position_m);
+            let visible = range >= sensor.min_range_m && range <= sensor.max_range_m;
+            let detected = visible && self.rng.random::<f32>() < sensor.pd;
+            if detected {
+                let plot = Plot {
+                    range_m: range + range_error(&mut self.rng, &sensor),
+                    bearing_rad: geo::wrap_2pi(bearing + bearing_error(&mut self.rng, &sensor)),
+                };
+                let _ = raw.push((plot, Some(t.id)));
+            }
+            let _ = out.truth.push(Truth {
+                id: t.id,
+                position_m: t.position_m,
+                velocity_mps: t.velocity_mps(),
+                detected,
+            });
+        }
+        let clutter = Poisson::new(sensor.clutter_per_scan.max(1e-6))
+            .map(|p| p.sample(&mut self.rng) as usize)
+            .unwrap_or(0);
+        let (r0, r1) = (sensor.min_range_m, sensor.max_range_m);
+        for _ in 0..clutter {
+            // Uniform over the annulus: range² uniform.
+            let u: f32 = self.rng.random();
+            let range = libm::sqrtf(r0 * r0 + u * (r1 * r1 - r0 * r0));
+            let bearing = self.rng.random_range(0.0..core::f32::consts::TAU);
+            if raw
+                .push((
+                    Plot {
+                        range_m: range,
+                        bearing_rad: bearing,
+                    },
+                    None,
+                ))
+                .is_err()
+            {
+                break;
+            }
+        }
+        raw.sort_unstable_by(|a, b| a.0.bearing_rad.total_cmp(&b.0.bearing_rad));
+        for (p, s) in raw {
+            let _ = out.plots.push(p);
+            let _ = out.plot_source.push(s);
+        }
+        self.advance();
+        out
+    }
+
+    fn advance(&mut self) {
+        let dt = self.config.scan_s;
+        self.own.step(dt);
+        for t in &mut self.targets {
+            if t.next_manoeuvre_s <= 0.0 && t.manoeuvre_left_s <= 0.0 {
+                // A turn of 1–3°/s, sometimes with a speed change, for 20–60 s.
+                let deg = core::f32::consts::PI / 180.0;
+                let rate = self.rng.random_range(1.0..3.0) * deg;
+                t.turn_rate_rad_s = if self.rng.random::<bool>() {
+                    rate
+                } else {
+                    -rate
+                };
+                t.accel_mps2 = if self.rng.random::<f32>() < 0.3 {
+                    self.rng.random_range(-0.05..0.05)
+                } else {
+                    0.0
+                };
+                t.manoeuvre_left_s = self.rng.random_range(20.0..60.0);
+                t.next_manoeuvre_s = self.rng.random_range(120.0..900.0);
+            }
+            t.step(dt);
+        }
+        self.scan += 1;
+        self.time_s += f64::from(dt);
+    }
+}
+
+fn range_error(rng: &mut Pcg32, s: &SensorModel) -> f32 {
+    let mut e = 0.0;
+    for sigma in s.range_sigmas_m {
+        e += Normal::new(0.0, sigma).map_or(0.0, |n| n.sample(rng));
+    }
+    e + rng.random_range(-1.0f32..1.0) * s.range_quantisation_m
+}
+
+fn bearing_error(rng: &mut Pcg32, s: &SensorModel) -> f32 {
+    let mut e = 0.0;
+    for sigma in s.bearing_sigmas_rad {
+        e += Normal::new(0.0, sigma).map_or(0.0, |n| n.sample(rng));
+    }
+    for half in s.bearing_uniform_rad {
+        e += rng.random_range(-1.0f32..1.0) * half;
+    }
+    e
+}
+
+/// Two targets that meet at one point 2–6 minutes in, crossing at 20°–160°, steady.
+fn crossing_pair(rng: &mut Pcg32, own: &Ship, id: u16) -> [Ship; 2] {
+    let meet_s = rng.random_range(120.0..360.0);
+    // The meeting point is where own ship will be at that time, offset 1–6 NM.
+    let own_then = [
+        own.position_m[0] + own.velocity_mps()[0] * meet_s,
+        own.position_m[1] + own.velocity_mps()[1] * meet_s,
+    ];
+    let meet = geo::polar_to_local(
+        own_then,
+        rng.random_range(1.0..6.0) * METRES_PER_NM,
+        rng.random_range(0.0..core::f32::consts::TAU),
+    );
+    let course_a = rng.random_range(0.0..core::f32::consts::TAU);
+    let angle = rng.random_range(20.0f32..160.0).to_radians();
+    let course_b = geo::wrap_2pi(course_a + if rng.random::<bool>() { angle } else { -angle });
+    let mut ships = [(id, course_a), (id + 1, course_b)].map(|(i, course)| {
+        let speed = rng.random_range(8.0..18.0) * MPS_PER_KNOT;
+        let v = geo::velocity(course, speed);
+        Ship::new(
+            i,
+            [meet[0] - v[0] * meet_s, meet[1] - v[1] * meet_s],
+            course,
+            speed,
+        )
+    });
+    for s in &mut ships {
+        s.next_manoeuvre_s = meet_s + rng.random_range(120.0..600.0);
+    }
+    ships
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_same_seed_gives_the_same_scans() {
+        let cfg = ScenarioConfig::open_sea(40, 9);
+        let (mut a, mut b) = (Scenario::new(cfg), Scenario::new(cfg));
+        for _ in 0..50 {
+            let (x, y) = (a.next_scan(), b.next_scan());
+            assert_eq!(x.plots, y.plots);
+            assert_eq!(x.truth, y.truth);
+        }
+        let mut c = Scenario::new(ScenarioConfig { seed: 10, ..cfg });
+        assert_ne!(c.next_scan().plots, Scenario::new(cfg).next_scan().plots);
+    }
+
+    #[test]
+    fn detections_clutter_and_errors_follow_the_model() {
+        let cfg = ScenarioConfig::open_sea(40, 3);
+        let mut s = Scenario::new(cfg);
+        let (mut detected, mut visible, mut clutter, mut scans) = (0usize, 0usize, 0usize, 0usize);
+        let (mut sum_sq_range, mut n_err) = (0.0f64, 0usize);
+        for _ in 0..400 {
+            let out = s.next_scan();
+            scans += 1;
+            clutter += out.plot_source.iter().filter(|p| p.is_none()).count();
+            for t in &out.truth {
+                let (r, _) = geo::range_bearing(out.own_position_m, t.position_m);
+                if r >= cfg.sensor.min_range_m && r <= cfg.sensor.max_range_m {
+                    visible += 1;
+                    detected += usize::from(t.detected);
+                }
+            }
+            for (p, src) in out.plots.iter().zip(&out.plot_source) {
+                if let Some(id) = src {
+                    let t = out.truth.iter().find(|t| t.id == *id).unwrap();
+                    let (r, _) = geo::range_bearing(out.own_position_m, t.position_m);
+                    sum_sq_range += f64::from(p.range_m - r).powi(2);
+                    n_err += 1;
+                }
+            }
+            assert!(out
+                .plots
+                .windows(2)
+                .all(|w| w[0].bearing_rad <= w[1].bearing_rad));
+        }
+        let pd = detected as f64 / visible as f64;
+        assert!((pd - 0.9).abs() < 0.01, "pd {pd}");
+        let lambda = clutter as f64 / scans as f64;
+        assert!((lambda - 10.0).abs() < 0.5, "clutter {lambda}");
+        let sigma = (sum_sq_range / n_err as f64).sqrt();
+        let expected = f64::from(cfg.sensor.range_sigma_m());
+        assert!(
+            (sigma - expected).abs() / expected < 0.05,
+            "range sigma {sigma} vs {expected}"
+        );
+    }
+
+    #[test]
+    fn crossing_pairs_meet() {
+        let cfg = ScenarioConfig {
+            kind: ScenarioKind::Crossing,
+            ..ScenarioConfig::open_sea(10, 5)
+        };
+        let mut s = Scenario::new(cfg);
+        let mut closest = [f32::INFINITY; 5];
+        for _ in 0..200 {
+            let out = s.next_scan();
+            for (k, pair) in out.truth.chunks(2).enumerate() {
+                let d = libm::hypotf(
+                    pair[0].position_m[0] - pair[1].position_m[0],
+                    pair[0].position_m[1] - pair[1].position_m[1],
+                );
+                closest[k] = closest[k].min(d);
+            }
+        }
+        // Within a scan's travel of each other at the crossing.
+        assert!(closest.iter().all(|&d| d < 60.0), "{closest:?}");
+    }
+}
