@@ -16,6 +16,25 @@ use crate::icd::{
     DeviceInfo, DeviceToHost, ErrorCode, Header, HostToDevice, LinkStats, HOST_TO_DEVICE_VARIANTS,
     MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, PROTOCOL_VERSION, UNPAIRED_REQUEST_ID,
 };
+use crate::tracker::Tracker;
+
+/// What a request is answered with: one frame, or a report in parts (each its own frame,
+/// all carrying the request's id).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Reply {
+    /// One message.
+    One(DeviceToHost),
+    /// The scan's rough gates, in this many parts.
+    Gated {
+        /// Number of parts.
+        parts: u8,
+    },
+    /// The track table, in this many parts.
+    Tracks {
+        /// Number of parts.
+        parts: u8,
+    },
+}
 
 /// Static facts about the device, reported in the handshake.
 #[derive(Clone, Copy, Debug)]
@@ -34,6 +53,7 @@ pub struct DeviceConfig {
 #[derive(Clone, Debug)]
 pub struct Device {
     config: DeviceConfig,
+    tracker: Tracker,
     decoder: FrameDecoder,
     stats: LinkStats,
     scratch: [u8; MAX_FRAME_BYTES],
@@ -45,6 +65,7 @@ impl Device {
     pub const fn new(config: DeviceConfig) -> Self {
         Device {
             config,
+            tracker: Tracker::new(),
             decoder: FrameDecoder::new(),
             stats: LinkStats {
                 bytes_in: 0,
@@ -86,30 +107,65 @@ impl Device {
             Err((header, error)) => {
                 self.count(error);
                 let id = header.map_or(UNPAIRED_REQUEST_ID, |h| h.request_id);
-                (id, DeviceToHost::Error(error.code()))
+                (id, Reply::One(DeviceToHost::Error(error.code())))
             }
         };
-        if matches!(reply, DeviceToHost::Error(_)) && request_id != UNPAIRED_REQUEST_ID {
-            self.stats.request_errors = self.stats.request_errors.wrapping_add(1);
+        match reply {
+            Reply::One(body) => {
+                if matches!(body, DeviceToHost::Error(_)) && request_id != UNPAIRED_REQUEST_ID {
+                    self.stats.request_errors = self.stats.request_errors.wrapping_add(1);
+                }
+                self.reply(request_id, &body, send);
+            }
+            Reply::Gated { parts } => {
+                for part in 0..parts {
+                    let body = DeviceToHost::Gated(self.tracker.gated_part(part, parts));
+                    self.reply(request_id, &body, send);
+                }
+            }
+            Reply::Tracks { parts } => {
+                for part in 0..parts {
+                    let body = DeviceToHost::Tracks(self.tracker.tracks_part(part, parts));
+                    self.reply(request_id, &body, send);
+                }
+            }
         }
-        self.reply(request_id, &reply, send);
     }
 
     /// Carries out one decoded request.
-    pub fn handle(&mut self, request: HostToDevice) -> DeviceToHost {
+    pub fn handle(&mut self, request: HostToDevice) -> Reply {
+        let ack = |r: Result<(), ErrorCode>| {
+            Reply::One(match r {
+                Ok(()) => DeviceToHost::Ack,
+                Err(e) => DeviceToHost::Error(e),
+            })
+        };
         match request {
-            HostToDevice::Hello => DeviceToHost::HelloAck(self.info()),
-            HostToDevice::Echo(bytes) => DeviceToHost::Echo(bytes),
-            HostToDevice::GetStats => DeviceToHost::Stats(self.stats),
-            // The tracking messages are defined in the ICD; the track table that answers
-            // them is not on the device yet.
-            HostToDevice::Configure(_)
-            | HostToDevice::Plots(_)
-            | HostToDevice::OwnShip(_)
-            | HostToDevice::Assign(_)
-            | HostToDevice::Command(_)
-            | HostToDevice::GetTracks => DeviceToHost::Error(ErrorCode::Unsupported),
+            HostToDevice::Hello => Reply::One(DeviceToHost::HelloAck(self.info())),
+            HostToDevice::Echo(bytes) => Reply::One(DeviceToHost::Echo(bytes)),
+            HostToDevice::GetStats => Reply::One(DeviceToHost::Stats(self.stats)),
+            HostToDevice::Configure(config) => ack(self.tracker.configure(config)),
+            HostToDevice::OwnShip(nav) => ack(self.tracker.own_ship(&nav)),
+            HostToDevice::Command(command) => ack(self.tracker.command(command)),
+            HostToDevice::Plots(batch) => match self.tracker.plots(&batch) {
+                Ok(Some(parts)) => Reply::Gated { parts },
+                Ok(None) => Reply::One(DeviceToHost::Ack),
+                Err(e) => Reply::One(DeviceToHost::Error(e)),
+            },
+            HostToDevice::Assign(batch) => match self.tracker.assign(&batch) {
+                Ok(Some(parts)) => Reply::Tracks { parts },
+                Ok(None) => Reply::One(DeviceToHost::Ack),
+                Err(e) => Reply::One(DeviceToHost::Error(e)),
+            },
+            HostToDevice::GetTracks => Reply::Tracks {
+                parts: self.tracker.track_parts(),
+            },
         }
+    }
+
+    /// The tracker.
+    pub fn tracker(&self) -> &Tracker {
+        &self.tracker
     }
 
     fn info(&self) -> DeviceInfo {
@@ -245,10 +301,51 @@ mod tests {
     }
 
     #[test]
-    fn tracking_messages_are_refused_until_implemented() {
+    fn a_scan_through_the_link_answers_in_parts() {
+        use crate::icd::{AssignmentBatch, Plot, PlotBatch};
         let mut dev = Device::new(CONFIG);
-        let r = exchange(&mut dev, &request(8, &HostToDevice::GetTracks));
-        assert_eq!(r[0].1, DeviceToHost::Error(ErrorCode::Unsupported));
-        assert_eq!(dev.stats().request_errors, 1);
+        let plots: heapless::Vec<Plot, 48> = (0..30)
+            .map(|i| Plot {
+                range_m: 1000.0 + 500.0 * i as f32,
+                bearing_rad: 0.1 * i as f32,
+            })
+            .collect();
+        let batch = PlotBatch {
+            scan: 0,
+            time_ms: 0,
+            part: 0,
+            parts: 1,
+            plots,
+        };
+        let r = exchange(&mut dev, &request(5, &HostToDevice::Plots(batch)));
+        assert!(matches!(r[..], [(_, DeviceToHost::Gated(_))]), "{r:?}");
+        let assign = AssignmentBatch {
+            scan: 0,
+            part: 0,
+            parts: 1,
+            assignments: heapless::Vec::new(),
+            initiate: (0..30).collect(),
+        };
+        let r = exchange(&mut dev, &request(6, &HostToDevice::Assign(assign)));
+        // 30 tracks at 24 a message: two parts, both answering request 6.
+        assert_eq!(r.len(), 2, "{r:?}");
+        for (i, (h, body)) in r.iter().enumerate() {
+            assert_eq!(h.request_id, 6);
+            let DeviceToHost::Tracks(t) = body else {
+                panic!("{body:?}")
+            };
+            assert_eq!((t.part, t.parts), (i as u8, 2));
+        }
+        let r = exchange(&mut dev, &request(7, &HostToDevice::GetTracks));
+        assert_eq!(r.len(), 2);
+        let r = exchange(
+            &mut dev,
+            &request(
+                8,
+                &HostToDevice::Command(crate::icd::TrackCommand::CancelAll),
+            ),
+        );
+        assert_eq!(r[0].1, DeviceToHost::Ack);
+        assert_eq!(dev.tracker().table().tracks().len(), 0);
     }
 }

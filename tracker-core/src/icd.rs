@@ -212,12 +212,26 @@ pub enum FilterChoice {
         /// Fading-memory parameter ξ in (0, 1).
         xi: f32,
     },
-    /// Constant-velocity Kalman filter.
+    /// Constant-velocity Kalman filter (continuous white-noise acceleration).
     KalmanCv {
-        /// Process noise intensity (m²/s³ for the continuous model).
+        /// Process noise intensity, m²/s³.
         q: f32,
-        /// Measurement noise variance per axis (m²).
+        /// Measurement noise variance per axis, m².
         r: f32,
+    },
+    /// Constant-acceleration Kalman filter (continuous white-noise jerk).
+    KalmanCa {
+        /// Process noise intensity, m²/s⁵.
+        q: f32,
+        /// Measurement noise variance per axis, m².
+        r: f32,
+    },
+    /// Switched slide-window tracker with a Benedict–Bordner α-β start.
+    Sswt {
+        /// Window size M, 2..8.
+        window: u8,
+        /// α of the start and of the window's measurement update.
+        alpha: f32,
     },
 }
 
@@ -233,6 +247,24 @@ pub struct TrackerConfig {
     pub min_gate_m: f32,
     /// Largest rough gate radius, metres.
     pub max_gate_m: f32,
+    /// Standard deviation of a plot's position, m: the g-h filters' gates are sized from
+    /// it (the Kalman filters use their own covariance).
+    pub plot_sigma_m: f32,
+    /// Fastest target expected, m/s: sizes the gate of a track with one plot, whose
+    /// velocity is still unknown.
+    pub max_speed_mps: f32,
+}
+
+impl TrackerConfig {
+    /// CV Kalman, 4σ gates of 100 m to 2 km, 50 m plots, targets up to 20 m/s (39 kn).
+    pub const DEFAULT: TrackerConfig = TrackerConfig {
+        filter: FilterChoice::KalmanCv { q: 0.05, r: 2500.0 },
+        gate_sigmas: 4.0,
+        min_gate_m: 100.0,
+        max_gate_m: 2000.0,
+        plot_sigma_m: 50.0,
+        max_speed_mps: 20.0,
+    };
 }
 
 /// One radar plot: a detection in polar coordinates relative to own ship.
@@ -361,7 +393,8 @@ pub enum TrackStatus {
     Lost,
 }
 
-/// A track's filtered state, relative to own ship.
+/// A track's filtered state in the local frame (east/north metres from the origin the
+/// own-ship positions are given in).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TrackState {
@@ -428,12 +461,7 @@ mod tests {
             HostToDevice::Hello,
             HostToDevice::Echo(largest_echo()),
             HostToDevice::GetStats,
-            HostToDevice::Configure(TrackerConfig {
-                filter: FilterChoice::KalmanCv { q: 0.1, r: 100.0 },
-                gate_sigmas: 4.0,
-                min_gate_m: 50.0,
-                max_gate_m: 2000.0,
-            }),
+            HostToDevice::Configure(TrackerConfig::DEFAULT),
             HostToDevice::Plots(PlotBatch {
                 scan: 7,
                 time_ms: 21_000,

@@ -34,3 +34,5 @@ pub mod geo;
 pub mod icd;
 pub mod scalar;
 pub mod sim;
+pub mod track;
+pub mod tracker;

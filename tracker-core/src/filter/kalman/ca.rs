@@ -57,6 +57,11 @@ impl<S: Real> KalmanCa<S> {
         self.p
     }
 
+    /// The measurement noise variance per axis, m².
+    pub fn measurement_variance(&self) -> S {
+        self.r
+    }
+
     /// Acceleration `[east, north]`, m/s².
     pub fn acceleration(&self) -> Vec2<S> {
         [self.x[0][2], self.x[1][2]]

@@ -1,0 +1,637 @@
+//! The track table: many targets, each with its own filter, through one scan at a time.
+//!
+//! Stone Soup's roles, on the device side of the thesis's split:
+//!
+//! - **predictor**: [`TrackTable::predict`] takes every track to the scan time;
+//! - **gater** (rough): [`TrackTable::gate`] keeps, per track, the plots inside a circle
+//!   sized from the predicted uncertainty (cheap; the host's refined gate and the
+//!   associator choose among them);
+//! - **updater**: [`TrackTable::apply`] updates each track with the plot the host assigned,
+//!   or coasts it;
+//! - **initiator**: plots the host names start tentative tracks;
+//! - **deleter**: the life-cycle rules below.
+//!
+//! ## Life cycle
+//!
+//! A new track is *tentative*. It is *confirmed* when it has plots on 3 of its last 4 scans
+//! (M of N), and dropped as soon as it can no longer get there (2 misses in its last 4). A
+//! confirmed track is *coasting* on a scan without a plot, and is kept while it had plots on
+//! at least 5 of the last 10 scans (the IMO rule); past that it is reported *lost* once and
+//! removed.
+
+use heapless::Vec;
+
+use crate::filter::alpha_beta::{AlphaBeta, AlphaBetaGains};
+use crate::filter::alpha_beta_gamma::{AbgGains, AlphaBetaGamma};
+use crate::filter::kalman::ca::KalmanCa;
+use crate::filter::kalman::cv::KalmanCv;
+use crate::filter::kalman::{KalmanConfig, QModel};
+use crate::filter::sswt::{Sswt, SswtConfig};
+use crate::filter::{Estimate, Filter, FilterError, Interval, Measurement};
+use crate::geo::EastNorth;
+use crate::icd::{
+    Assignment, ErrorCode, FilterChoice, GatedPlots, TrackState, TrackStatus, TrackerConfig,
+    MAX_PLOTS_PER_GATE,
+};
+
+/// Tracks the table holds.
+pub const MAX_TRACKS: usize = 64;
+
+/// Confirmation: hits on `CONFIRM_M` of the last `CONFIRM_N` scans.
+pub const CONFIRM_M: u32 = 3;
+/// See [`CONFIRM_M`].
+pub const CONFIRM_N: u32 = 4;
+/// Keeping: hits on `KEEP_M` of the last `KEEP_N` scans (IMO).
+pub const KEEP_M: u32 = 5;
+/// See [`KEEP_M`].
+pub const KEEP_N: u32 = 10;
+
+/// The filter a track runs, in `f32` (the MCU's number).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(clippy::large_enum_variant)] // fixed capacity: every slot holds the largest
+pub enum TrackFilter {
+    /// α-β.
+    AlphaBeta(AlphaBeta<f32>),
+    /// α-β-γ.
+    AlphaBetaGamma(AlphaBetaGamma<f32>),
+    /// SSWT.
+    Sswt(Sswt<f32>),
+    /// CV Kalman.
+    KalmanCv(KalmanCv<f32>),
+    /// CA Kalman.
+    KalmanCa(KalmanCa<f32>),
+}
+
+macro_rules! each_filter {
+    ($self:expr, $f:ident => $body:expr) => {
+        match $self {
+            TrackFilter::AlphaBeta($f) => $body,
+            TrackFilter::AlphaBetaGamma($f) => $body,
+            TrackFilter::Sswt($f) => $body,
+            TrackFilter::KalmanCv($f) => $body,
+            TrackFilter::KalmanCa($f) => $body,
+        }
+    };
+}
+
+impl TrackFilter {
+    /// A fresh filter of the configured kind.
+    pub fn build(config: &TrackerConfig) -> Result<Self, FilterError> {
+        let kalman = |q: f32, r: f32| {
+            let mut k = KalmanConfig::new(f64::from(q), QModel::Continuous, f64::from(r));
+            // A new track's velocity is unknown up to the fastest target.
+            k.p0_derivative = f64::from(config.max_speed_mps * config.max_speed_mps);
+            k
+        };
+        Ok(match config.filter {
+            FilterChoice::AlphaBeta { alpha, beta } => TrackFilter::AlphaBeta(
+                AlphaBetaGains::Fixed {
+                    alpha: f64::from(alpha),
+                    beta: f64::from(beta),
+                }
+                .build()?,
+            ),
+            FilterChoice::AlphaBetaGamma { xi } => {
+                TrackFilter::AlphaBetaGamma(AbgGains::FadingMemory { xi: f64::from(xi) }.build()?)
+            }
+            FilterChoice::Sswt { window, alpha } => TrackFilter::Sswt(
+                SswtConfig {
+                    window: usize::from(window),
+                    start: AlphaBetaGains::BenedictBordner {
+                        alpha: f64::from(alpha),
+                    },
+                }
+                .build()?,
+            ),
+            FilterChoice::KalmanCv { q, r } => TrackFilter::KalmanCv(kalman(q, r).build_cv()?),
+            FilterChoice::KalmanCa { q, r } => TrackFilter::KalmanCa(kalman(q, r).build_ca()?),
+        })
+    }
+
+    /// The innovation covariance of the current prediction, `[s_xx, s_xy, s_yy]` (m²).
+    ///
+    /// The Kalman filters know it. The g-h filters and the SSWT do not: for them it is
+    /// modelled as twice the plot variance (prediction and plot errors of equal size),
+    /// grown with the square of the scans coasted.
+    pub fn innovation_cov(&self, plot_var: f32, coasts: u8) -> [f32; 3] {
+        let s = match self {
+            TrackFilter::KalmanCv(k) => k.innovation_variance(),
+            TrackFilter::KalmanCa(k) => k.covariance()[(0, 0)] + k.measurement_variance(),
+            _ => {
+                let grow = 1.0 + f32::from(coasts);
+                2.0 * plot_var * grow * grow
+            }
+        };
+        [s, 0.0, s]
+    }
+
+    fn has_covariance(&self) -> bool {
+        matches!(self, TrackFilter::KalmanCv(_) | TrackFilter::KalmanCa(_))
+    }
+}
+
+impl Filter<f32> for TrackFilter {
+    fn start(&mut self, z: Measurement<f32>) {
+        each_filter!(self, f => f.start(z))
+    }
+    fn predict(&mut self, dt: Interval<f32>) -> EastNorth {
+        each_filter!(self, f => f.predict(dt))
+    }
+    fn update(&mut self, z: Measurement<f32>) -> EastNorth {
+        each_filter!(self, f => f.update(z))
+    }
+    fn estimate(&self) -> Estimate<f32> {
+        each_filter!(self, f => f.estimate())
+    }
+    fn prediction(&self) -> EastNorth {
+        each_filter!(self, f => f.prediction())
+    }
+    fn innovation(&self) -> EastNorth {
+        each_filter!(self, f => f.innovation())
+    }
+}
+
+/// One track.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Track {
+    /// Track number, unique while the table lives.
+    pub id: u16,
+    /// Life-cycle state.
+    pub status: TrackStatus,
+    filter: TrackFilter,
+    /// Hit history, one bit a scan, newest lowest.
+    hits: u16,
+    /// Scans since the track started (the first included).
+    age_scans: u16,
+    /// Consecutive scans without a plot.
+    coasts: u8,
+    /// Time of the last prediction or start, ms.
+    time_ms: u64,
+    /// The plots inside this scan's rough gate.
+    gated: Vec<u16, MAX_PLOTS_PER_GATE>,
+    innovation_cov: [f32; 3],
+}
+
+impl Track {
+    /// The track's state for a report.
+    pub fn state(&self) -> TrackState {
+        let e = self.filter.estimate();
+        TrackState {
+            track: self.id,
+            status: self.status,
+            position_m: e.position_m,
+            velocity_mps: e.velocity_mps,
+            position_cov_m2: self.innovation_cov,
+            age_scans: self.age_scans,
+            hit_history: self.hits & ((1 << KEEP_N) - 1),
+        }
+    }
+
+    /// Its filter.
+    pub fn filter(&self) -> &TrackFilter {
+        &self.filter
+    }
+
+    fn hits_in_last(&self, n: u32) -> u32 {
+        (self.hits & ((1u16 << n) - 1)).count_ones()
+    }
+}
+
+/// What a scan's `apply` did, for the counters.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
+pub struct ApplyReport {
+    /// Tracks updated with a plot.
+    pub updated: u16,
+    /// Tracks coasted.
+    pub coasted: u16,
+    /// Tracks started.
+    pub initiated: u16,
+    /// Tracks that could not start: the table was full.
+    pub refused_full: u16,
+    /// Tracks dropped (tentative failures and lost tracks).
+    pub dropped: u16,
+}
+
+/// The track table.
+#[derive(Clone, Debug)]
+pub struct TrackTable {
+    config: TrackerConfig,
+    tracks: Vec<Track, MAX_TRACKS>,
+    next_id: u16,
+}
+
+impl Default for TrackTable {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl TrackTable {
+    /// An empty table with [`TrackerConfig::DEFAULT`].
+    pub const fn new() -> Self {
+        TrackTable {
+            config: TrackerConfig::DEFAULT,
+            tracks: Vec::new(),
+            next_id: 1,
+        }
+    }
+
+    /// Sets the configuration for tracks started from now on; refuses values out of range.
+    pub fn configure(&mut self, config: TrackerConfig) -> Result<(), ErrorCode> {
+        let finite_positive = |v: f32| v.is_finite() && v > 0.0;
+        let ok = finite_positive(config.gate_sigmas)
+            && finite_positive(config.min_gate_m)
+            && finite_positive(config.max_gate_m)
+            && config.min_gate_m <= config.max_gate_m
+            && finite_positive(config.plot_sigma_m)
+            && finite_positive(config.max_speed_mps);
+        if !ok || TrackFilter::build(&config).is_err() {
+            return Err(ErrorCode::InvalidValue);
+        }
+        self.config = config;
+        Ok(())
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &TrackerConfig {
+        &self.config
+    }
+
+    /// The tracks.
+    pub fn tracks(&self) -> &[Track] {
+        &self.tracks
+    }
+
+    /// True when one more track would fill the table: the capacity warning.
+    pub fn nearly_full(&self) -> bool {
+        self.tracks.len() + 1 >= MAX_TRACKS
+    }
+
+    /// Predicts every track to `time_ms`. A track already at or past that time (started on
+    /// this scan) is left as it is.
+    pub fn predict(&mut self, time_ms: u64) {
+        for t in &mut self.tracks {
+            let dt_s = time_ms.saturating_sub(t.time_ms) as f32 / 1000.0;
+            if let Ok(dt) = Interval::new(dt_s) {
+                t.filter.predict(dt);
+                t.time_ms = time_ms;
+            }
+        }
+    }
+
+    /// Rough gating: for each track, the (at most [`MAX_PLOTS_PER_GATE`]) nearest plots
+    /// inside a circle of `gate_sigmas` standard deviations of the innovation, clamped to
+    /// the configured radii (widened by the fastest target's travel while a track has only
+    /// one plot and no velocity).
+    pub fn gate(&mut self, plots: &[EastNorth], scan_s: f32) {
+        let cfg = self.config;
+        let plot_var = cfg.plot_sigma_m * cfg.plot_sigma_m;
+        for t in &mut self.tracks {
+            t.innovation_cov = t.filter.innovation_cov(plot_var, t.coasts);
+            let sigma = libm::sqrtf(t.innovation_cov[0].max(t.innovation_cov[2]));
+            let mut radius = (cfg.gate_sigmas * sigma).clamp(cfg.min_gate_m, cfg.max_gate_m);
+            if t.age_scans <= 1 && !t.filter.has_covariance() {
+                radius = (radius + cfg.max_speed_mps * scan_s).min(cfg.max_gate_m);
+            }
+            let p = t.filter.prediction();
+            let r2 = radius * radius;
+            // Keep the nearest: insert in distance order, dropping the farthest when full.
+            let mut best: Vec<(f32, u16), MAX_PLOTS_PER_GATE> = Vec::new();
+            for (i, z) in plots.iter().enumerate() {
+                let (dx, dy) = (z[0] - p[0], z[1] - p[1]);
+                let d2 = dx * dx + dy * dy;
+                if d2 > r2 {
+                    continue;
+                }
+                let Ok(index) = u16::try_from(i) else { break };
+                let pos = best.iter().position(|&(d, _)| d > d2).unwrap_or(best.len());
+                if best.is_full() {
+                    if pos == best.len() {
+                        continue;
+                    }
+                    best.pop();
+                }
+                let _ = best.insert(pos, (d2, index));
+            }
+            t.gated = best.iter().map(|&(_, i)| i).collect();
+        }
+    }
+
+    /// The rough-gate result of one track (after [`TrackTable::gate`]).
+    pub fn gated(&self, index: usize) -> Option<GatedPlots> {
+        let t = self.tracks.get(index)?;
+        Some(GatedPlots {
+            track: t.id,
+            predicted_m: t.filter.prediction(),
+            innovation_cov_m2: t.innovation_cov,
+            plots: t.gated.clone(),
+        })
+    }
+
+    /// Closes a scan at `time_ms`: updates the assigned tracks, coasts the others, applies
+    /// the life-cycle rules, then starts tentative tracks on the `initiate` plots.
+    /// Assignments naming unknown tracks or plots are refused whole, before any change.
+    pub fn apply(
+        &mut self,
+        time_ms: u64,
+        plots: &[EastNorth],
+        assignments: &[Assignment],
+        initiate: &[u16],
+    ) -> Result<ApplyReport, ErrorCode> {
+        let plot = |i: u16| plots.get(usize::from(i)).copied();
+        for a in assignments {
+            let known = self.tracks.iter().any(|t| t.id == a.track);
+            if !known || a.plot.is_some_and(|p| plot(p).is_none()) {
+                return Err(ErrorCode::InvalidValue);
+            }
+        }
+        if initiate.iter().any(|&p| plot(p).is_none()) {
+            return Err(ErrorCode::InvalidValue);
+        }
+        let mut report = ApplyReport::default();
+        // Lost tracks were reported once; now they go.
+        self.tracks.retain(|t| t.status != TrackStatus::Lost);
+        let mut failed: Vec<u16, MAX_TRACKS> = Vec::new();
+        for t in &mut self.tracks {
+            let assigned = assignments
+                .iter()
+                .find(|a| a.track == t.id)
+                .and_then(|a| a.plot)
+                .and_then(plot)
+                .and_then(|z| Measurement::new(z).ok());
+            t.hits <<= 1;
+            t.age_scans = t.age_scans.saturating_add(1);
+            match assigned {
+                Some(z) => {
+                    t.filter.update(z);
+                    t.hits |= 1;
+                    t.coasts = 0;
+                    report.updated += 1;
+                }
+                None => {
+                    t.coasts = t.coasts.saturating_add(1);
+                    report.coasted += 1;
+                }
+            }
+            match next_status(t) {
+                Some(status) => t.status = status,
+                None => {
+                    let _ = failed.push(t.id);
+                }
+            }
+        }
+        self.tracks.retain(|t| !failed.contains(&t.id));
+        report.dropped = failed.len() as u16;
+        for &p in initiate {
+            if let Some(z) = plot(p).and_then(|z| Measurement::new(z).ok()) {
+                match self.start_track(time_ms, z) {
+                    Ok(_) => report.initiated += 1,
+                    Err(_) => report.refused_full += 1,
+                }
+            }
+        }
+        Ok(report)
+    }
+
+    /// Starts a tentative track on a plot (also the operator's manual acquisition).
+    pub fn start_track(&mut self, time_ms: u64, z: Measurement<f32>) -> Result<u16, ErrorCode> {
+        if self.tracks.is_full() {
+            return Err(ErrorCode::CapacityExceeded);
+        }
+        let mut filter = TrackFilter::build(&self.config).map_err(|_| ErrorCode::InvalidValue)?;
+        filter.start(z);
+        let id = self.next_id;
+        // Track numbers wrap past u16::MAX, skipping 0 and any still in use.
+        loop {
+            self.next_id = self.next_id.wrapping_add(1).max(1);
+            if !self.tracks.iter().any(|t| t.id == self.next_id) {
+                break;
+            }
+        }
+        let track = Track {
+            id,
+            status: TrackStatus::Tentative,
+            filter,
+            hits: 1,
+            age_scans: 1,
+            coasts: 0,
+            time_ms,
+            gated: Vec::new(),
+            innovation_cov: [0.0; 3],
+        };
+        self.tracks
+            .push(track)
+            .map_err(|_| ErrorCode::CapacityExceeded)?;
+        Ok(id)
+    }
+
+    /// Drops one track.
+    pub fn cancel(&mut self, id: u16) -> Result<(), ErrorCode> {
+        let before = self.tracks.len();
+        self.tracks.retain(|t| t.id != id);
+        if self.tracks.len() == before {
+            Err(ErrorCode::InvalidValue)
+        } else {
+            Ok(())
+        }
+    }
+
+    /// Drops every track.
+    pub fn cancel_all(&mut self) {
+        self.tracks.clear();
+    }
+}
+
+/// The life-cycle rule: the track's next status, or `None` when a tentative track can no
+/// longer be confirmed and goes.
+fn next_status(t: &Track) -> Option<TrackStatus> {
+    Some(match t.status {
+        TrackStatus::Tentative => {
+            let window = u32::from(t.age_scans).min(CONFIRM_N);
+            let hits = t.hits_in_last(window);
+            if hits >= CONFIRM_M {
+                TrackStatus::Confirmed
+            } else if window - hits > CONFIRM_N - CONFIRM_M {
+                return None;
+            } else {
+                TrackStatus::Tentative
+            }
+        }
+        TrackStatus::Confirmed | TrackStatus::Coasting => {
+            let window = u32::from(t.age_scans).min(KEEP_N);
+            let misses = window - t.hits_in_last(window);
+            if misses > KEEP_N - KEEP_M {
+                TrackStatus::Lost
+            } else if t.coasts == 0 {
+                TrackStatus::Confirmed
+            } else {
+                TrackStatus::Coasting
+            }
+        }
+        TrackStatus::Lost => TrackStatus::Lost,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn table() -> TrackTable {
+        let mut t = TrackTable::new();
+        t.configure(TrackerConfig::DEFAULT).unwrap();
+        t
+    }
+
+    /// One scan of a single target at `z` (or none), with the table assigning the nearest
+    /// gated plot.
+    fn scan(t: &mut TrackTable, time_ms: u64, plots: &[EastNorth]) -> ApplyReport {
+        t.predict(time_ms);
+        t.gate(plots, 2.5);
+        let mut used = std::vec::Vec::new();
+        let assignments: std::vec::Vec<Assignment> = (0..t.tracks().len())
+            .map(|i| {
+                let g = t.gated(i).unwrap();
+                let plot = g.plots.iter().copied().find(|p| !used.contains(p));
+                used.extend(plot);
+                Assignment {
+                    track: g.track,
+                    plot,
+                }
+            })
+            .collect();
+        let in_no_gate: std::vec::Vec<u16> = (0..plots.len() as u16)
+            .filter(|p| !(0..t.tracks().len()).any(|i| t.gated(i).unwrap().plots.contains(p)))
+            .collect();
+        t.apply(time_ms, plots, &assignments, &in_no_gate).unwrap()
+    }
+
+    #[test]
+    fn a_target_is_confirmed_on_its_third_plot_and_kept_while_5_of_10() {
+        let mut t = table();
+        let at = |k: u64| [1000.0 + 5.0 * 2.5 * k as f32, -300.0];
+        for k in 0..3 {
+            scan(&mut t, k * 2500, &[at(k)]);
+        }
+        assert_eq!(t.tracks().len(), 1);
+        assert_eq!(t.tracks()[0].status, TrackStatus::Confirmed);
+        // Ten more hits, then misses: coasting until the sixth miss of the last ten.
+        for k in 3..13 {
+            scan(&mut t, k * 2500, &[at(k)]);
+        }
+        for k in 13..18 {
+            scan(&mut t, k * 2500, &[]);
+            assert_eq!(t.tracks()[0].status, TrackStatus::Coasting, "scan {k}");
+        }
+        scan(&mut t, 18 * 2500, &[]);
+        assert_eq!(t.tracks()[0].status, TrackStatus::Lost);
+        scan(&mut t, 19 * 2500, &[]);
+        assert!(t.tracks().is_empty());
+    }
+
+    #[test]
+    fn a_clutter_plot_makes_a_tentative_track_that_dies() {
+        let mut t = table();
+        scan(&mut t, 0, &[[5000.0, 5000.0]]);
+        assert_eq!(t.tracks()[0].status, TrackStatus::Tentative);
+        scan(&mut t, 2500, &[]);
+        assert_eq!(t.tracks().len(), 1, "one miss: 3 of 4 still possible");
+        scan(&mut t, 5000, &[]);
+        assert!(t.tracks().is_empty(), "two misses: dropped");
+    }
+
+    #[test]
+    fn gates_keep_the_nearest_plots_and_bad_assignments_change_nothing() {
+        let mut t = table();
+        scan(&mut t, 0, &[[0.0, 0.0]]);
+        t.predict(2500);
+        let plots: std::vec::Vec<EastNorth> = (0..20).map(|i| [i as f32 * 10.0, 0.0]).collect();
+        t.gate(&plots, 2.5);
+        let g = t.gated(0).unwrap();
+        assert_eq!(g.plots.as_slice(), &[0, 1, 2, 3, 4, 5, 6, 7]);
+        let before = t.tracks().to_vec();
+        let bad = [Assignment {
+            track: 999,
+            plot: Some(0),
+        }];
+        assert_eq!(
+            t.apply(2500, &plots, &bad, &[]),
+            Err(ErrorCode::InvalidValue)
+        );
+        let bad = [Assignment {
+            track: g.track,
+            plot: Some(20),
+        }];
+        assert_eq!(
+            t.apply(2500, &plots, &bad, &[]),
+            Err(ErrorCode::InvalidValue)
+        );
+        assert_eq!(
+            t.apply(2500, &plots, &[], &[99]),
+            Err(ErrorCode::InvalidValue)
+        );
+        assert_eq!(t.tracks(), before.as_slice());
+    }
+
+    #[test]
+    fn the_table_refuses_past_capacity_and_warns_before() {
+        let mut t = table();
+        for i in 0..MAX_TRACKS {
+            assert!(!t.tracks().is_empty() || i == 0);
+            t.start_track(0, Measurement::new([i as f32 * 1000.0, 0.0]).unwrap())
+                .unwrap();
+        }
+        assert!(t.nearly_full());
+        assert_eq!(
+            t.start_track(0, Measurement::new([0.0, 0.0]).unwrap()),
+            Err(ErrorCode::CapacityExceeded)
+        );
+        t.cancel_all();
+        assert!(t.tracks().is_empty());
+    }
+
+    #[test]
+    fn every_filter_choice_tracks() {
+        for filter in [
+            FilterChoice::AlphaBeta {
+                alpha: 0.5,
+                beta: 0.2,
+            },
+            FilterChoice::AlphaBetaGamma { xi: 0.7 },
+            FilterChoice::Sswt {
+                window: 3,
+                alpha: 0.6,
+            },
+            FilterChoice::KalmanCv { q: 0.05, r: 900.0 },
+            FilterChoice::KalmanCa { q: 0.001, r: 900.0 },
+        ] {
+            let mut t = TrackTable::new();
+            t.configure(TrackerConfig {
+                filter,
+                ..TrackerConfig::DEFAULT
+            })
+            .unwrap();
+            for k in 0..20u64 {
+                scan(&mut t, k * 2500, &[[100.0 + 8.0 * 2.5 * k as f32, 50.0]]);
+            }
+            assert_eq!(t.tracks().len(), 1, "{filter:?}");
+            let s = t.tracks()[0].state();
+            assert_eq!(s.status, TrackStatus::Confirmed, "{filter:?}");
+            assert!((s.velocity_mps[0] - 8.0).abs() < 0.5, "{filter:?}: {s:?}");
+        }
+        let mut t = TrackTable::new();
+        let bad = TrackerConfig {
+            filter: FilterChoice::Sswt {
+                window: 1,
+                alpha: 0.5,
+            },
+            ..TrackerConfig::DEFAULT
+        };
+        assert_eq!(t.configure(bad), Err(ErrorCode::InvalidValue));
+        let bad = TrackerConfig {
+            gate_sigmas: f32::NAN,
+            ..TrackerConfig::DEFAULT
+        };
+        assert_eq!(t.configure(bad), Err(ErrorCode::InvalidValue));
+    }
+}
