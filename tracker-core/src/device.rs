@@ -20,6 +20,8 @@ use crate::tracker::Tracker;
 
 /// What a request is answered with: one frame, or a report in parts (each its own frame,
 /// all carrying the request's id).
+// No heap to box into; a reply lives only until it is encoded.
+#[allow(clippy::large_enum_variant)]
 #[derive(Clone, Debug, PartialEq)]
 pub enum Reply {
     /// One message.

@@ -25,9 +25,25 @@ pub fn wrap_pi(a: f32) -> f32 {
     wrap_2pi(a + PI) - PI
 }
 
+/// Sine and cosine of an angle, in single precision.
+///
+/// `libm`'s `sincosf` works in double precision internally, which a Cortex-M4F (single
+/// precision FPU) runs in software: about 2,000 instructions a call. `idsp::cossin` uses a
+/// 512-byte table and integer interpolation, about 40 instructions; with the f32 phase
+/// conversion the error stays below 2e-5 (tested): 0.45 m at 12 NM, far below a plot's
+/// 40 m.
+pub fn sin_cos(angle_rad: f32) -> (f32, f32) {
+    // The phase word: −π..π maps onto i32::MIN..i32::MAX.
+    const PHASE_PER_RAD: f32 = 2_147_483_648.0 / PI;
+    const FULL_SCALE: f32 = 1.0 / 2_147_483_648.0;
+    let phase = (wrap_pi(angle_rad) * PHASE_PER_RAD) as i32;
+    let (c, s) = idsp::cossin(phase);
+    (s as f32 * FULL_SCALE, c as f32 * FULL_SCALE)
+}
+
 /// The point at `range_m`, `bearing_rad` (true) from `origin`.
 pub fn polar_to_local(origin: EastNorth, range_m: f32, bearing_rad: f32) -> EastNorth {
-    let (s, c) = libm::sincosf(bearing_rad);
+    let (s, c) = sin_cos(bearing_rad);
     [origin[0] + range_m * s, origin[1] + range_m * c]
 }
 
@@ -98,9 +114,26 @@ mod tests {
         let (_, b) = range_bearing([0.0, 0.0], [-1.0, -1.0]);
         assert!((b - 1.25 * PI).abs() < 1e-6);
         let p = polar_to_local([10.0, 20.0], 50.0, PI);
-        assert!((p[0] - 10.0).abs() < 1e-4 && (p[1] + 30.0).abs() < 1e-4);
+        assert!(
+            (p[0] - 10.0).abs() < 1e-2 && (p[1] + 30.0).abs() < 1e-2,
+            "{p:?}"
+        );
         let (c, s) = course_speed(velocity(0.3, 7.0));
         assert!((c - 0.3).abs() < 1e-6 && (s - 7.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn single_precision_sin_cos_is_within_2e5() {
+        let mut worst = 0.0f64;
+        for i in -20_000..20_000 {
+            let a = i as f32 * 0.000_37;
+            let (s, c) = sin_cos(a);
+            let (es, ec) = (f64::from(a).sin(), f64::from(a).cos());
+            worst = worst
+                .max((f64::from(s) - es).abs())
+                .max((f64::from(c) - ec).abs());
+        }
+        assert!(worst < 2e-5, "{worst}");
     }
 
     #[test]

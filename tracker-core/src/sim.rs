@@ -48,6 +48,11 @@ pub struct SensorModel {
     pub max_range_m: f32,
     /// Blind range around own ship, m.
     pub min_range_m: f32,
+    /// Targets closer than this in range *and* [`SensorModel::bearing_resolution_rad`] in
+    /// bearing return one plot (the pulse length and the beam width), m.
+    pub range_resolution_m: f32,
+    /// See [`SensorModel::range_resolution_m`], rad.
+    pub bearing_resolution_rad: f32,
 }
 
 impl SensorModel {
@@ -63,6 +68,8 @@ impl SensorModel {
             clutter_per_scan: 10.0,
             max_range_m: 12.0 * METRES_PER_NM,
             min_range_m: 0.2 * METRES_PER_NM,
+            range_resolution_m: 50.0,
+            bearing_resolution_rad: 1.0 * deg,
         }
     }
 
@@ -88,7 +95,7 @@ pub enum ScenarioKind {
     /// Targets scattered 2–10 NM around own ship on random courses at 5–20 kn, each
     /// turning or changing speed now and then; a quarter of them in crossing pairs.
     OpenSea,
-    /// Every target in a crossing pair: the two meet at one point 2–6 minutes in, at
+    /// Every target in a crossing pair: the two pass 0.2–0.6 NM apart 2–6 minutes in, at
     /// crossing angles from 20° to 160°.
     Crossing,
 }
@@ -299,7 +306,12 @@ impl Scenario {
             let (range, bearing) = geo::range_bearing(self.own.position_m, t.position_m);
             let visible = range >= sensor.min_range_m && range <= sensor.max_range_m;
             let detected = visible && self.rng.random::<f32>() < sensor.pd;
-            if detected {
+            // Two targets in one resolution cell echo as one: the first one's plot stands.
+            let merged = raw.iter().any(|(p, _)| {
+                (p.range_m - range).abs() < sensor.range_resolution_m
+                    && geo::wrap_pi(p.bearing_rad - bearing).abs() < sensor.bearing_resolution_rad
+            });
+            if detected && !merged {
                 let plot = Plot {
                     range_m: range + range_error(&mut self.rng, &sensor),
                     bearing_rad: geo::wrap_2pi(bearing + bearing_error(&mut self.rng, &sensor)),
@@ -391,7 +403,7 @@ fn bearing_error(rng: &mut Pcg32, s: &SensorModel) -> f32 {
     e
 }
 
-/// Two targets that meet at one point 2–6 minutes in, crossing at 20°–160°, steady.
+/// Two targets that pass 0.2–0.6 NM apart 2–6 minutes in, crossing at 20°–160°, steady.
 fn crossing_pair(rng: &mut Pcg32, own: &Ship, id: u16) -> [Ship; 2] {
     let meet_s = rng.random_range(120.0..360.0);
     // The meeting point is where own ship will be at that time, offset 1–6 NM.
@@ -407,16 +419,25 @@ fn crossing_pair(rng: &mut Pcg32, own: &Ship, id: u16) -> [Ship; 2] {
     let course_a = rng.random_range(0.0..core::f32::consts::TAU);
     let angle = rng.random_range(20.0f32..160.0).to_radians();
     let course_b = geo::wrap_2pi(course_a + if rng.random::<bool>() { angle } else { -angle });
-    let mut ships = [(id, course_a), (id + 1, course_b)].map(|(i, course)| {
-        let speed = rng.random_range(8.0..18.0) * MPS_PER_KNOT;
-        let v = geo::velocity(course, speed);
-        Ship::new(
-            i,
-            [meet[0] - v[0] * meet_s, meet[1] - v[1] * meet_s],
-            course,
-            speed,
-        )
-    });
+    // A reaches the meeting point at `meet_s`; B is then `miss` away across their relative
+    // motion, so that is their closest approach, as ships keeping clear pass.
+    let miss = rng.random_range(0.2..0.6) * METRES_PER_NM;
+    let va = geo::velocity(course_a, rng.random_range(8.0..18.0) * MPS_PER_KNOT);
+    let vb = geo::velocity(course_b, rng.random_range(8.0..18.0) * MPS_PER_KNOT);
+    let vr = [vb[0] - va[0], vb[1] - va[1]];
+    let norm = libm::hypotf(vr[0], vr[1]).max(1e-3);
+    let side = if rng.random::<bool>() { 1.0 } else { -1.0 };
+    let b_then = [
+        meet[0] - side * miss * vr[1] / norm,
+        meet[1] + side * miss * vr[0] / norm,
+    ];
+    let start = |p: EastNorth, v: EastNorth| [p[0] - v[0] * meet_s, p[1] - v[1] * meet_s];
+    let (ca, sa) = geo::course_speed(va);
+    let (cb, sb) = geo::course_speed(vb);
+    let mut ships = [
+        Ship::new(id, start(meet, va), ca, sa),
+        Ship::new(id + 1, start(b_then, vb), cb, sb),
+    ];
     for s in &mut ships {
         s.next_manoeuvre_s = meet_s + rng.random_range(120.0..600.0);
     }
@@ -500,7 +521,13 @@ mod tests {
                 closest[k] = closest[k].min(d);
             }
         }
-        // Within a scan's travel of each other at the crossing.
-        assert!(closest.iter().all(|&d| d < 60.0), "{closest:?}");
+        // They pass 0.2–0.6 NM apart (the closest point lies between scans, so a little
+        // more is seen here).
+        assert!(
+            closest
+                .iter()
+                .all(|&d| d > 0.15 * METRES_PER_NM && d < 0.7 * METRES_PER_NM),
+            "{closest:?}"
+        );
     }
 }

@@ -217,6 +217,9 @@ pub struct ApplyReport {
 #[derive(Clone, Debug)]
 pub struct TrackTable {
     config: TrackerConfig,
+    /// A fresh filter of the configured kind, built once per configuration: building one
+    /// does the gain design (in f64), too slow to repeat for every new track on the MCU.
+    prototype: Option<TrackFilter>,
     tracks: Vec<Track, MAX_TRACKS>,
     next_id: u16,
 }
@@ -232,6 +235,7 @@ impl TrackTable {
     pub const fn new() -> Self {
         TrackTable {
             config: TrackerConfig::DEFAULT,
+            prototype: None,
             tracks: Vec::new(),
             next_id: 1,
         }
@@ -246,10 +250,12 @@ impl TrackTable {
             && config.min_gate_m <= config.max_gate_m
             && finite_positive(config.plot_sigma_m)
             && finite_positive(config.max_speed_mps);
-        if !ok || TrackFilter::build(&config).is_err() {
-            return Err(ErrorCode::InvalidValue);
-        }
+        let prototype = match TrackFilter::build(&config) {
+            Ok(f) if ok => f,
+            _ => return Err(ErrorCode::InvalidValue),
+        };
         self.config = config;
+        self.prototype = Some(prototype);
         Ok(())
     }
 
@@ -399,7 +405,14 @@ impl TrackTable {
         if self.tracks.is_full() {
             return Err(ErrorCode::CapacityExceeded);
         }
-        let mut filter = TrackFilter::build(&self.config).map_err(|_| ErrorCode::InvalidValue)?;
+        let mut filter = match self.prototype {
+            Some(f) => f,
+            None => {
+                let f = TrackFilter::build(&self.config).map_err(|_| ErrorCode::InvalidValue)?;
+                self.prototype = Some(f);
+                f
+            }
+        };
         filter.start(z);
         let id = self.next_id;
         // Track numbers wrap past u16::MAX, skipping 0 and any still in use.
@@ -452,7 +465,7 @@ fn next_status(t: &Track) -> Option<TrackStatus> {
             let hits = t.hits_in_last(window);
             if hits >= CONFIRM_M {
                 TrackStatus::Confirmed
-            } else if window - hits > CONFIRM_N - CONFIRM_M {
+            } else if t.coasts >= 2 || u32::from(t.age_scans) >= 2 * CONFIRM_N {
                 return None;
             } else {
                 TrackStatus::Tentative

@@ -302,7 +302,7 @@ mod tests {
         assert_eq!(t.table().tracks().len(), 1);
         let r = t.tracks_part(0, 1);
         assert_eq!(r.tracks.len(), 1);
-        assert!((r.tracks[0].position_m[1] - 1000.0).abs() < 1e-3);
+        assert!((r.tracks[0].position_m[1] - 1000.0).abs() < 0.05);
     }
 
     #[test]

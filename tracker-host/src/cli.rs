@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 use crate::link::{self, Client, LinkSpec};
 use crate::qemu::{self, QemuOptions};
-use crate::{bench_mcu, link_check, precision, replay};
+use crate::{bench_mcu, demo, display, link_check, precision, replay, target};
 
 /// ARPA-style marine radar target tracker: host side.
 #[derive(Debug, Parser)]
@@ -36,6 +36,32 @@ pub struct Cli {
 /// The commands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// The main job: a simulated radar picture tracked by the device and this host, with
+    /// the target table; ends with a summary scored against the simulation's truth.
+    Demo {
+        /// Scenario.
+        #[arg(long, value_enum, default_value_t = ScenarioArg::OpenSea)]
+        scenario: ScenarioArg,
+        /// Number of targets.
+        #[arg(long, default_value_t = 40)]
+        targets: usize,
+        /// Seed of the scenario.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Simulated seconds per real second, or `max`.
+        #[arg(long, default_value = "max")]
+        speedup: Speedup,
+        /// Simulated duration, s.
+        #[arg(long, default_value_t = 600.0)]
+        duration: f64,
+        /// Print the target table every scan as plain text (without it: the radar display
+        /// in a terminal, progress lines otherwise).
+        #[arg(long)]
+        plain: bool,
+        /// The filter every track runs.
+        #[arg(long, value_enum, default_value_t = demo::DemoFilter::KalmanCv)]
+        filter: demo::DemoFilter,
+    },
     /// Check the link: handshake, echo frames of every size, bad input rejected, counters.
     LinkCheck {
         /// Good frames to send.
@@ -78,6 +104,32 @@ pub enum Command {
         #[arg(long, value_name = "ELF")]
         elf: Option<PathBuf>,
     },
+}
+
+/// Scenario names on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ScenarioArg {
+    /// Targets scattered around own ship, a quarter in crossing pairs.
+    OpenSea,
+    /// Every target in a crossing pair.
+    Crossing,
+}
+
+/// `--speedup X` or `--speedup max`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Speedup(pub Option<f64>);
+
+impl std::str::FromStr for Speedup {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "max" {
+            return Ok(Speedup(None));
+        }
+        match s.parse::<f64>() {
+            Ok(x) if x.is_finite() && x > 0.0 => Ok(Speedup(Some(x))),
+            _ => Err(format!("`{s}`: expected a positive number or `max`")),
+        }
+    }
 }
 
 impl Cli {
@@ -160,6 +212,84 @@ where
                 spec,
                 scalar,
                 output.display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Demo {
+            scenario,
+            targets,
+            seed,
+            speedup,
+            duration,
+            plain,
+            filter,
+        } => {
+            if !(duration.is_finite() && *duration > 0.0) {
+                anyhow::bail!("--duration {duration}: must be a positive number of seconds");
+            }
+            let client = cli.connect()?;
+            let options = demo::DemoOptions {
+                scenario: match scenario {
+                    ScenarioArg::OpenSea => tracker_core::sim::ScenarioKind::OpenSea,
+                    ScenarioArg::Crossing => tracker_core::sim::ScenarioKind::Crossing,
+                },
+                targets: *targets,
+                seed: *seed,
+                speedup: speedup.0,
+                duration_s: *duration,
+                filter: *filter,
+            };
+            let mut d = demo::Demo::new(client, options)?;
+            let limits = target::AlarmLimits::default();
+            let use_tui = !*plain && std::io::IsTerminal::is_terminal(&std::io::stdout());
+            let summary = if use_tui {
+                let mut state = display::DisplayState::new(cli.resolve_link().to_string());
+                let scans = d.scans_planned();
+                display::run_tui(&mut d, &mut state, speedup.0, scans)?;
+                d.summary()
+            } else {
+                d.run(|v| {
+                    let tentative = v
+                        .tracks
+                        .iter()
+                        .filter(|t| t.status == tracker_core::icd::TrackStatus::Tentative)
+                        .count();
+                    let header = format!(
+                        "scan {:>4}  t {:>6.1} s  plots {:>3}  targets tracked {:>3}  acquiring {:>3}",
+                        v.sim.scan,
+                        v.sim.time_ms as f64 / 1000.0,
+                        v.sim.plots.len(),
+                        v.targets.len(),
+                        tentative
+                    );
+                    if *plain {
+                        println!("{header}");
+                        print!("{}", target::table(&v.targets, &limits));
+                    } else if v.sim.scan % 24 == 0 {
+                        println!("{header}");
+                    }
+                })?
+            };
+            let mut host_times = d.host_times().to_vec();
+            host_times.sort();
+            let mean =
+                host_times.iter().sum::<std::time::Duration>() / host_times.len().max(1) as u32;
+            let max = host_times.last().copied().unwrap_or_default();
+            println!(
+                "\n== summary ({} link, filter {:?}) ==",
+                cli.resolve_link(),
+                filter
+            );
+            println!("{}", summary.report());
+            println!(
+                "host time per scan (link included): mean {:.2} ms, max {:.2} ms",
+                mean.as_secs_f64() * 1e3,
+                max.as_secs_f64() * 1e3
+            );
+            let stats = d.client().stats();
+            println!(
+                "link: {} frames sent, {} received, {} damaged",
+                stats.frames_sent, stats.frames_received, stats.frames_damaged
             );
             Ok(ExitCode::SUCCESS)
         }

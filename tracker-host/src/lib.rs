@@ -5,10 +5,15 @@
 //! thin shell over [`cli::run`], so tests drive exactly what users run.
 #![warn(missing_docs)]
 
+pub mod associate;
 pub mod bench_mcu;
 pub mod cli;
+pub mod demo;
+pub mod display;
+pub mod evaluate;
 pub mod link;
 pub mod link_check;
 pub mod precision;
 pub mod qemu;
 pub mod replay;
+pub mod target;

@@ -346,6 +346,31 @@ impl Client {
         self.reply_to(id)
     }
 
+    /// Sends `body` and collects its whole answer: one message, or every part of a gate or
+    /// track report (all carrying the request's id).
+    pub fn request_all(&mut self, body: &HostToDevice) -> Result<Vec<DeviceToHost>, RequestError> {
+        let id = self.allocate_id();
+        let header = Header {
+            protocol: PROTOCOL_VERSION,
+            request_id: id,
+        };
+        let bytes = self.encode(&header, body).map_err(RequestError::Encode)?;
+        self.send_raw(&bytes)?;
+        let mut out = Vec::new();
+        loop {
+            let reply = self.reply_to(id)?;
+            let done = match &reply {
+                DeviceToHost::Gated(g) => g.part + 1 >= g.parts,
+                DeviceToHost::Tracks(t) => t.part + 1 >= t.parts,
+                _ => true,
+            };
+            out.push(reply);
+            if done {
+                return Ok(out);
+            }
+        }
+    }
+
     /// Waits for the reply to request `id`.
     pub fn reply_to(&mut self, id: u32) -> Result<DeviceToHost, RequestError> {
         let deadline = Instant::now() + self.timeout;

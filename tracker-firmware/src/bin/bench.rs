@@ -87,6 +87,108 @@ fn filter_row<S: Scalar, F: Filter<S>>(
     row(name, S::NAME, per_scan, core::mem::size_of::<F>());
 }
 
+/// Instructions per scan of the device's tracking work for 40 targets and about 200 plots:
+/// plots in (converted to the local frame), every track predicted and rough-gated,
+/// assignments applied (updates, coasts, initiations, life cycle). The assignments are
+/// the nearest gated plot, chosen outside the measurement (the host's job).
+fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
+    use tracker_core::device::Reply;
+    use tracker_core::icd::{Assignment, AssignmentBatch, PlotBatch, MAX_PLOTS_PER_MESSAGE};
+    use tracker_core::sim::{Scenario, ScenarioConfig};
+    let mut config = ScenarioConfig::open_sea(40, 1);
+    config.sensor.clutter_per_scan = 160.0;
+    let mut sim = Scenario::new(config);
+    let (mut ticks, mut scans, mut plots) = (0u64, 0u32, 0usize);
+    for k in 0..40 {
+        let out = sim.next_scan();
+        let parts = out.plots.len().div_ceil(MAX_PLOTS_PER_MESSAGE).max(1) as u8;
+        let mut t = 0u32;
+        for (i, chunk) in out.plots.chunks(MAX_PLOTS_PER_MESSAGE).enumerate() {
+            let batch = HostToDevice::Plots(PlotBatch {
+                scan: out.scan,
+                time_ms: out.time_ms,
+                part: i as u8,
+                parts,
+                plots: chunk.iter().copied().collect(),
+            });
+            let dt = counter.ticks(|| {
+                black_box(device.handle(black_box(batch)));
+            });
+            t += dt;
+        }
+        let tracker = device.tracker();
+        let n = tracker.table().tracks().len();
+        let mut assignments: heapless::Vec<Assignment, 64> = heapless::Vec::new();
+        let mut taken = [false; 256];
+        let mut gated = [false; 256];
+        for i in 0..n {
+            if let Some(g) = tracker.table().gated(i) {
+                for &p in &g.plots {
+                    gated[usize::from(p)] = true;
+                }
+                let plot = g.plots.iter().copied().find(|&p| !taken[usize::from(p)]);
+                if let Some(p) = plot {
+                    taken[usize::from(p)] = true;
+                }
+                let _ = assignments.push(Assignment {
+                    track: g.track,
+                    plot,
+                });
+            }
+        }
+        let initiate: heapless::Vec<u16, 256> = (0..out.plots.len() as u16)
+            .filter(|&p| !gated[usize::from(p)])
+            .collect();
+        let per = 48;
+        let aparts = assignments
+            .len()
+            .div_ceil(per)
+            .max(initiate.len().div_ceil(per))
+            .max(1);
+        for part in 0..aparts {
+            let batch = HostToDevice::Assign(AssignmentBatch {
+                scan: out.scan,
+                part: part as u8,
+                parts: aparts as u8,
+                assignments: assignments
+                    .iter()
+                    .skip(part * per)
+                    .take(per)
+                    .copied()
+                    .collect(),
+                initiate: initiate
+                    .iter()
+                    .skip(part * per)
+                    .take(per)
+                    .copied()
+                    .collect(),
+            });
+            let dt = counter.ticks(|| {
+                let reply = device.handle(black_box(batch));
+                black_box(matches!(reply, Reply::Tracks { .. }));
+            });
+            t += dt;
+        }
+        // Score the scans once the picture has settled (tracks confirmed).
+        if k >= 20 {
+            ticks += u64::from(t);
+            scans += 1;
+            plots += out.plots.len();
+        }
+    }
+    let per_scan = (ticks * u64::from(icount::INSTRUCTIONS_PER_TICK)) as f32 / scans as f32;
+    println!(
+        "# scan row: {} plots a scan on average",
+        plots / scans as usize
+    );
+    row(
+        "scan-40-targets-200-plots",
+        "f32",
+        per_scan,
+        core::mem::size_of::<tracker_core::tracker::Tracker>(),
+    );
+}
+
 /// One scan, as a track table runs it: a real call, so its cost is counted whole.
 #[inline(never)]
 fn scan<S: Scalar, F: Filter<S>>(f: &mut F, dt: Interval<S>, z: Measurement<S>) {
@@ -141,6 +243,7 @@ fn main() -> ! {
 
     filter_rows::<f32>(&mut counter);
     filter_rows::<Fix>(&mut counter);
+    scan_row(&mut counter, device);
     let kalman = KalmanConfig::new(0.1, QModel::Continuous, 100.0);
     filter_row::<f32, _>(&mut counter, "kalman-cv", kalman.build_cv::<f32>().ok());
     filter_row::<f32, _>(&mut counter, "kalman-ca", kalman.build_ca::<f32>().ok());

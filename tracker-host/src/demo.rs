@@ -1,0 +1,307 @@
+//! `tracker-host demo`: the main job. A simulated radar picture runs through the tracker,
+//! scan by scan, split as the thesis split it: the device (firmware on QEMU or a board, or
+//! the same code in-process) predicts and rough-gates; this host refines the gates,
+//! associates, and shows the targets.
+
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context};
+use tracker_core::geo::{self, EastNorth};
+use tracker_core::icd::{
+    AssignmentBatch, DeviceToHost, FilterChoice, GatedPlots, HostToDevice, NavSample, PlotBatch,
+    TrackState, TrackStatus, TrackerConfig, MAX_ASSIGNMENTS_PER_MESSAGE, MAX_PLOTS_PER_MESSAGE,
+};
+use tracker_core::sim::{ScanOutput, Scenario, ScenarioConfig, ScenarioKind};
+
+use crate::associate::{self, Association, CHI2_2DOF_99};
+use crate::evaluate::{Evaluator, Summary};
+use crate::link::Client;
+use crate::target::{OwnShip, TargetData};
+
+/// Filters the demo can run, with the parameters it uses for them.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum DemoFilter {
+    /// CV Kalman, q = 0.05 m²/s³, r = (40 m)².
+    KalmanCv,
+    /// CA Kalman, q = 0.001 m²/s⁵, r = (40 m)².
+    KalmanCa,
+    /// α-β, α = 0.5, β = 0.167 (Benedict–Bordner).
+    AlphaBeta,
+    /// α-β-γ, ξ = 0.6.
+    AlphaBetaGamma,
+    /// SSWT, M = 4, α = 0.5.
+    Sswt,
+}
+
+impl DemoFilter {
+    /// The filter's configuration on the device.
+    pub fn choice(self) -> FilterChoice {
+        let r = PLOT_SIGMA_M * PLOT_SIGMA_M;
+        match self {
+            DemoFilter::KalmanCv => FilterChoice::KalmanCv { q: 0.05, r },
+            DemoFilter::KalmanCa => FilterChoice::KalmanCa { q: 0.001, r },
+            DemoFilter::AlphaBeta => FilterChoice::AlphaBeta {
+                alpha: 0.5,
+                beta: 0.25 / 1.5,
+            },
+            DemoFilter::AlphaBetaGamma => FilterChoice::AlphaBetaGamma { xi: 0.6 },
+            DemoFilter::Sswt => FilterChoice::Sswt {
+                window: 4,
+                alpha: 0.5,
+            },
+        }
+    }
+}
+
+/// A plot's position error at mid range under the IMO sensor model, m.
+pub const PLOT_SIGMA_M: f32 = 40.0;
+
+/// Demo parameters.
+#[derive(Clone, Debug)]
+pub struct DemoOptions {
+    /// Scenario kind.
+    pub scenario: ScenarioKind,
+    /// Number of targets.
+    pub targets: usize,
+    /// Seed.
+    pub seed: u64,
+    /// Simulated seconds per real second; `None` runs as fast as it can.
+    pub speedup: Option<f64>,
+    /// Simulated duration, s.
+    pub duration_s: f64,
+    /// The filter every track runs.
+    pub filter: DemoFilter,
+}
+
+/// One scan as the demo saw it.
+#[derive(Clone, Debug)]
+pub struct ScanView {
+    /// The simulation's output (plots and truth).
+    pub sim: ScanOutput,
+    /// Plot positions in the local frame.
+    pub plots_m: Vec<EastNorth>,
+    /// Own ship.
+    pub own: OwnShip,
+    /// Every track the device reported.
+    pub tracks: Vec<TrackState>,
+    /// Target data of confirmed and coasting tracks, nearest first.
+    pub targets: Vec<TargetData>,
+    /// What association did.
+    pub association: Association,
+    /// Host wall time for the scan, link included.
+    pub host_time: Duration,
+}
+
+/// The demo: a scenario, a link, and the scores.
+pub struct Demo {
+    client: Client,
+    scenario: Scenario,
+    evaluator: Evaluator,
+    options: DemoOptions,
+    host_times: Vec<Duration>,
+}
+
+impl Demo {
+    /// Handshakes, configures the device's tracker and sets up the scenario.
+    pub fn new(mut client: Client, options: DemoOptions) -> anyhow::Result<Self> {
+        client.hello().context("handshake")?;
+        let config = TrackerConfig {
+            filter: options.filter.choice(),
+            plot_sigma_m: PLOT_SIGMA_M,
+            ..TrackerConfig::DEFAULT
+        };
+        expect_ack(
+            client.request(&HostToDevice::Configure(config))?,
+            "configure",
+        )?;
+        // Start from an empty table: a board may still hold an earlier run's tracks.
+        expect_ack(
+            client.request(&HostToDevice::Command(
+                tracker_core::icd::TrackCommand::CancelAll,
+            ))?,
+            "cancel all",
+        )?;
+        let scenario = Scenario::new(ScenarioConfig {
+            kind: options.scenario,
+            ..ScenarioConfig::open_sea(options.targets, options.seed)
+        });
+        Ok(Demo {
+            client,
+            scenario,
+            evaluator: Evaluator::default(),
+            options,
+            host_times: Vec::new(),
+        })
+    }
+
+    /// Sends an operator command (acquire, cancel) to the device.
+    pub fn command(&mut self, command: tracker_core::icd::TrackCommand) -> anyhow::Result<()> {
+        expect_ack(
+            self.client.request(&HostToDevice::Command(command))?,
+            "command",
+        )
+    }
+
+    /// The antenna period, s.
+    pub fn scan_s(&self) -> f32 {
+        self.scenario.config().scan_s
+    }
+
+    /// The link client.
+    pub fn client(&self) -> &Client {
+        &self.client
+    }
+
+    /// Runs one scan through the device and the host.
+    pub fn step(&mut self) -> anyhow::Result<ScanView> {
+        let started = Instant::now();
+        let sim = self.scenario.next_scan();
+        let own = OwnShip {
+            position_m: sim.own_position_m,
+            velocity_mps: sim.own_velocity_mps,
+        };
+        let nav = NavSample {
+            time_ms: sim.time_ms,
+            gps_position_m: Some(own.position_m),
+            gps_velocity_mps: Some(own.velocity_mps),
+            ..NavSample::default()
+        };
+        expect_ack(
+            self.client.request(&HostToDevice::OwnShip(nav))?,
+            "own ship",
+        )?;
+        // Plots, in parts; the last part's answer is the rough gates.
+        let chunks: Vec<&[tracker_core::icd::Plot]> = if sim.plots.is_empty() {
+            vec![&[]]
+        } else {
+            sim.plots.chunks(MAX_PLOTS_PER_MESSAGE).collect()
+        };
+        let parts = u8::try_from(chunks.len()).context("too many plot parts")?;
+        let mut gates: Vec<GatedPlots> = Vec::new();
+        for (i, chunk) in chunks.iter().enumerate() {
+            let batch = PlotBatch {
+                scan: sim.scan,
+                time_ms: sim.time_ms,
+                part: i as u8,
+                parts,
+                plots: chunk.iter().copied().collect(),
+            };
+            for reply in self.client.request_all(&HostToDevice::Plots(batch))? {
+                match reply {
+                    DeviceToHost::Ack => {}
+                    DeviceToHost::Gated(g) => gates.extend(g.gates),
+                    other => bail!("plots of scan {} answered {other:?}", sim.scan),
+                }
+            }
+        }
+        // The same conversion as the device's, in the same f32 arithmetic.
+        let plots_m: Vec<EastNorth> = sim
+            .plots
+            .iter()
+            .map(|p| geo::polar_to_local(own.position_m, p.range_m, p.bearing_rad))
+            .collect();
+        let association = associate::associate(&gates, &plots_m, CHI2_2DOF_99);
+        let tracks = self.send_assignments(sim.scan, &association)?;
+        let mut targets: Vec<TargetData> = tracks
+            .iter()
+            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
+            .map(|t| TargetData::new(&own, t))
+            .collect();
+        targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+        self.evaluator
+            .scan(&sim, &tracks, self.scenario.config().scan_s);
+        let host_time = started.elapsed();
+        self.host_times.push(host_time);
+        Ok(ScanView {
+            sim,
+            plots_m,
+            own,
+            tracks,
+            targets,
+            association,
+            host_time,
+        })
+    }
+
+    fn send_assignments(&mut self, scan: u32, a: &Association) -> anyhow::Result<Vec<TrackState>> {
+        let per = MAX_ASSIGNMENTS_PER_MESSAGE;
+        let parts = a
+            .assignments
+            .len()
+            .div_ceil(per)
+            .max(a.initiate.len().div_ceil(per))
+            .max(1);
+        let parts_u8 = u8::try_from(parts).context("too many assignment parts")?;
+        let mut tracks = Vec::new();
+        for part in 0..parts {
+            let batch = AssignmentBatch {
+                scan,
+                part: part as u8,
+                parts: parts_u8,
+                assignments: a
+                    .assignments
+                    .iter()
+                    .skip(part * per)
+                    .take(per)
+                    .copied()
+                    .collect(),
+                initiate: a
+                    .initiate
+                    .iter()
+                    .skip(part * per)
+                    .take(per)
+                    .copied()
+                    .collect(),
+            };
+            for reply in self.client.request_all(&HostToDevice::Assign(batch))? {
+                match reply {
+                    DeviceToHost::Ack => {}
+                    DeviceToHost::Tracks(t) => tracks.extend(t.tracks),
+                    other => bail!("assignments of scan {scan} answered {other:?}"),
+                }
+            }
+        }
+        Ok(tracks)
+    }
+
+    /// Scans until the duration is reached, pacing to the speed-up, calling `show` after
+    /// each; returns the scores.
+    pub fn run(&mut self, mut show: impl FnMut(&ScanView)) -> anyhow::Result<Summary> {
+        let scan_s = f64::from(self.scenario.config().scan_s);
+        let scans = (self.options.duration_s / scan_s).ceil() as u64;
+        let start = Instant::now();
+        for k in 0..scans {
+            let view = self.step()?;
+            show(&view);
+            if let Some(x) = self.options.speedup {
+                let due = start + Duration::from_secs_f64((k + 1) as f64 * scan_s / x);
+                if let Some(wait) = due.checked_duration_since(Instant::now()) {
+                    std::thread::sleep(wait);
+                }
+            }
+        }
+        Ok(self.summary())
+    }
+
+    /// Host time of every scan so far, link included.
+    pub fn host_times(&self) -> &[Duration] {
+        &self.host_times
+    }
+
+    /// Scans the configured duration takes.
+    pub fn scans_planned(&self) -> u64 {
+        (self.options.duration_s / f64::from(self.scan_s())).ceil() as u64
+    }
+
+    /// The scores so far.
+    pub fn summary(&self) -> Summary {
+        self.evaluator.summary(self.scenario.targets().len())
+    }
+}
+
+fn expect_ack(reply: DeviceToHost, what: &str) -> anyhow::Result<()> {
+    match reply {
+        DeviceToHost::Ack => Ok(()),
+        other => bail!("{what}: the device answered {other:?}"),
+    }
+}
