@@ -189,6 +189,33 @@ fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
     );
 }
 
+/// RAM per track: the table's slot (sized for the largest filter, so any can be chosen at
+/// run time), and what a slot would take with one filter only. Instruction column 0: these
+/// are sizes, not costs.
+fn capacity_rows() {
+    use core::mem::size_of;
+    use tracker_core::filter::alpha_beta::AlphaBeta;
+    use tracker_core::filter::alpha_beta_gamma::AlphaBetaGamma;
+    use tracker_core::filter::kalman::{ca::KalmanCa, cv::KalmanCv};
+    use tracker_core::filter::sswt::Sswt;
+    use tracker_core::track::{Track, TrackFilter};
+    let slot = size_of::<Track>();
+    let overhead = slot - size_of::<TrackFilter>();
+    row("track-slot", "f32", 0.0, slot);
+    for (name, filter) in [
+        ("track-slot-alpha-beta", size_of::<AlphaBeta<f32>>()),
+        (
+            "track-slot-alpha-beta-gamma",
+            size_of::<AlphaBetaGamma<f32>>(),
+        ),
+        ("track-slot-sswt", size_of::<Sswt<f32>>()),
+        ("track-slot-kalman-cv", size_of::<KalmanCv<f32>>()),
+        ("track-slot-kalman-ca", size_of::<KalmanCa<f32>>()),
+    ] {
+        row(name, "f32", 0.0, overhead + filter);
+    }
+}
+
 /// One scan, as a track table runs it: a real call, so its cost is counted whole.
 #[inline(never)]
 fn scan<S: Scalar, F: Filter<S>>(f: &mut F, dt: Interval<S>, z: Measurement<S>) {
@@ -244,6 +271,7 @@ fn main() -> ! {
     filter_rows::<f32>(&mut counter);
     filter_rows::<Fix>(&mut counter);
     scan_row(&mut counter, device);
+    capacity_rows();
     let kalman = KalmanConfig::new(0.1, QModel::Continuous, 100.0);
     filter_row::<f32, _>(&mut counter, "kalman-cv", kalman.build_cv::<f32>().ok());
     filter_row::<f32, _>(&mut counter, "kalman-ca", kalman.build_ca::<f32>().ok());
