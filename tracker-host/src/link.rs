@@ -171,22 +171,7 @@ impl Transport for TcpTransport {
     fn read(&mut self, buf: &mut [u8], timeout: Duration) -> io::Result<usize> {
         self.stream
             .set_read_timeout(Some(timeout.max(Duration::from_millis(1))))?;
-        match self.stream.read(buf) {
-            Ok(0) => Err(io::Error::new(
-                io::ErrorKind::UnexpectedEof,
-                "the device closed the link",
-            )),
-            Ok(n) => Ok(n),
-            Err(e)
-                if matches!(
-                    e.kind(),
-                    io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
-                ) =>
-            {
-                Ok(0)
-            }
-            Err(e) => Err(e),
-        }
+        read_or_timeout(self.stream.read(buf), true)
     }
 }
 
@@ -215,11 +200,28 @@ impl Transport for SerialTransport {
         self.port
             .set_timeout(timeout.max(Duration::from_millis(1)))
             .map_err(io::Error::other)?;
-        match self.port.read(buf) {
-            Ok(n) => Ok(n),
-            Err(e) if e.kind() == io::ErrorKind::TimedOut => Ok(0),
-            Err(e) => Err(e),
+        read_or_timeout(self.port.read(buf), false)
+    }
+}
+
+/// A read's result with a time-out turned into "nothing arrived" (`Ok(0)`); with
+/// `eof_is_error` a zero-byte read (the peer closed the link) becomes an error instead.
+fn read_or_timeout(result: io::Result<usize>, eof_is_error: bool) -> io::Result<usize> {
+    match result {
+        Ok(0) if eof_is_error => Err(io::Error::new(
+            io::ErrorKind::UnexpectedEof,
+            "the device closed the link",
+        )),
+        Ok(n) => Ok(n),
+        Err(e)
+            if matches!(
+                e.kind(),
+                io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut
+            ) =>
+        {
+            Ok(0)
         }
+        Err(e) => Err(e),
     }
 }
 

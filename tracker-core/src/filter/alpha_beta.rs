@@ -71,11 +71,7 @@ impl AlphaBetaGains {
                     && 2.0 * alpha + beta < 4.0
             }
         };
-        if ok {
-            Ok(())
-        } else {
-            Err(FilterError::BadParameter)
-        }
+        FilterError::check(ok)
     }
 
     /// A filter with these gains in scalar `S`.

@@ -91,11 +91,7 @@ impl AbgGains {
             | AbgGains::SeedLiteral { xi }
             | AbgGains::PrintedEq6 { xi } => (0.0..=1.0).contains(&xi),
         };
-        if ok {
-            Ok(())
-        } else {
-            Err(FilterError::BadParameter)
-        }
+        FilterError::check(ok)
     }
 
     /// A filter with these gains in scalar `S`.

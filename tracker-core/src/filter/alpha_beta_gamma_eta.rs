@@ -65,11 +65,7 @@ impl AbgeGains {
                 .all(|g| g.is_finite() && (0.0..=2.0).contains(g)),
             AbgeGains::FadingMemory { xi } => (0.0..=1.0).contains(&xi),
         };
-        if ok {
-            Ok(())
-        } else {
-            Err(FilterError::BadParameter)
-        }
+        FilterError::check(ok)
     }
 
     /// A filter with these gains in scalar `S`.

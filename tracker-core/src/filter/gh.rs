@@ -191,6 +191,20 @@ impl<S: Scalar, const N: usize> Filter<S> for GhFilter<S, N> {
     }
 }
 
+/// The closed-loop matrix (I − K·H)·Φ of a constant-gain filter, one axis, per-scan units.
+#[cfg(test)]
+fn closed_loop<const N: usize>(gains: [f64; N]) -> nalgebra::SMatrix<f64, N, N> {
+    use nalgebra::SMatrix;
+    let phi = SMatrix::<f64, N, N>::from_fn(|i, j| {
+        f64::from(BINOMIAL[j][i]) * f64::from(u8::from(j >= i))
+    });
+    let mut kh = SMatrix::<f64, N, N>::zeros();
+    for (i, g) in gains.iter().enumerate() {
+        kh[(i, 0)] = *g;
+    }
+    (SMatrix::<f64, N, N>::identity() - kh) * phi
+}
+
 /// How far the characteristic polynomial of a constant-gain g-h-k-l filter's closed loop,
 /// (I − K·H)·Φ for one axis in per-scan units, is from `expected` (monic, degree N),
 /// compared at several z rather than through an eigen-solver, which is ill-conditioned for
@@ -204,14 +218,7 @@ where
     nalgebra::Const<N>: nalgebra::DimMin<nalgebra::Const<N>, Output = nalgebra::Const<N>>,
 {
     use nalgebra::SMatrix;
-    let phi = SMatrix::<f64, N, N>::from_fn(|i, j| {
-        f64::from(BINOMIAL[j][i]) * f64::from(u8::from(j >= i))
-    });
-    let mut kh = SMatrix::<f64, N, N>::zeros();
-    for (i, g) in gains.iter().enumerate() {
-        kh[(i, 0)] = *g;
-    }
-    let a = (SMatrix::<f64, N, N>::identity() - kh) * phi;
+    let a = closed_loop(gains);
     [-1.5, -0.3, 0.2, 0.7, 1.1, 2.0]
         .iter()
         .map(|&z| ((SMatrix::<f64, N, N>::identity() * z - a).determinant() - expected(z)).abs())
@@ -223,14 +230,7 @@ where
 #[cfg(test)]
 pub(crate) fn spectral_radius<const N: usize>(gains: [f64; N]) -> f64 {
     use nalgebra::SMatrix;
-    let phi = SMatrix::<f64, N, N>::from_fn(|i, j| {
-        f64::from(BINOMIAL[j][i]) * f64::from(u8::from(j >= i))
-    });
-    let mut kh = SMatrix::<f64, N, N>::zeros();
-    for (i, g) in gains.iter().enumerate() {
-        kh[(i, 0)] = *g;
-    }
-    let a = (SMatrix::<f64, N, N>::identity() - kh) * phi;
+    let a = closed_loop(gains);
     // Square 12 times: A^4096, rescaled each step to stay in range.
     let mut m = a;
     let mut log_scale = 0.0;

@@ -65,6 +65,17 @@ impl core::fmt::Display for FilterError {
 #[cfg(feature = "std")]
 impl std::error::Error for FilterError {}
 
+impl FilterError {
+    /// `Ok` when a parameter check passed, [`FilterError::BadParameter`] otherwise.
+    pub(crate) fn check(ok: bool) -> Result<(), FilterError> {
+        if ok {
+            Ok(())
+        } else {
+            Err(FilterError::BadParameter)
+        }
+    }
+}
+
 /// A measured position `[east, north]` in metres, known to be finite.
 ///
 /// Validated once where data enters (a CSV line, a plot off the link), so the filters'

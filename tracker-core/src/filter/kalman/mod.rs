@@ -69,10 +69,6 @@ impl KalmanConfig {
             && self.r > 0.0
             && self.p0_derivative.is_finite()
             && self.p0_derivative > 0.0;
-        if ok {
-            Ok(())
-        } else {
-            Err(FilterError::BadParameter)
-        }
+        FilterError::check(ok)
     }
 }
