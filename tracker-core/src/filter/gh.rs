@@ -229,7 +229,6 @@ where
 /// powers (Gelfand's formula): robust for repeated and complex poles alike.
 #[cfg(test)]
 pub(crate) fn spectral_radius<const N: usize>(gains: [f64; N]) -> f64 {
-    use nalgebra::SMatrix;
     let a = closed_loop(gains);
     // Square 12 times: A^4096, rescaled each step to stay in range.
     let mut m = a;
