@@ -53,7 +53,7 @@ fn bench_counts_are_deterministic_and_within_budget() {
     // Budgets for the link path (decode + CRC + dispatch + encode the reply), per frame.
     // About half of the small-frame cost is moving kilobyte-sized message enums between
     // decode, dispatch and encode (see the README); the budgets hold today's cost.
-    assert!(row("link-hello").instructions_per_call < 8_000.0);
+    assert!(row("link-hello").instructions_per_call < 16_000.0);
     assert!(row("link-echo-16B").instructions_per_call < 18_000.0);
     // Per byte of a full frame: COBS, CRC and postcard each way.
     assert!(row("link-echo-1000B").instructions_per_call < 120.0 * 1000.0);

@@ -38,6 +38,36 @@ pub enum Reply {
     },
 }
 
+/// How a state-changing request was answered, in a few bytes: every such answer is an
+/// acknowledgement, an error, or a report regenerated from the (unchanged) state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Answered {
+    Ack,
+    Error(ErrorCode),
+    Gated { parts: u8 },
+    Tracks { parts: u8 },
+}
+
+impl Answered {
+    fn of(reply: &Reply) -> Answered {
+        match reply {
+            Reply::One(DeviceToHost::Error(e)) => Answered::Error(*e),
+            Reply::One(_) => Answered::Ack,
+            Reply::Gated { parts } => Answered::Gated { parts: *parts },
+            Reply::Tracks { parts } => Answered::Tracks { parts: *parts },
+        }
+    }
+
+    fn reply(self) -> Reply {
+        match self {
+            Answered::Ack => Reply::One(DeviceToHost::Ack),
+            Answered::Error(e) => Reply::One(DeviceToHost::Error(e)),
+            Answered::Gated { parts } => Reply::Gated { parts },
+            Answered::Tracks { parts } => Reply::Tracks { parts },
+        }
+    }
+}
+
 /// Static facts about the device, reported in the handshake.
 #[derive(Clone, Copy, Debug)]
 pub struct DeviceConfig {
@@ -56,6 +86,9 @@ pub struct DeviceConfig {
 pub struct Device {
     config: DeviceConfig,
     tracker: Tracker,
+    /// The last state-changing request's id and how it was answered: a retry (the host
+    /// resends with the same id when the reply was lost) is answered again, not redone.
+    last_change: Option<(u32, Answered)>,
     decoder: FrameDecoder,
     stats: LinkStats,
     scratch: [u8; MAX_FRAME_BYTES],
@@ -80,7 +113,9 @@ impl Device {
                 version_mismatch: 0,
                 request_errors: 0,
                 frames_out: 0,
+                duplicate_requests: 0,
             },
+            last_change: None,
             scratch: [0; MAX_FRAME_BYTES],
             tx: [0; MAX_ENCODED_FRAME_BYTES],
         }
@@ -104,7 +139,22 @@ impl Device {
         let (request_id, reply) = match decoded {
             Ok((header, request)) => {
                 self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
-                (header.request_id, self.handle(request))
+                let id = header.request_id;
+                let changes = request.changes_state();
+                let repeated = match self.last_change {
+                    Some((last, answered)) if changes && last == id => Some(answered),
+                    _ => None,
+                };
+                if let Some(answered) = repeated {
+                    self.stats.duplicate_requests = self.stats.duplicate_requests.wrapping_add(1);
+                    (id, answered.reply())
+                } else {
+                    let reply = self.handle(&request);
+                    if changes {
+                        self.last_change = Some((id, Answered::of(&reply)));
+                    }
+                    (id, reply)
+                }
             }
             Err((header, error)) => {
                 self.count(error);
@@ -135,7 +185,7 @@ impl Device {
     }
 
     /// Carries out one decoded request.
-    pub fn handle(&mut self, request: HostToDevice) -> Reply {
+    pub fn handle(&mut self, request: &HostToDevice) -> Reply {
         let ack = |r: Result<(), ErrorCode>| {
             Reply::One(match r {
                 Ok(()) => DeviceToHost::Ack,
@@ -144,17 +194,17 @@ impl Device {
         };
         match request {
             HostToDevice::Hello => Reply::One(DeviceToHost::HelloAck(self.info())),
-            HostToDevice::Echo(bytes) => Reply::One(DeviceToHost::Echo(bytes)),
+            HostToDevice::Echo(bytes) => Reply::One(DeviceToHost::Echo(bytes.clone())),
             HostToDevice::GetStats => Reply::One(DeviceToHost::Stats(self.stats)),
-            HostToDevice::Configure(config) => ack(self.tracker.configure(config)),
-            HostToDevice::OwnShip(nav) => ack(self.tracker.own_ship(&nav)),
-            HostToDevice::Command(command) => ack(self.tracker.command(command)),
-            HostToDevice::Plots(batch) => match self.tracker.plots(&batch) {
+            HostToDevice::Configure(config) => ack(self.tracker.configure(*config)),
+            HostToDevice::OwnShip(nav) => ack(self.tracker.own_ship(nav)),
+            HostToDevice::Command(command) => ack(self.tracker.command(*command)),
+            HostToDevice::Plots(batch) => match self.tracker.plots(batch) {
                 Ok(Some(parts)) => Reply::Gated { parts },
                 Ok(None) => Reply::One(DeviceToHost::Ack),
                 Err(e) => Reply::One(DeviceToHost::Error(e)),
             },
-            HostToDevice::Assign(batch) => match self.tracker.assign(&batch) {
+            HostToDevice::Assign(batch) => match self.tracker.assign(batch) {
                 Ok(Some(parts)) => Reply::Tracks { parts },
                 Ok(None) => Reply::One(DeviceToHost::Ack),
                 Err(e) => Reply::One(DeviceToHost::Error(e)),
@@ -300,6 +350,42 @@ mod tests {
         );
         assert_eq!(s.rejected(), 2);
         assert_eq!(r[3].0.request_id, 3);
+    }
+
+    #[test]
+    fn a_retried_request_is_answered_again_not_redone() {
+        use crate::icd::{AssignmentBatch, Plot, PlotBatch};
+        let mut dev = Device::new(CONFIG);
+        let plots = heapless::Vec::from_slice(&[Plot {
+            range_m: 1000.0,
+            bearing_rad: 0.0,
+        }])
+        .unwrap();
+        let scan = HostToDevice::Plots(PlotBatch {
+            scan: 0,
+            time_ms: 0,
+            part: 0,
+            parts: 1,
+            plots,
+        });
+        let first = exchange(&mut dev, &request(5, &scan));
+        let assign = HostToDevice::Assign(AssignmentBatch {
+            scan: 0,
+            part: 0,
+            parts: 1,
+            assignments: heapless::Vec::new(),
+            initiate: heapless::Vec::from_slice(&[0]).unwrap(),
+        });
+        let a = exchange(&mut dev, &request(6, &assign));
+        // The reply was lost; the host resends request 6: same answer, one track, not two.
+        let again = exchange(&mut dev, &request(6, &assign));
+        assert_eq!(a, again);
+        assert_eq!(dev.tracker().table().tracks().len(), 1);
+        assert_eq!(dev.stats().duplicate_requests, 1);
+        assert!(matches!(first[0].1, DeviceToHost::Gated(_)));
+        // A new id is a new request (here out of sequence: no scan open).
+        let r = exchange(&mut dev, &request(7, &assign));
+        assert_eq!(r[0].1, DeviceToHost::Error(ErrorCode::OutOfSequence));
     }
 
     #[test]

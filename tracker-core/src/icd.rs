@@ -18,7 +18,7 @@ use heapless::{String, Vec};
 use serde::{Deserialize, Serialize};
 
 /// Bumped on every incompatible change to the types of this module.
-pub const PROTOCOL_VERSION: u16 = 1;
+pub const PROTOCOL_VERSION: u16 = 2;
 
 /// Largest decoded frame: header + body + CRC, before COBS.
 pub const MAX_FRAME_BYTES: usize = 1024;
@@ -83,6 +83,21 @@ pub enum HostToDevice {
     Command(TrackCommand),
     /// Ask for every live track ([`DeviceToHost::Tracks`], possibly in several parts).
     GetTracks,
+}
+
+impl HostToDevice {
+    /// True for requests that change the device's state (the ones a retry must not carry
+    /// out twice).
+    pub fn changes_state(&self) -> bool {
+        matches!(
+            self,
+            HostToDevice::Configure(_)
+                | HostToDevice::Plots(_)
+                | HostToDevice::OwnShip(_)
+                | HostToDevice::Assign(_)
+                | HostToDevice::Command(_)
+        )
+    }
 }
 
 /// Number of [`HostToDevice`] variants this version knows. A frame naming a higher
@@ -182,6 +197,8 @@ pub struct LinkStats {
     pub request_errors: u32,
     /// Frames sent.
     pub frames_out: u32,
+    /// Retries of a state-changing request answered again without carrying it out twice.
+    pub duplicate_requests: u32,
 }
 
 impl LinkStats {

@@ -28,6 +28,11 @@ pub struct Cli {
     #[arg(long, global = true)]
     pub mcu_log: bool,
 
+    /// Damage the link on purpose: this probability per byte, both ways, of a flipped bit
+    /// (80 %), a lost byte (10 %) or a repeated one (10 %). For testing; the host retries.
+    #[arg(long, global = true, value_name = "RATE")]
+    pub byte_errors: Option<f64>,
+
     /// The command.
     #[command(subcommand)]
     pub command: Command,
@@ -157,7 +162,27 @@ impl Cli {
             _ => "",
         };
         eprintln!("link: {spec}{how}");
-        Ok(Client::new(link::open(&spec, &self.qemu_options())?))
+        let mut transport = link::open(&spec, &self.qemu_options())?;
+        let mut client_timeout = None;
+        if let Some(rate) = self.byte_errors {
+            if !(0.0..=0.1).contains(&rate) {
+                anyhow::bail!("--byte-errors {rate}: expected a probability up to 0.1");
+            }
+            eprintln!("link: damaging {rate} of the bytes on purpose");
+            transport = Box::new(crate::faults::FaultyTransport::new(
+                transport,
+                crate::faults::FaultRates::byte_errors(rate),
+                1,
+            ));
+            // A lost answer is noticed by its timeout when no damaged frame announces it.
+            client_timeout = Some(std::time::Duration::from_millis(300));
+        }
+        let mut client = Client::new(transport);
+        if let Some(t) = client_timeout {
+            client.timeout = t;
+            client.retries = 50;
+        }
+        Ok(client)
     }
 }
 
@@ -288,8 +313,8 @@ where
             );
             let stats = d.client().stats();
             println!(
-                "link: {} frames sent, {} received, {} damaged",
-                stats.frames_sent, stats.frames_received, stats.frames_damaged
+                "link: {} frames sent, {} received, {} damaged, {} requests retried",
+                stats.frames_sent, stats.frames_received, stats.frames_damaged, stats.retries
             );
             Ok(ExitCode::SUCCESS)
         }

@@ -11,6 +11,7 @@ pub mod cli;
 pub mod demo;
 pub mod display;
 pub mod evaluate;
+pub mod faults;
 pub mod link;
 pub mod link_check;
 pub mod precision;

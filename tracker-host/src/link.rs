@@ -238,11 +238,21 @@ pub fn open(
     })
 }
 
+/// What arrived on the link (short-lived: moved straight into the caller's hands).
+#[allow(clippy::large_enum_variant)]
+enum Incoming {
+    Frame(Header, DeviceToHost),
+    Damaged,
+    Timeout,
+}
+
 /// What went wrong with a request.
 #[derive(Debug)]
 pub enum RequestError {
     /// No reply within the timeout.
     Timeout,
+    /// The request or its reply was damaged on the way (and retries ran out).
+    Lost,
     /// The transport failed.
     Io(io::Error),
     /// The request could not be encoded.
@@ -253,6 +263,7 @@ impl fmt::Display for RequestError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             RequestError::Timeout => f.write_str("no reply from the device"),
+            RequestError::Lost => f.write_str("the request or its reply was damaged on the link"),
             RequestError::Io(e) => write!(f, "link failed: {e}"),
             RequestError::Encode(e) => write!(f, "request not encodable: {e}"),
         }
@@ -278,6 +289,8 @@ pub struct ClientStats {
     pub frames_damaged: u64,
     /// Replies that answered no outstanding request (late or unpaired).
     pub unmatched: u64,
+    /// Requests sent again after a lost answer.
+    pub retries: u64,
 }
 
 /// Request/response over a [`Transport`].
@@ -288,6 +301,8 @@ pub struct Client {
     next_id: u32,
     /// How long to wait for a reply.
     pub timeout: Duration,
+    /// Times a request is sent again when its answer is lost.
+    pub retries: u32,
     stats: ClientStats,
     scratch: Vec<u8>,
     out: Vec<u8>,
@@ -302,6 +317,7 @@ impl Client {
             inbox: VecDeque::new(),
             next_id: 1,
             timeout: Duration::from_secs(5),
+            retries: 5,
             stats: ClientStats::default(),
             scratch: vec![0; MAX_FRAME_BYTES],
             out: vec![0; MAX_ENCODED_FRAME_BYTES + 1],
@@ -338,18 +354,19 @@ impl Client {
     /// Sends `body` and waits for the reply carrying its request id; other frames that
     /// arrive meanwhile are counted and dropped.
     pub fn request(&mut self, body: &HostToDevice) -> Result<DeviceToHost, RequestError> {
-        let id = self.allocate_id();
-        let header = Header {
-            protocol: PROTOCOL_VERSION,
-            request_id: id,
-        };
-        let bytes = self.encode(&header, body).map_err(RequestError::Encode)?;
-        self.send_raw(&bytes)?;
-        self.reply_to(id)
+        self.request_all(body)?
+            .into_iter()
+            .next()
+            .ok_or(RequestError::Timeout)
     }
 
     /// Sends `body` and collects its whole answer: one message, or every part of a gate or
     /// track report (all carrying the request's id).
+    ///
+    /// When the answer is lost (a damaged frame arrives, or the device reports an unreadable
+    /// frame, or nothing comes within the timeout) the same frame is sent again with the same
+    /// request id, up to [`Client::retries`] times: the device answers a repeated
+    /// state-changing request again instead of carrying it out twice.
     pub fn request_all(&mut self, body: &HostToDevice) -> Result<Vec<DeviceToHost>, RequestError> {
         let id = self.allocate_id();
         let header = Header {
@@ -357,18 +374,56 @@ impl Client {
             request_id: id,
         };
         let bytes = self.encode(&header, body).map_err(RequestError::Encode)?;
-        self.send_raw(&bytes)?;
-        let mut out = Vec::new();
+        // Parts received so far, by index: a retry is answered with the same parts, so
+        // parts from an earlier attempt still count.
+        let mut parts: Vec<Option<DeviceToHost>> = Vec::new();
+        let mut attempt = 0;
         loop {
-            let reply = self.reply_to(id)?;
-            let done = match &reply {
-                DeviceToHost::Gated(g) => g.part + 1 >= g.parts,
-                DeviceToHost::Tracks(t) => t.part + 1 >= t.parts,
-                _ => true,
-            };
-            out.push(reply);
-            if done {
-                return Ok(out);
+            self.send_raw(&bytes)?;
+            match self.collect(id, &mut parts) {
+                Err(RequestError::Timeout | RequestError::Lost) if attempt < self.retries => {
+                    attempt += 1;
+                    self.stats.retries += 1;
+                }
+                other => return other,
+            }
+        }
+    }
+
+    /// Collects the answer to request `id` into `parts` until every part is in.
+    fn collect(
+        &mut self,
+        id: u32,
+        parts: &mut Vec<Option<DeviceToHost>>,
+    ) -> Result<Vec<DeviceToHost>, RequestError> {
+        let deadline = Instant::now() + self.timeout;
+        loop {
+            match self.next_event(deadline)? {
+                Incoming::Frame(h, reply) if h.request_id == id => {
+                    let (part, of) = match &reply {
+                        DeviceToHost::Gated(g) => (usize::from(g.part), usize::from(g.parts)),
+                        DeviceToHost::Tracks(t) => (usize::from(t.part), usize::from(t.parts)),
+                        _ => (0, 1),
+                    };
+                    if parts.len() != of {
+                        parts.clear();
+                        parts.resize(of, None);
+                    }
+                    if let Some(slot) = parts.get_mut(part) {
+                        *slot = Some(reply);
+                    }
+                    if parts.iter().all(Option::is_some) {
+                        return Ok(parts.drain(..).flatten().collect());
+                    }
+                }
+                // The device could not read a frame: most likely ours.
+                Incoming::Frame(h, DeviceToHost::Error(_)) if is_unpaired(&h) => {
+                    self.stats.unmatched += 1;
+                    return Err(RequestError::Lost);
+                }
+                Incoming::Frame(..) => self.stats.unmatched += 1,
+                Incoming::Damaged => return Err(RequestError::Lost),
+                Incoming::Timeout => return Err(RequestError::Timeout),
             }
         }
     }
@@ -385,28 +440,46 @@ impl Client {
         }
     }
 
-    /// The next reply frame, or `None` at the deadline.
+    /// The next reply frame, or `None` at the deadline; damaged frames are counted and
+    /// skipped.
     pub fn next_frame(
         &mut self,
         deadline: Instant,
     ) -> Result<Option<(Header, DeviceToHost)>, RequestError> {
         loop {
+            match self.next_event(deadline)? {
+                Incoming::Frame(h, body) => return Ok(Some((h, body))),
+                Incoming::Damaged => {}
+                Incoming::Timeout => return Ok(None),
+            }
+        }
+    }
+
+    /// The next thing to arrive: a frame, a damaged frame, or nothing by the deadline.
+    fn next_event(&mut self, deadline: Instant) -> Result<Incoming, RequestError> {
+        loop {
             while let Some(b) = self.inbox.pop_front() {
                 match self.decoder.push(b) {
                     None => {}
                     Some(Ok(payload)) => match frame::decode_payload(payload, u32::MAX) {
-                        Ok(frame) => {
+                        Ok((h, body)) => {
                             self.stats.frames_received += 1;
-                            return Ok(Some(frame));
+                            return Ok(Incoming::Frame(h, body));
                         }
-                        Err(_) => self.stats.frames_damaged += 1,
+                        Err(_) => {
+                            self.stats.frames_damaged += 1;
+                            return Ok(Incoming::Damaged);
+                        }
                     },
-                    Some(Err(_)) => self.stats.frames_damaged += 1,
+                    Some(Err(_)) => {
+                        self.stats.frames_damaged += 1;
+                        return Ok(Incoming::Damaged);
+                    }
                 }
             }
             let now = Instant::now();
             if now >= deadline {
-                return Ok(None);
+                return Ok(Incoming::Timeout);
             }
             let mut buf = [0u8; 4096];
             let n = self.transport.read(&mut buf, deadline - now)?;

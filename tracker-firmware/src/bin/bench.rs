@@ -112,7 +112,7 @@ fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
                 plots: chunk.iter().copied().collect(),
             });
             let dt = counter.ticks(|| {
-                black_box(device.handle(black_box(batch)));
+                black_box(device.handle(black_box(&batch)));
             });
             t += dt;
         }
@@ -164,7 +164,7 @@ fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
                     .collect(),
             });
             let dt = counter.ticks(|| {
-                let reply = device.handle(black_box(batch));
+                let reply = device.handle(black_box(&batch));
                 black_box(matches!(reply, Reply::Tracks { .. }));
             });
             t += dt;
