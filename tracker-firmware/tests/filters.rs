@@ -48,6 +48,60 @@ pub fn track_polynomial<S: Scalar, F: Filter<S>>(
     (worst, f.estimate().velocity_mps[0].to_f64() - slope(t))
 }
 
+/// 10⁵ updates of a Kalman filter on a random target with random intervals and coasting;
+/// `check` must hold every 97 updates. Returns the number of checks.
+pub fn soak<F: Filter<f32>>(mut f: F, check: impl Fn(&F) -> bool) -> u32 {
+    use rand::RngExt;
+    use rand_core::SeedableRng;
+    let mut rng = rand_pcg::Pcg32::seed_from_u64(7);
+    let (mut p, mut v) = ([1000.0f32, -2000.0], [5.0f32, -3.0]);
+    let Ok(first) = Measurement::new(p) else {
+        defmt::panic!("bad start")
+    };
+    f.start(first);
+    let mut checks = 0;
+    for k in 0..100_000u32 {
+        if k % 1000 == 0 {
+            v = [rng.random_range(-15.0..15.0), rng.random_range(-15.0..15.0)];
+        }
+        let dt: f32 = rng.random_range(0.5..5.0);
+        p = [p[0] + v[0] * dt, p[1] + v[1] * dt];
+        let Ok(step) = Interval::new(dt) else {
+            defmt::panic!("bad interval")
+        };
+        f.predict(step);
+        if rng.random::<f32>() < 0.9 {
+            let z = [
+                p[0] + rng.random_range(-50.0..50.0),
+                p[1] + rng.random_range(-50.0..50.0),
+            ];
+            let Ok(m) = Measurement::new(z) else {
+                defmt::panic!("bad measurement")
+            };
+            f.update(m);
+        }
+        // Keep the numbers at radar scale: restart far out.
+        if p[0].abs() > 50_000.0 || p[1].abs() > 50_000.0 {
+            p = [0.0, 0.0];
+            let Ok(m) = Measurement::new(p) else {
+                defmt::panic!("bad restart")
+            };
+            f.start(m);
+        }
+        if k % 97 == 0 {
+            let e = f.estimate();
+            defmt::assert!(e
+                .position_m
+                .iter()
+                .chain(&e.velocity_mps)
+                .all(|x| x.is_finite()));
+            defmt::assert!(check(&f), "covariance lost definiteness at update {}", k);
+            checks += 1;
+        }
+    }
+    checks
+}
+
 #[defmt_test::tests]
 mod tests {
     use super::track_polynomial;
@@ -135,6 +189,24 @@ mod tests {
         );
         let (e, v) = track_polynomial::<f32, _>(&mut f, &[0.0, 5.0], 2.5, 200);
         defmt::assert!(e < 0.05 && libm::fabs(v) < 0.01, "{} {}", e, v);
+    }
+
+    #[test]
+    fn kalman_filters_survive_a_100k_update_soak() {
+        let k = KalmanConfig::new(0.05, QModel::Continuous, 900.0);
+        let n = super::soak(k.build_cv::<f32>().unwrap(), |f| {
+            let p = f.covariance();
+            p.pp > 0.0 && p.vv > 0.0 && p.pp * p.vv - p.pv * p.pv > 0.0
+        });
+        defmt::assert!(n > 1000);
+        super::soak(k.build_ca::<f32>().unwrap(), |f| {
+            let p = f.covariance();
+            let symmetric = (p - p.transpose()).abs().max() <= 1e-3 * p.abs().max();
+            // Leading principal minors positive: Sylvester's test for a 3×3.
+            let m1 = p[(0, 0)];
+            let m2 = p[(0, 0)] * p[(1, 1)] - p[(0, 1)] * p[(1, 0)];
+            symmetric && m1 > 0.0 && m2 > 0.0 && p.determinant() > 0.0
+        });
     }
 
     #[test]
