@@ -292,8 +292,18 @@ mod tests {
             assert_eq!(Interval::new(dt), Err(FilterError::BadInterval), "{dt}");
         }
         assert_eq!(Interval::new(Fix::ZERO), Err(FilterError::BadInterval));
-        assert!(Interval::new(Fix::DELTA).is_ok());
+        assert_eq!(
+            Interval::new(Fix::DELTA),
+            Err(FilterError::BadInterval),
+            "below 1 ms"
+        );
+        assert!(Interval::new(Fix::of(0.002)).is_ok());
         assert!(Measurement::new([Fix::MAX, Fix::MIN]).is_ok());
+        assert_eq!(
+            Measurement::new([2.0e7f32, 0.0]),
+            Err(FilterError::NonFinite)
+        );
+        assert_eq!(Interval::new(90_000.0f32), Err(FilterError::BadInterval));
     }
 
     #[test]

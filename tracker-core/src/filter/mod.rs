@@ -44,9 +44,9 @@ pub struct Estimate<S> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum FilterError {
-    /// A measurement was NaN or infinite.
+    /// A measurement was NaN, infinite, or beyond [`MAX_POSITION_M`].
     NonFinite,
-    /// The time step was not positive and finite.
+    /// The time step was outside [`MIN_INTERVAL_S`, `MAX_INTERVAL_S`] (or not a number).
     BadInterval,
     /// A gain or parameter is outside the range where the filter is defined or stable.
     BadParameter,
@@ -55,8 +55,8 @@ pub enum FilterError {
 impl core::fmt::Display for FilterError {
     fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
         f.write_str(match self {
-            FilterError::NonFinite => "measurement is not finite",
-            FilterError::BadInterval => "time step is not positive and finite",
+            FilterError::NonFinite => "measurement is not finite or beyond ±10,000 km",
+            FilterError::BadInterval => "time step is not between 1 ms and 1 day",
             FilterError::BadParameter => "parameter out of range",
         })
     }
@@ -76,7 +76,18 @@ impl FilterError {
     }
 }
 
-/// A measured position `[east, north]` in metres, known to be finite.
+/// Largest coordinate a measurement may have, m: 10,000 km, beyond any radar picture,
+/// so that no sequence of valid inputs can overflow `f32` arithmetic.
+pub const MAX_POSITION_M: f64 = 1.0e7;
+
+/// Shortest time step, s: nothing a radar does happens faster.
+pub const MIN_INTERVAL_S: f64 = 1.0e-3;
+
+/// Longest time step, s: a day.
+pub const MAX_INTERVAL_S: f64 = 86_400.0;
+
+/// A measured position `[east, north]` in metres, known to be finite and within
+/// [`MAX_POSITION_M`].
 ///
 /// Validated once where data enters (a CSV line, a plot off the link), so the filters'
 /// hot paths carry no checks and cannot be handed a NaN.
@@ -84,10 +95,13 @@ impl FilterError {
 pub struct Measurement<S>(Vec2<S>);
 
 impl<S: Scalar> Measurement<S> {
-    /// Accepts a finite position.
+    /// Accepts a finite position within [`MAX_POSITION_M`].
     #[inline]
     pub fn new(position_m: Vec2<S>) -> Result<Self, FilterError> {
-        if position_m[0].is_finite() && position_m[1].is_finite() {
+        let max = S::of(MAX_POSITION_M);
+        let min = S::of(-MAX_POSITION_M);
+        let ok = |v: S| v.is_finite() && v <= max && v >= min;
+        if ok(position_m[0]) && ok(position_m[1]) {
             Ok(Measurement(position_m))
         } else {
             Err(FilterError::NonFinite)
@@ -101,15 +115,15 @@ impl<S: Scalar> Measurement<S> {
     }
 }
 
-/// A time step in seconds, known to be positive and finite.
+/// A time step in seconds, known to lie in [`MIN_INTERVAL_S`, `MAX_INTERVAL_S`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Interval<S>(S);
 
 impl<S: Scalar> Interval<S> {
-    /// Accepts a positive, finite step (in fixed point: at least one resolution step).
+    /// Accepts a step from 1 ms to a day.
     #[inline]
     pub fn new(seconds: S) -> Result<Self, FilterError> {
-        if seconds > S::ZERO && seconds.is_finite() {
+        if seconds >= S::of(MIN_INTERVAL_S) && seconds <= S::of(MAX_INTERVAL_S) {
             Ok(Interval(seconds))
         } else {
             Err(FilterError::BadInterval)

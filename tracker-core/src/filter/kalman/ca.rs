@@ -141,9 +141,10 @@ impl<S: Real> Filter<S> for KalmanCa<S> {
             self.innovation[axis] = e;
             *x += k * e;
         }
-        // Joseph form with H = [1, 0, 0].
+        // Joseph form with H = [1, 0, 0]; 1 − k0 as r/s, without the cancellation of
+        // 1 − (almost 1) when the prediction is far less certain than the plot.
         let mut ikh = Matrix3::identity();
-        ikh.set_column(0, &(Vector3::x() - k));
+        ikh.set_column(0, &Vector3::new(self.r / s, -k[1], -k[2]));
         self.p = ikh * self.p * ikh.transpose() + k * k.transpose() * self.r;
         self.innovation
     }

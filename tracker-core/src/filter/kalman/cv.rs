@@ -154,7 +154,9 @@ impl<S: Real> Filter<S> for KalmanCv<S> {
         //   pp = (1−k0)²·pp + k0²·r
         //   pv = (1−k0)(pv − k1·pp) + k0·k1·r
         //   vv = vv − 2·k1·pv + k1²·s
-        let m = S::of(1.0) - k0;
+        // 1 − k0 as r/s: the same number, without the cancellation of 1 − (almost 1) when
+        // the prediction is far less certain than the plot.
+        let m = self.r * s_inv;
         let kr = k0 * self.r;
         self.p = Cov2 {
             pp: m * m * p.pp + k0 * kr,
