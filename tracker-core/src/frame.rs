@@ -183,7 +183,8 @@ impl FrameDecoder {
         if len == 0 {
             return None;
         }
-        let frame = &mut self.buf[..len];
+        // Checked slicing throughout: the firmware must have no reachable panic.
+        let frame = self.buf.get_mut(..len)?;
         let n = match cobs::decode_in_place(frame) {
             Ok(n) => n,
             Err(_) => return Some(Err(FrameError::Cobs)),
@@ -191,9 +192,9 @@ impl FrameDecoder {
         if n <= CRC_BYTES || n > MAX_FRAME_BYTES {
             return Some(Err(FrameError::Crc));
         }
-        let (payload, crc) = frame[..n].split_at(n - CRC_BYTES);
-        let mut expected = [0u8; CRC_BYTES];
-        expected.copy_from_slice(crc);
+        let decoded = frame.get(..n)?;
+        let (payload, crc) = decoded.split_at_checked(n - CRC_BYTES)?;
+        let expected: [u8; CRC_BYTES] = crc.try_into().ok()?;
         if CRC32.checksum(payload) != u32::from_le_bytes(expected) {
             return Some(Err(FrameError::Crc));
         }

@@ -296,13 +296,17 @@ impl TrackTable {
         for t in &mut self.tracks {
             t.innovation_cov = t.filter.innovation_cov(plot_var, t.coasts);
             let sigma = libm::sqrtf(t.innovation_cov[0].max(t.innovation_cov[2]));
-            let mut radius = (cfg.gate_sigmas * sigma).clamp(cfg.min_gate_m, cfg.max_gate_m);
+            // max/min, not clamp: clamp panics on NaN or crossed bounds, and the firmware
+            // must have no reachable panic.
+            let mut radius = (cfg.gate_sigmas * sigma)
+                .max(cfg.min_gate_m)
+                .min(cfg.max_gate_m);
             if t.age_scans <= 1 && !t.filter.has_covariance() {
                 radius = (radius + cfg.max_speed_mps * scan_s).min(cfg.max_gate_m);
             }
             let p = t.filter.prediction();
             let r2 = radius * radius;
-            // Keep the nearest: insert in distance order, dropping the farthest when full.
+            // Keep the nearest, in distance order, dropping the farthest when full.
             let mut best: Vec<(f32, u16), MAX_PLOTS_PER_GATE> = Vec::new();
             for (i, z) in plots.iter().enumerate() {
                 let (dx, dy) = (z[0] - p[0], z[1] - p[1]);
@@ -311,14 +315,14 @@ impl TrackTable {
                     continue;
                 }
                 let Ok(index) = u16::try_from(i) else { break };
-                let pos = best.iter().position(|&(d, _)| d > d2).unwrap_or(best.len());
                 if best.is_full() {
-                    if pos == best.len() {
+                    if best.last().is_none_or(|&(far, _)| d2 >= far) {
                         continue;
                     }
                     best.pop();
                 }
-                let _ = best.insert(pos, (d2, index));
+                let _ = best.push((d2, index));
+                best.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
             }
             t.gated = best.iter().map(|&(_, i)| i).collect();
         }

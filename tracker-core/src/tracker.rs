@@ -263,8 +263,12 @@ impl Tracker {
     }
 }
 
+/// Parts needed to carry `items` at `per_part` a message: at least one, at most 255.
+/// Plain arithmetic (no `div_ceil`/`clamp`, whose checks would leave a panic path).
 fn parts_for(items: usize, per_part: usize) -> u8 {
-    items.div_ceil(per_part).clamp(1, usize::from(u8::MAX)) as u8
+    let per_part = per_part.max(1);
+    let parts = items / per_part + usize::from(items % per_part != 0);
+    parts.max(1).min(usize::from(u8::MAX)) as u8
 }
 
 #[cfg(test)]

@@ -27,7 +27,20 @@ use tracker_core::device::{Device, DeviceConfig};
 
 #[cfg(feature = "qemu")]
 use defmt_semihosting as _;
+#[cfg(all(feature = "panic-probe", not(feature = "panic-never")))]
 use panic_probe as _;
+
+/// With `panic-never` the panic handler calls a function that exists nowhere: the firmware
+/// then links only if the optimiser proved every panic unreachable.
+#[cfg(feature = "panic-never")]
+#[panic_handler]
+fn panic(_: &core::panic::PanicInfo) -> ! {
+    extern "Rust" {
+        fn firmware_has_a_reachable_panic() -> !;
+    }
+    // SAFETY: never runs; if it could, the link fails.
+    unsafe { firmware_has_a_reachable_panic() }
+}
 
 /// Tracks the firmware holds (reported to the host; the table itself comes with tracking).
 pub const MAX_TRACKS: u16 = 64;

@@ -140,6 +140,12 @@ impl<S: Scalar> Sswt<S> {
         self.measurements as usize > self.window
     }
 
+    /// The newest filtered position.
+    fn newest(&self) -> Vec2<S> {
+        let i = self.len.saturating_sub(1);
+        self.positions.get(i).copied().unwrap_or([S::ZERO; 2])
+    }
+
     /// True when the window is full and its intervals, and the next one, all equal `dt`.
     fn uniform(&self, dt: S) -> bool {
         self.len == self.window && self.run + 1 >= self.window && dt == self.run_s
@@ -147,9 +153,15 @@ impl<S: Scalar> Sswt<S> {
 
     /// Σ w_i·(x_i − x_newest) over the window, per axis.
     fn weighted(&self, w: &[S::Gain; MAX_WINDOW]) -> Vec2<S> {
-        let newest = self.positions[self.window - 1];
         let mut out = [S::ZERO; 2];
-        for (p, &wi) in self.positions[..self.window - 1].iter().zip(w) {
+        let Some((newest, older)) = self
+            .positions
+            .get(..self.window)
+            .and_then(<[_]>::split_last)
+        else {
+            return out;
+        };
+        for (p, &wi) in older.iter().zip(w) {
             for axis in 0..2 {
                 out[axis] = out[axis].add_scaled(p[axis].minus(newest[axis]), wi);
             }
@@ -166,25 +178,39 @@ impl<S: Scalar> Sswt<S> {
                 self.run_s = dt;
             }
         }
-        let n = self.len.min(self.window);
-        if n == self.window {
-            self.times.copy_within(1..n, 0);
-            self.positions.copy_within(1..n, 0);
+        // Checked slicing throughout: the firmware must have no reachable panic.
+        let mut n = self.len.min(self.window).min(MAX_WINDOW);
+        if n == self.window && n >= 1 {
+            // Drop the oldest: shift left by one, element by element (no slice method
+            // with a length assertion left on the path).
+            for i in 1..n {
+                if let (Some(&t), Some(&p)) = (self.times.get(i), self.positions.get(i)) {
+                    if let (Some(dt), Some(dp)) =
+                        (self.times.get_mut(i - 1), self.positions.get_mut(i - 1))
+                    {
+                        *dt = t;
+                        *dp = p;
+                    }
+                }
+            }
+            n -= 1;
         }
-        let n = if n == self.window { n - 1 } else { n };
-        for t in &mut self.times[..n] {
+        for t in self.times.iter_mut().take(n) {
             *t = t.minus(dt);
         }
-        self.times[n] = S::ZERO;
-        self.positions[n] = z;
-        self.len = n + 1;
+        if let (Some(t), Some(p)) = (self.times.get_mut(n), self.positions.get_mut(n)) {
+            *t = S::ZERO;
+            *p = z;
+            self.len = n + 1;
+        }
     }
 
     /// Least-squares line through the window: (value at `at`, slope) per axis.
     fn line_at(&self, at: S) -> (Vec2<S>, Vec2<S>) {
-        let n = self.len;
-        let count = S::of(n as f64);
-        let times = &self.times[..n];
+        let n = self.len.min(MAX_WINDOW);
+        let count = S::of(n.max(1) as f64);
+        let times = self.times.get(..n).unwrap_or(&[]);
+        let positions = self.positions.get(..n).unwrap_or(&[]);
         let mut t_mean = S::ZERO;
         for &t in times {
             t_mean = t_mean.plus(t);
@@ -199,13 +225,13 @@ impl<S: Scalar> Sswt<S> {
         let mut slope = [S::ZERO; 2];
         for axis in 0..2 {
             let mut mean = S::ZERO;
-            for p in &self.positions[..n] {
+            for p in positions {
                 mean = mean.plus(p[axis]);
             }
             let mean = mean.div(count);
             let mut s = S::ZERO;
             if stt > S::ZERO {
-                for (p, &t) in self.positions[..n].iter().zip(times) {
+                for (p, &t) in positions.iter().zip(times) {
                     s = s.plus(p[axis].minus(mean).rescale(t.minus(t_mean), stt));
                 }
             }
@@ -235,7 +261,7 @@ impl<S: Scalar> Filter<S> for Sswt<S> {
         let ahead = self.pending_s.plus(dt.seconds());
         if self.in_window_phase() {
             self.prediction = if self.pending_s == S::ZERO && self.uniform(dt.seconds()) {
-                let newest = self.positions[self.window - 1];
+                let newest = self.newest();
                 let step = self.weighted(&self.w_predict);
                 [newest[0].plus(step[0]), newest[1].plus(step[1])]
             } else {
@@ -278,9 +304,8 @@ impl<S: Scalar> Filter<S> for Sswt<S> {
     }
 
     fn estimate(&self) -> Estimate<S> {
-        let newest = self.len.saturating_sub(1);
         Estimate {
-            position_m: self.positions[newest],
+            position_m: self.newest(),
             velocity_mps: [
                 self.velocity[0].div(self.velocity_per_s),
                 self.velocity[1].div(self.velocity_per_s),
