@@ -87,7 +87,7 @@ pub enum Command {
         /// Measurements: CSV with a header holding t,x,y (s, m).
         #[arg(long, value_name = "CSV")]
         input: PathBuf,
-        /// Estimates: CSV t,x,y,vx,vy,px,py,ex,ey.
+        /// Estimates: CSV t,x,y,vx,vy,px,py,ex,ey (GRNN adds manoeuvre).
         #[arg(long, value_name = "CSV")]
         output: PathBuf,
         /// Number type.
@@ -230,7 +230,8 @@ where
             let spec = replay::FilterSpec::from_args(*filter, gains)?;
             let measurements = replay::read_measurements(input)?;
             let rows = replay::run(&spec, *scalar, &measurements)?;
-            replay::write_estimates(output, &rows)?;
+            let manoeuvre_column = matches!(spec, replay::FilterSpec::Grnn(_));
+            replay::write_estimates(output, &rows, manoeuvre_column)?;
             eprintln!(
                 "replay: {} measurements through {:?} ({:?}) -> {}",
                 rows.len(),

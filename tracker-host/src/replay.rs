@@ -3,7 +3,8 @@
 //! Contract (stable; external tools check it):
 //! - input: CSV with a header holding `t,x,y` (s, m; other columns ignored), t strictly
 //!   increasing, spacing free;
-//! - output: CSV with header `t,x,y,vx,vy,px,py,ex,ey`, one row per input row, in order.
+//! - output: CSV with header `t,x,y,vx,vy,px,py,ex,ey` (and `manoeuvre`, 0 or 1, for the
+//!   GRNN filter), one row per input row, in order.
 //!   `x,y,vx,vy` are the estimate after the measurement at t, `px,py` the prediction for t
 //!   made before it, `ex,ey` the innovation. The first row is the initial state: position =
 //!   first measurement, every derivative 0, prediction = the measurement, innovation 0;
@@ -19,6 +20,7 @@ use clap::{Args, ValueEnum};
 use tracker_core::filter::alpha_beta::AlphaBetaGains;
 use tracker_core::filter::alpha_beta_gamma::AbgGains;
 use tracker_core::filter::alpha_beta_gamma_eta::AbgeGains;
+use tracker_core::filter::grnn::GrnnConfig;
 use tracker_core::filter::kalman::{KalmanConfig, QModel};
 use tracker_core::filter::sswt::SswtConfig;
 use tracker_core::filter::{self, Filter, Interval};
@@ -39,6 +41,8 @@ pub enum FilterKind {
     KalmanCv,
     /// Constant-acceleration Kalman filter.
     KalmanCa,
+    /// GRNN neural filter with a manoeuvre detector (paper 003).
+    Grnn,
 }
 
 /// The number type a replay computes in.
@@ -105,6 +109,21 @@ pub struct GainArgs {
     /// Kalman initial variance of each derivative (position starts at r), default 1e4.
     #[arg(long)]
     pub p0: Option<f64>,
+    /// GRNN kernel width σ, m/s (default: from the measured noise).
+    #[arg(long)]
+    pub sigma: Option<f64>,
+    /// GRNN manoeuvre filter's teaching sequence, scans (default 10).
+    #[arg(long)]
+    pub short: Option<usize>,
+    /// GRNN stable filter's teaching sequence, scans (default 40).
+    #[arg(long)]
+    pub long: Option<usize>,
+    /// GRNN detector onset threshold (default 2).
+    #[arg(long)]
+    pub onset: Option<f64>,
+    /// GRNN detector release threshold (default 1.5).
+    #[arg(long)]
+    pub release: Option<f64>,
 }
 
 /// A fully specified filter.
@@ -122,6 +141,8 @@ pub enum FilterSpec {
     KalmanCv(KalmanConfig),
     /// CA Kalman.
     KalmanCa(KalmanConfig),
+    /// GRNN.
+    Grnn(GrnnConfig),
 }
 
 fn unused(args: &GainArgs, filter: FilterKind, allowed: &[&str]) -> anyhow::Result<()> {
@@ -137,6 +158,11 @@ fn unused(args: &GainArgs, filter: FilterKind, allowed: &[&str]) -> anyhow::Resu
         ("--q", args.q.is_some()),
         ("--r", args.r.is_some()),
         ("--p0", args.p0.is_some()),
+        ("--sigma", args.sigma.is_some()),
+        ("--short", args.short.is_some()),
+        ("--long", args.long.is_some()),
+        ("--onset", args.onset.is_some()),
+        ("--release", args.release.is_some()),
     ];
     for (name, set) in given {
         if set && !allowed.contains(&name) {
@@ -249,6 +275,29 @@ impl FilterSpec {
                     .map_err(|_| anyhow!("option --window {window}: must be 2..8"))?;
                 FilterSpec::Sswt(cfg)
             }
+            FilterKind::Grnn => {
+                unused(
+                    a,
+                    kind,
+                    &["--sigma", "--short", "--long", "--onset", "--release"],
+                )?;
+                let d = GrnnConfig::default();
+                let cfg = GrnnConfig {
+                    sigma_mps: a.sigma,
+                    short: a.short.unwrap_or(d.short),
+                    long: a.long.unwrap_or(d.long),
+                    onset: a.onset.unwrap_or(d.onset),
+                    release: a.release.unwrap_or(d.release),
+                    ..d
+                };
+                cfg.validate().map_err(|_| {
+                    anyhow!(
+                        "GRNN options: need σ > 0, 2 ≤ --short ≤ --long ≤ {}, 0 < --release ≤ --onset",
+                        tracker_core::filter::grnn::MAX_MODELS
+                    )
+                })?;
+                FilterSpec::Grnn(cfg)
+            }
             FilterKind::KalmanCv | FilterKind::KalmanCa => {
                 unused(a, kind, &["--q", "--r", "--p0"])?;
                 let q = a.q.ok_or_else(|| anyhow!("missing option --q Q"))?;
@@ -311,6 +360,8 @@ pub struct EstimateRow {
     pub ex: f64,
     /// Innovation, m.
     pub ey: f64,
+    /// A manoeuvre is declared (filters with a detector).
+    pub manoeuvre: bool,
 }
 
 /// Reads a measurement CSV: header with `t,x,y` (any order, extra columns ignored).
@@ -410,6 +461,7 @@ fn drive<S: Scalar, F: Filter<S>>(
             py: p[1].to_f64(),
             ex: e[0].to_f64(),
             ey: e[1].to_f64(),
+            manoeuvre: f.manoeuvring(),
         });
     }
     Ok(out)
@@ -428,7 +480,7 @@ fn run_gh<S: Scalar>(
             g.build::<S>().map_err(bad).and_then(|f| drive(f, input))
         }
         FilterSpec::Sswt(c) => c.build::<S>().map_err(bad).and_then(|f| drive(f, input)),
-        FilterSpec::KalmanCv(_) | FilterSpec::KalmanCa(_) => return None,
+        FilterSpec::KalmanCv(_) | FilterSpec::KalmanCa(_) | FilterSpec::Grnn(_) => return None,
     })
 }
 
@@ -437,6 +489,7 @@ fn run_real<S: Real>(spec: &FilterSpec, input: &[Measurement]) -> anyhow::Result
     match spec {
         FilterSpec::KalmanCv(c) => c.build_cv::<S>().map_err(bad).and_then(|f| drive(f, input)),
         FilterSpec::KalmanCa(c) => c.build_ca::<S>().map_err(bad).and_then(|f| drive(f, input)),
+        FilterSpec::Grnn(c) => c.build::<S>().map_err(bad).and_then(|f| drive(f, input)),
         other => {
             run_gh::<S>(other, input).unwrap_or_else(|| unreachable!("all g-h filters handled"))
         }
@@ -453,13 +506,19 @@ pub fn run(
         ScalarKind::F64 => run_real::<f64>(spec, input),
         ScalarKind::F32 => run_real::<f32>(spec, input),
         ScalarKind::Fixed => run_gh::<Fix>(spec, input).unwrap_or_else(|| {
-            bail!("option --scalar fixed: the Kalman filters run in f32 or f64 only")
+            bail!("option --scalar fixed: the Kalman and GRNN filters run in f32 or f64 only")
         }),
     }
 }
 
 /// Writes the output CSV atomically: a temporary file beside `path`, renamed when complete.
-pub fn write_estimates(path: &Path, rows: &[EstimateRow]) -> anyhow::Result<()> {
+/// With `manoeuvre_column` a last column `manoeuvre` (0 or 1) is written, for filters with a
+/// manoeuvre detector.
+pub fn write_estimates(
+    path: &Path,
+    rows: &[EstimateRow],
+    manoeuvre_column: bool,
+) -> anyhow::Result<()> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -470,13 +529,18 @@ pub fn write_estimates(path: &Path, rows: &[EstimateRow]) -> anyhow::Result<()> 
     let tmp: PathBuf = dir.join(format!(".{}.partial", name.to_string_lossy()));
     let result = (|| -> anyhow::Result<()> {
         let mut w = std::io::BufWriter::new(fs::File::create(&tmp)?);
-        writeln!(w, "t,x,y,vx,vy,px,py,ex,ey")?;
+        let extra = if manoeuvre_column { ",manoeuvre" } else { "" };
+        writeln!(w, "t,x,y,vx,vy,px,py,ex,ey{extra}")?;
         for r in rows {
-            writeln!(
+            write!(
                 w,
                 "{},{},{},{},{},{},{},{},{}",
                 r.t, r.x, r.y, r.vx, r.vy, r.px, r.py, r.ex, r.ey
             )?;
+            if manoeuvre_column {
+                write!(w, ",{}", u8::from(r.manoeuvre))?;
+            }
+            writeln!(w)?;
         }
         w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
         fs::rename(&tmp, path)?;

@@ -254,3 +254,44 @@ fn bad_input_fails_clearly_and_leaves_no_output() {
         assert!(!d.join(".out.csv.partial").exists());
     }
 }
+
+#[test]
+fn grnn_adds_a_manoeuvre_column() {
+    let dir = tempfile::tempdir().unwrap();
+    write_track(&dir.path().join("meas.csv"), 200);
+    for scalar in ["f64", "f32"] {
+        let args = [
+            "--filter", "grnn", "--short", "12", "--input", "meas.csv", "--output", "est.csv",
+            "--scalar", scalar,
+        ];
+        let (ok, err) = replay(dir.path(), &args);
+        assert!(ok, "{scalar}: {err}");
+        let text = std::fs::read_to_string(dir.path().join("est.csv")).unwrap();
+        let mut lines = text.lines();
+        assert_eq!(lines.next(), Some("t,x,y,vx,vy,px,py,ex,ey,manoeuvre"));
+        let rows: Vec<Vec<f64>> = lines
+            .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+            .collect();
+        assert_eq!(rows.len(), 200);
+        assert!(rows.iter().all(|r| r[9] == 0.0 || r[9] == 1.0));
+        assert!(
+            (rows[199][3] - 8.0).abs() < 1.5,
+            "{scalar} vx {}",
+            rows[199][3]
+        );
+    }
+    let (ok, err) = replay(
+        dir.path(),
+        &[
+            "--filter", "grnn", "--scalar", "fixed", "--input", "meas.csv", "--output", "x.csv",
+        ],
+    );
+    assert!(!ok && err.contains("GRNN"), "{err}");
+    let (ok, err) = replay(
+        dir.path(),
+        &[
+            "--filter", "grnn", "--short", "50", "--input", "meas.csv", "--output", "x.csv",
+        ],
+    );
+    assert!(!ok && err.contains("--short"), "{err}");
+}

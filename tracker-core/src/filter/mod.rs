@@ -14,6 +14,7 @@
 //! | [`alpha_beta_gamma_eta`] | α-β-γ-η (constant jerk), critically damped | `001` eq. 1-8 |
 //! | [`sswt`] | switched slide-window tracker | thesis §2.3.1, eq. 2-14 |
 //! | [`kalman`] | Kalman, constant velocity and constant acceleration | thesis eq. 2-6 to 2-13 |
+//! | [`grnn`] | GRNN neural filter with a manoeuvre detector | `003` §3–4 |
 //!
 //! Bad input never reaches a filter: measurements and intervals are validated once, where
 //! they enter, into [`Measurement`] and [`Interval`]; a NaN or a non-positive step is
@@ -23,6 +24,7 @@ pub mod alpha_beta;
 pub mod alpha_beta_gamma;
 pub mod alpha_beta_gamma_eta;
 pub mod gh;
+pub mod grnn;
 pub mod kalman;
 pub mod sswt;
 
@@ -155,6 +157,10 @@ pub trait Filter<S: Scalar> {
     fn prediction(&self) -> Vec2<S>;
     /// The last innovation.
     fn innovation(&self) -> Vec2<S>;
+    /// True while the filter has declared a manoeuvre (only filters with a detector do).
+    fn manoeuvring(&self) -> bool {
+        false
+    }
 }
 
 #[cfg(test)]
