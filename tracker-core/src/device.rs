@@ -121,6 +121,11 @@ impl Device {
         }
     }
 
+    /// Sets the boot id reported in the handshake (known only at run time on a board).
+    pub fn set_boot_id(&mut self, boot_id: u32) {
+        self.config.boot_id = boot_id;
+    }
+
     /// The link counters.
     pub fn stats(&self) -> LinkStats {
         self.stats

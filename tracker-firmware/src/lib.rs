@@ -48,18 +48,34 @@ pub const MAX_TRACKS: u16 = 64;
 /// Plots accepted per scan.
 pub const MAX_PLOTS_PER_SCAN: u16 = 256;
 
-/// Device configuration of this build.
-pub fn device_config() -> DeviceConfig {
-    DeviceConfig {
-        firmware: concat!(
-            "tracker-firmware ",
-            env!("CARGO_PKG_VERSION"),
-            " (mps2-an386)"
-        ),
-        boot_id: boot_id(),
-        max_tracks: MAX_TRACKS,
-        max_plots_per_scan: MAX_PLOTS_PER_SCAN,
+/// Device configuration of this build (the boot id is filled in at start-up).
+pub const DEVICE_CONFIG: DeviceConfig = DeviceConfig {
+    firmware: concat!(
+        "tracker-firmware ",
+        env!("CARGO_PKG_VERSION"),
+        " (mps2-an386)"
+    ),
+    boot_id: 0,
+    max_tracks: MAX_TRACKS,
+    max_plots_per_scan: MAX_PLOTS_PER_SCAN,
+};
+
+/// The device, once: `None` on a second call.
+///
+/// It lives in a `static` with a constant initialiser, so it is built in place (its initial
+/// image is in flash and copied to RAM at reset). Built at run time it would pass through
+/// the stack, which is smaller than the device (the track table is most of the RAM).
+pub fn device() -> Option<&'static mut Device> {
+    use core::sync::atomic::{AtomicBool, Ordering};
+    static TAKEN: AtomicBool = AtomicBool::new(false);
+    static mut DEVICE: Device = Device::new(DEVICE_CONFIG);
+    if TAKEN.swap(true, Ordering::AcqRel) {
+        return None;
     }
+    // SAFETY: TAKEN hands out the one reference, once.
+    let device = unsafe { &mut *core::ptr::addr_of_mut!(DEVICE) };
+    device.set_boot_id(boot_id());
+    Some(device)
 }
 
 /// Serves the host link forever: every received byte goes to the device, every reply goes

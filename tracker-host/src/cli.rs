@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 use crate::link::{self, Client, LinkSpec};
 use crate::qemu::{self, QemuOptions};
-use crate::{bench_mcu, demo, display, link_check, precision, replay, target};
+use crate::{bench_mcu, compare, demo, display, link_check, precision, replay, target};
 
 /// ARPA-style marine radar target tracker: host side.
 #[derive(Debug, Parser)]
@@ -93,6 +93,16 @@ pub enum Command {
         /// Number type.
         #[arg(long, value_enum, default_value_t = replay::ScalarKind::F64)]
         scalar: replay::ScalarKind,
+    },
+    /// GRNN against the CV Kalman and α-β filters on a manoeuvring target, and the GRNN
+    /// manoeuvre detector's false alarms and delay (Monte Carlo).
+    Compare {
+        /// Monte Carlo runs.
+        #[arg(long, default_value_t = 200)]
+        runs: u64,
+        /// Position noise per axis, m.
+        #[arg(long, default_value_t = 5.0)]
+        sigma: f64,
     },
     /// How far f32 and fixed point drift from f64 on a long run, per filter.
     Precision {
@@ -317,6 +327,11 @@ where
                 "link: {} frames sent, {} received, {} damaged, {} requests retried",
                 stats.frames_sent, stats.frames_received, stats.frames_damaged, stats.retries
             );
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Compare { runs, sigma } => {
+            let (scores, detector) = compare::run(*runs, *sigma)?;
+            print!("{}", compare::report(*runs, *sigma, &scores, &detector));
             Ok(ExitCode::SUCCESS)
         }
         Command::Precision { scans, seed } => {

@@ -8,6 +8,7 @@
 pub mod associate;
 pub mod bench_mcu;
 pub mod cli;
+pub mod compare;
 pub mod demo;
 pub mod display;
 pub mod evaluate;

@@ -56,8 +56,11 @@
 use super::{Estimate, Filter, FilterError, Interval, Measurement, Vec2};
 use crate::scalar::Real;
 
-/// Most models one network holds (a minute of 1.5 s scans).
+/// Most models the stable network holds (a minute of 1.5 s scans).
 pub const MAX_MODELS: usize = 40;
+
+/// Most models the manoeuvre network holds (the paper: 10–20).
+pub const MAX_SHORT: usize = 20;
 
 /// GRNN filter parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,7 +114,7 @@ impl GrnnConfig {
             self.sigma_mps.is_none_or(positive)
                 && positive(self.stable_sigma_factor)
                 && positive(self.manoeuvre_sigma_factor)
-                && (2..=MAX_MODELS).contains(&self.short)
+                && (2..=MAX_SHORT).contains(&self.short)
                 && (self.short..=MAX_MODELS).contains(&self.long)
                 && positive(self.onset)
                 && positive(self.release)
@@ -148,23 +151,24 @@ impl GrnnConfig {
     }
 }
 
-/// One GRNN: a sliding window of models (past estimates) for one velocity component.
+/// One GRNN: a sliding window of at most `CAP` models (past estimates) for one velocity
+/// component.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Network<S> {
-    models: [S; MAX_MODELS],
+pub struct Network<S, const CAP: usize> {
+    models: [S; CAP],
     /// Index of the oldest model.
     head: usize,
     len: usize,
     rated: usize,
 }
 
-impl<S: Real> Network<S> {
+impl<S: Real, const CAP: usize> Network<S, CAP> {
     fn new(rated: usize) -> Self {
         Network {
-            models: [S::ZERO; MAX_MODELS],
+            models: [S::ZERO; CAP],
             head: 0,
             len: 0,
-            rated: rated.clamp(1, MAX_MODELS),
+            rated: rated.max(1).min(CAP),
         }
     }
 
@@ -179,7 +183,7 @@ impl<S: Real> Network<S> {
     }
 
     fn models(&self) -> impl Iterator<Item = S> + '_ {
-        (0..self.len).filter_map(move |i| self.models.get((self.head + i) % MAX_MODELS).copied())
+        (0..self.len).filter_map(move |i| self.models.get((self.head + i) % CAP).copied())
     }
 
     /// Formula 3, with the observation as a provisional model of weight 1.
@@ -198,26 +202,26 @@ impl<S: Real> Network<S> {
 
     /// Teaches a model: grows while below the rated length, else the oldest drops.
     fn teach(&mut self, v: S) {
-        if let Some(slot) = self.models.get_mut((self.head + self.len) % MAX_MODELS) {
+        if let Some(slot) = self.models.get_mut((self.head + self.len) % CAP) {
             *slot = v;
         }
         if self.len < self.rated {
             self.len += 1;
         } else {
-            self.head = (self.head + 1) % MAX_MODELS;
+            self.head = (self.head + 1) % CAP;
         }
     }
 
     /// Keeps only the newest `n` models.
     fn keep_newest(&mut self, n: usize) {
         if self.len > n {
-            self.head = (self.head + self.len - n) % MAX_MODELS;
+            self.head = (self.head + self.len - n) % CAP;
             self.len = n;
         }
     }
 
     /// Replaces the models with `other`'s.
-    fn copy_models(&mut self, other: &Network<S>) {
+    fn copy_models<const OTHER: usize>(&mut self, other: &Network<S, OTHER>) {
         self.len = 0;
         self.head = 0;
         for m in other.models() {
@@ -234,8 +238,8 @@ impl<S: Real> Network<S> {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GrnnFilter<S: Real> {
     config: GrnnConfig,
-    stable: [Network<S>; 2],
-    manoeuvre: [Network<S>; 2],
+    stable: [Network<S, MAX_MODELS>; 2],
+    manoeuvre: [Network<S, MAX_SHORT>; 2],
     position: Vec2<S>,
     prediction: Vec2<S>,
     innovation: Vec2<S>,
@@ -265,9 +269,17 @@ impl<S: Real> GrnnFilter<S> {
 
     /// The two filters' latest estimates: (stable, manoeuvre), m/s.
     pub fn estimates(&self) -> (Vec2<S>, Vec2<S>) {
-        let newest =
-            |n: &[Network<S>; 2]| [n[0].newest(), n[1].newest()].map(|v| v.unwrap_or(S::ZERO));
-        (newest(&self.stable), newest(&self.manoeuvre))
+        let or_zero = |v: Option<S>| v.unwrap_or(S::ZERO);
+        (
+            [
+                or_zero(self.stable[0].newest()),
+                or_zero(self.stable[1].newest()),
+            ],
+            [
+                or_zero(self.manoeuvre[0].newest()),
+                or_zero(self.manoeuvre[1].newest()),
+            ],
+        )
     }
 
     /// Models held by the (stable, manoeuvre) networks of one axis.
@@ -310,23 +322,23 @@ impl<S: Real> GrnnFilter<S> {
         let mut stable = [S::ZERO; 2];
         let mut manoeuvre = [S::ZERO; 2];
         for axis in 0..2 {
-            for (net, sigma, out) in [
-                (&mut self.stable[axis], sigma_stable, &mut stable[axis]),
-                (
-                    &mut self.manoeuvre[axis],
-                    sigma_manoeuvre,
-                    &mut manoeuvre[axis],
-                ),
-            ] {
-                let e = if net.len() < 2 {
-                    // Steps 1 and 2: the observation is the output and the model.
-                    observed[axis]
-                } else {
-                    net.estimate(observed[axis], sigma)
-                };
-                net.teach(e);
-                *out = e;
-            }
+            // Steps 1 and 2: the observation is the output and the model.
+            let s = &mut self.stable[axis];
+            let e = if s.len() < 2 {
+                observed[axis]
+            } else {
+                s.estimate(observed[axis], sigma_stable)
+            };
+            s.teach(e);
+            stable[axis] = e;
+            let m = &mut self.manoeuvre[axis];
+            let e = if m.len() < 2 {
+                observed[axis]
+            } else {
+                m.estimate(observed[axis], sigma_manoeuvre)
+            };
+            m.teach(e);
+            manoeuvre[axis] = e;
         }
         self.detect(stable, manoeuvre);
         self.velocity = if self.manoeuvring { manoeuvre } else { stable };
@@ -334,8 +346,10 @@ impl<S: Real> GrnnFilter<S> {
 
     fn detect(&mut self, stable: Vec2<S>, manoeuvre: Vec2<S>) {
         self.differences.rotate_left(1);
-        self.differences[AVERAGE - 1] = [manoeuvre[0] - stable[0], manoeuvre[1] - stable[1]];
-        let n = (self.steps as usize).min(AVERAGE).max(1);
+        if let Some(last) = self.differences.last_mut() {
+            *last = [manoeuvre[0] - stable[0], manoeuvre[1] - stable[1]];
+        }
+        let n = (self.steps as usize).clamp(1, AVERAGE);
         let mut mean = [S::ZERO; 2];
         for d in self.differences.iter().rev().take(n) {
             mean[0] += d[0];
@@ -418,8 +432,8 @@ impl<S: Real> Filter<S> for GrnnFilter<S> {
         self.last_z = Some(z);
         self.pending_s = S::ZERO;
         let g = S::of(self.config.position_gain);
-        for a in 0..2 {
-            self.innovation[a] = z[a] - self.prediction[a];
+        for (a, &za) in z.iter().enumerate() {
+            self.innovation[a] = za - self.prediction[a];
             self.position[a] = self.prediction[a] + g * self.innovation[a];
         }
         self.innovation
@@ -453,7 +467,7 @@ mod tests {
 
     #[test]
     fn hand_computed_network_outputs() {
-        let mut n = Network::<f64>::new(3);
+        let mut n = Network::<f64, 8>::new(3);
         n.teach(1.0);
         n.teach(3.0);
         // Observation 2, σ = 1: models 1 and 3 at distance 1 weigh e⁻¹ each, the observation

@@ -22,7 +22,7 @@ use tracker_core::icd::{
     Header, HostToDevice, MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, PROTOCOL_VERSION,
 };
 use tracker_core::scalar::{Fix, Scalar};
-use tracker_firmware::{board, device_config, icount};
+use tracker_firmware::{board, icount};
 
 const CALLS: u32 = 200;
 
@@ -254,8 +254,9 @@ fn main() -> ! {
         board::exit(1)
     };
     let mut counter = icount::InstructionCounter::new(peripherals.SYST);
-    let device: &'static mut Device = cortex_m::singleton!(: Device = Device::new(device_config()))
-        .unwrap_or_else(|| board::exit(1));
+    let Some(device) = tracker_firmware::device() else {
+        board::exit(1)
+    };
 
     println!("name,scalar,instructions_per_call,ram_bytes");
     link_row(&mut counter, device, "link-hello", &HostToDevice::Hello);
@@ -275,5 +276,12 @@ fn main() -> ! {
     let kalman = KalmanConfig::new(0.1, QModel::Continuous, 100.0);
     filter_row::<f32, _>(&mut counter, "kalman-cv", kalman.build_cv::<f32>().ok());
     filter_row::<f32, _>(&mut counter, "kalman-ca", kalman.build_ca::<f32>().ok());
+    filter_row::<f32, _>(
+        &mut counter,
+        "grnn",
+        tracker_core::filter::grnn::GrnnConfig::default()
+            .build::<f32>()
+            .ok(),
+    );
     board::exit(0)
 }

@@ -3,21 +3,15 @@
 #![no_main]
 
 use cortex_m_rt::entry;
-use tracker_core::device::Device;
-use tracker_firmware::{board, device_config, serve};
+use tracker_firmware::{board, serve};
 
 #[entry]
 fn main() -> ! {
-    let config = device_config();
-    defmt::info!(
-        "{=str} up, boot id {=u32:#010x}",
-        config.firmware,
-        config.boot_id
-    );
+    let Some(device) = tracker_firmware::device() else {
+        board::exit(1)
+    };
+    defmt::info!("{=str} up", tracker_firmware::DEVICE_CONFIG.firmware);
     // SAFETY: the only place UART0 is taken.
     let mut uart = unsafe { board::link_uart() };
-    // In .bss rather than on the stack, so the RAM report counts it.
-    let device: &'static mut Device =
-        cortex_m::singleton!(: Device = Device::new(config)).unwrap_or_else(|| board::exit(1));
     serve(&mut uart, device)
 }
