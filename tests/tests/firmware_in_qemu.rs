@@ -57,9 +57,10 @@ fn bench_counts_are_deterministic_and_within_budget() {
     assert!(row("link-echo-16B").instructions_per_call < 18_000.0);
     // Per byte of a full frame: COBS, CRC and postcard each way.
     assert!(row("link-echo-1000B").instructions_per_call < 120.0 * 1000.0);
-    // The device object holds the link buffers and the whole track table (64 tracks): it
-    // must leave half the 64 KiB RAM budget free.
-    assert!(row("link-hello").ram_bytes <= 32 * 1024);
+    // The device object holds the link buffers and the whole track table (64 slots, each
+    // able to hold any filter, the GRNN the largest): it must leave at least 24 KiB of the
+    // 64 KiB RAM budget for the stack.
+    assert!(row("link-hello").ram_bytes <= 40 * 1024);
 }
 
 #[test]
@@ -102,6 +103,7 @@ fn filter_costs_are_within_budget() {
         "sswt",
         "kalman-cv",
         "kalman-ca",
+        "grnn",
     ];
     for r in rows
         .iter()
@@ -116,12 +118,12 @@ fn filter_costs_are_within_budget() {
         );
     }
     // The device's whole tracking state (64 tracks, a scan's plots, assignments) fits in
-    // half the 64 KiB RAM budget.
+    // 40 KiB of the 64 KiB RAM budget.
     let scan = rows
         .iter()
         .find(|r| r.name == "scan-40-targets-200-plots")
         .expect("scan row");
-    assert!(scan.ram_bytes <= 32 * 1024, "{} B", scan.ram_bytes);
+    assert!(scan.ram_bytes <= 40 * 1024, "{} B", scan.ram_bytes);
     assert!(
         scan.instructions_per_call <= 400_000.0,
         "{}",

@@ -250,6 +250,13 @@ pub enum FilterChoice {
         /// α of the start and of the window's measurement update.
         alpha: f32,
     },
+    /// GRNN neural filter with its manoeuvre detector (σ from the measured noise).
+    Grnn {
+        /// Manoeuvre filter's teaching sequence, scans.
+        short: u8,
+        /// Stable filter's teaching sequence, scans.
+        long: u8,
+    },
 }
 
 /// Tracker configuration sent with [`HostToDevice::Configure`].

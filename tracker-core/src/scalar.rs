@@ -211,10 +211,33 @@ impl Scalar for Fix {
 }
 
 /// Float scalars: what the Kalman filters need on top of [`Scalar`].
-pub trait Real: Scalar<Gain = Self> + nalgebra::RealField + Copy {}
+pub trait Real: Scalar<Gain = Self> + nalgebra::RealField + Copy {
+    /// A value in hundredths (of a metre per second, say), stored as `i16`.
+    fn from_centi(v: i16) -> Self;
+    /// The value in hundredths, rounded to nearest and saturated to the `i16` range.
+    fn to_centi(self) -> i16;
+}
 
-impl Real for f32 {}
-impl Real for f64 {}
+macro_rules! real {
+    ($t:ty) => {
+        impl Real for $t {
+            #[inline]
+            fn from_centi(v: i16) -> Self {
+                <$t>::from(v) * 0.01
+            }
+            #[inline]
+            fn to_centi(self) -> i16 {
+                let x = self * 100.0;
+                // `as` saturates (and maps NaN to 0); the half rounds to nearest.
+                let r = (x + if x >= 0.0 { 0.5 } else { -0.5 }) as i32;
+                r.clamp(i32::from(i16::MIN), i32::from(i16::MAX)) as i16
+            }
+        }
+    };
+}
+
+real!(f32);
+real!(f64);
 
 #[cfg(test)]
 mod tests {

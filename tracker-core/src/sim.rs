@@ -24,7 +24,7 @@ use crate::geo::{self, EastNorth, METRES_PER_NM, MPS_PER_KNOT};
 use crate::icd::Plot;
 
 /// Most targets a scenario holds.
-pub const MAX_TARGETS: usize = 128;
+pub const MAX_TARGETS: usize = 64;
 
 /// Most plots one scan produces (targets and clutter).
 pub const MAX_PLOTS: usize = 256;
@@ -293,14 +293,21 @@ impl Scenario {
 
     /// Produces the next scan's plots, then moves everything on by one antenna period.
     pub fn next_scan(&mut self) -> ScanOutput {
+        let mut out = ScanOutput::default();
+        self.next_scan_into(&mut out);
+        out
+    }
+
+    /// [`Scenario::next_scan`] into a buffer the caller keeps (on a small stack, a static).
+    pub fn next_scan_into(&mut self, out: &mut ScanOutput) {
         let sensor = self.config.sensor;
-        let mut out = ScanOutput {
-            scan: self.scan,
-            time_ms: (self.time_s * 1000.0) as u64,
-            own_position_m: self.own.position_m,
-            own_velocity_mps: self.own.velocity_mps(),
-            ..ScanOutput::default()
-        };
+        out.scan = self.scan;
+        out.time_ms = (self.time_s * 1000.0) as u64;
+        out.own_position_m = self.own.position_m;
+        out.own_velocity_mps = self.own.velocity_mps();
+        out.plots.clear();
+        out.plot_source.clear();
+        out.truth.clear();
         let mut raw: Vec<(Plot, Option<u16>), MAX_PLOTS> = Vec::new();
         for t in &self.targets {
             let (range, bearing) = geo::range_bearing(self.own.position_m, t.position_m);
@@ -353,7 +360,6 @@ impl Scenario {
             let _ = out.plot_source.push(s);
         }
         self.advance();
-        out
     }
 
     fn advance(&mut self) {

@@ -23,6 +23,7 @@ use heapless::Vec;
 
 use crate::filter::alpha_beta::{AlphaBeta, AlphaBetaGains};
 use crate::filter::alpha_beta_gamma::{AbgGains, AlphaBetaGamma};
+use crate::filter::grnn::{GrnnConfig, GrnnFilter};
 use crate::filter::kalman::ca::KalmanCa;
 use crate::filter::kalman::cv::KalmanCv;
 use crate::filter::kalman::{KalmanConfig, QModel};
@@ -60,6 +61,8 @@ pub enum TrackFilter {
     KalmanCv(KalmanCv<f32>),
     /// CA Kalman.
     KalmanCa(KalmanCa<f32>),
+    /// GRNN.
+    Grnn(GrnnFilter<f32>),
 }
 
 macro_rules! each_filter {
@@ -70,6 +73,7 @@ macro_rules! each_filter {
             TrackFilter::Sswt($f) => $body,
             TrackFilter::KalmanCv($f) => $body,
             TrackFilter::KalmanCa($f) => $body,
+            TrackFilter::Grnn($f) => $body,
         }
     };
 }
@@ -105,6 +109,14 @@ impl TrackFilter {
             ),
             FilterChoice::KalmanCv { q, r } => TrackFilter::KalmanCv(kalman(q, r).build_cv()?),
             FilterChoice::KalmanCa { q, r } => TrackFilter::KalmanCa(kalman(q, r).build_ca()?),
+            FilterChoice::Grnn { short, long } => TrackFilter::Grnn(
+                GrnnConfig {
+                    short: usize::from(short),
+                    long: usize::from(long),
+                    ..GrnnConfig::default()
+                }
+                .build()?,
+            ),
         })
     }
 
@@ -148,6 +160,9 @@ impl Filter<f32> for TrackFilter {
     }
     fn innovation(&self) -> EastNorth {
         each_filter!(self, f => f.innovation())
+    }
+    fn manoeuvring(&self) -> bool {
+        each_filter!(self, f => f.manoeuvring())
     }
 }
 
@@ -621,6 +636,10 @@ mod tests {
             },
             FilterChoice::KalmanCv { q: 0.05, r: 900.0 },
             FilterChoice::KalmanCa { q: 0.001, r: 900.0 },
+            FilterChoice::Grnn {
+                short: 10,
+                long: 45,
+            },
         ] {
             let mut t = TrackTable::new();
             t.configure(TrackerConfig {

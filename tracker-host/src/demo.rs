@@ -31,6 +31,8 @@ pub enum DemoFilter {
     AlphaBetaGamma,
     /// SSWT, M = 4, α = 0.5.
     Sswt,
+    /// GRNN, teaching sequences 10 and 45 scans, σ from the measured noise.
+    Grnn,
 }
 
 impl DemoFilter {
@@ -48,6 +50,10 @@ impl DemoFilter {
             DemoFilter::Sswt => FilterChoice::Sswt {
                 window: 4,
                 alpha: 0.5,
+            },
+            DemoFilter::Grnn => FilterChoice::Grnn {
+                short: 10,
+                long: 45,
             },
         }
     }

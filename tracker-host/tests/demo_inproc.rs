@@ -36,6 +36,7 @@ fn every_demo_filter_tracks_the_picture() {
         DemoFilter::AlphaBeta,
         DemoFilter::AlphaBetaGamma,
         DemoFilter::Sswt,
+        DemoFilter::Grnn,
     ] {
         let s = run(ScenarioKind::OpenSea, 2, filter);
         assert!(s.targets_confirmed >= 38, "{filter:?}: {}", s.report());

@@ -23,8 +23,8 @@
 //!
 //! ## Two filters and the manoeuvre detector (paper §3–4)
 //!
-//! A *manoeuvre* filter (teaching sequence 10, σ = 0.8·σ_v) and a *stable* filter (40,
-//! σ = 2·σ_v) run side by side. The paper leaves the detector open; ours is its second
+//! A *manoeuvre* filter (teaching sequence 10, σ = 0.8·σ_v) and a *stable* filter (45, the
+//! paper's "above 40"; σ = 2·σ_v) run side by side. The paper leaves the detector open; ours is its second
 //! concept, a comparison of the two filters' outputs:
 //!
 //! - statistic `z`: the mean of `V_manoeuvre − V_stable` over the last 3 scans, its length
@@ -56,8 +56,8 @@
 use super::{Estimate, Filter, FilterError, Interval, Measurement, Vec2};
 use crate::scalar::Real;
 
-/// Most models the stable network holds (a minute of 1.5 s scans).
-pub const MAX_MODELS: usize = 40;
+/// Most models the stable network holds (over a minute of 1.5 s scans).
+pub const MAX_MODELS: usize = 48;
 
 /// Most models the manoeuvre network holds (the paper: 10–20).
 pub const MAX_SHORT: usize = 20;
@@ -92,7 +92,7 @@ impl Default for GrnnConfig {
             stable_sigma_factor: 2.0,
             manoeuvre_sigma_factor: 0.8,
             short: 10,
-            long: MAX_MODELS,
+            long: 45,
             onset: 2.0,
             release: 1.5,
             consecutive: 3,
@@ -153,28 +153,34 @@ impl GrnnConfig {
 
 /// One GRNN: a sliding window of at most `CAP` models (past estimates) for one velocity
 /// component.
+///
+/// Models are kept in centimetres per second as `i16` (±327 m/s, far beyond any ship): half
+/// the RAM of `f32`, which is what lets a GRNN track fit the firmware's table. The rounding
+/// (at most 5 mm/s) is far below the velocity noise.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Network<S, const CAP: usize> {
-    models: [S; CAP],
+    models: [i16; CAP],
     /// Index of the oldest model.
-    head: usize,
-    len: usize,
-    rated: usize,
+    head: u8,
+    len: u8,
+    rated: u8,
+    _scalar: core::marker::PhantomData<S>,
 }
 
 impl<S: Real, const CAP: usize> Network<S, CAP> {
     fn new(rated: usize) -> Self {
         Network {
-            models: [S::ZERO; CAP],
+            models: [0; CAP],
             head: 0,
             len: 0,
-            rated: rated.max(1).min(CAP),
+            rated: rated.clamp(1, CAP.min(255)) as u8,
+            _scalar: core::marker::PhantomData,
         }
     }
 
     /// Models held.
     pub fn len(&self) -> usize {
-        self.len
+        usize::from(self.len)
     }
 
     /// True with no model yet.
@@ -183,7 +189,8 @@ impl<S: Real, const CAP: usize> Network<S, CAP> {
     }
 
     fn models(&self) -> impl Iterator<Item = S> + '_ {
-        (0..self.len).filter_map(move |i| self.models.get((self.head + i) % CAP).copied())
+        let (head, len) = (usize::from(self.head), usize::from(self.len));
+        (0..len).filter_map(move |i| self.models.get((head + i) % CAP).map(|&m| S::from_centi(m)))
     }
 
     /// Formula 3, with the observation as a provisional model of weight 1.
@@ -202,21 +209,23 @@ impl<S: Real, const CAP: usize> Network<S, CAP> {
 
     /// Teaches a model: grows while below the rated length, else the oldest drops.
     fn teach(&mut self, v: S) {
-        if let Some(slot) = self.models.get_mut((self.head + self.len) % CAP) {
-            *slot = v;
+        let (head, len) = (usize::from(self.head), usize::from(self.len));
+        if let Some(slot) = self.models.get_mut((head + len) % CAP) {
+            *slot = v.to_centi();
         }
         if self.len < self.rated {
             self.len += 1;
         } else {
-            self.head = (self.head + 1) % CAP;
+            self.head = ((head + 1) % CAP) as u8;
         }
     }
 
     /// Keeps only the newest `n` models.
     fn keep_newest(&mut self, n: usize) {
-        if self.len > n {
-            self.head = (self.head + self.len - n) % CAP;
-            self.len = n;
+        let (head, len) = (usize::from(self.head), usize::from(self.len));
+        if len > n {
+            self.head = ((head + len - n) % CAP) as u8;
+            self.len = n as u8;
         }
     }
 
@@ -546,7 +555,8 @@ mod tests {
             if k > 200 {
                 assert!(!f.manoeuvring(), "false alarm at scan {k}");
                 let (s, m) = f.estimates();
-                assert_eq!(f.estimate().velocity_mps, s);
+                let v = f.estimate().velocity_mps;
+                assert!((v[0] - s[0]).abs() <= 0.005 && (v[1] - s[1]).abs() <= 0.005);
                 stable_sq += (s[0] - vx).powi(2) + (s[1] - vy).powi(2);
                 manoeuvre_sq += (m[0] - vx).powi(2) + (m[1] - vy).powi(2);
             }

@@ -44,6 +44,8 @@ fn request(body: &HostToDevice) -> ([u8; MAX_ENCODED_FRAME_BYTES], usize) {
 
 /// Instructions to take one whole frame through the device (decode, dispatch, encode the
 /// reply) with the reply bytes handed to a sink that only looks at them.
+// Its own frame: inlined into `main`, every row's locals would share one huge frame.
+#[inline(never)]
 fn link_row(
     counter: &mut icount::InstructionCounter,
     device: &mut Device,
@@ -65,6 +67,8 @@ fn link_row(
 /// Instructions for one scan of a filter: predict to the scan time, update with the plot.
 /// The filter is reached through `black_box` every call so its state lives in memory, as
 /// it does in a track table.
+// Its own frame: inlined into `main`, every row's locals would share one huge frame.
+#[inline(never)]
 fn filter_row<S: Scalar, F: Filter<S>>(
     counter: &mut icount::InstructionCounter,
     name: &str,
@@ -91,16 +95,25 @@ fn filter_row<S: Scalar, F: Filter<S>>(
 /// plots in (converted to the local frame), every track predicted and rough-gated,
 /// assignments applied (updates, coasts, initiations, life cycle). The assignments are
 /// the nearest gated plot, chosen outside the measurement (the host's job).
+// Its own frame: inlined into `main`, every row's locals would share one huge frame.
+#[inline(never)]
 fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
     use tracker_core::device::Reply;
     use tracker_core::icd::{Assignment, AssignmentBatch, PlotBatch, MAX_PLOTS_PER_MESSAGE};
     use tracker_core::sim::{Scenario, ScenarioConfig};
     let mut config = ScenarioConfig::open_sea(40, 1);
     config.sensor.clutter_per_scan = 160.0;
-    let mut sim = Scenario::new(config);
+    // In .bss rather than on the stack, which the track table leaves small.
+    let Some(sim) = cortex_m::singleton!(: Scenario = Scenario::new(config)) else {
+        board::exit(1)
+    };
     let (mut ticks, mut scans, mut plots) = (0u64, 0u32, 0usize);
+    let Some(out) = cortex_m::singleton!(: tracker_core::sim::ScanOutput = tracker_core::sim::ScanOutput::default())
+    else {
+        board::exit(1)
+    };
     for k in 0..40 {
-        let out = sim.next_scan();
+        sim.next_scan_into(out);
         let parts = out.plots.len().div_ceil(MAX_PLOTS_PER_MESSAGE).max(1) as u8;
         let mut t = 0u32;
         for (i, chunk) in out.plots.chunks(MAX_PLOTS_PER_MESSAGE).enumerate() {
@@ -192,6 +205,8 @@ fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
 /// RAM per track: the table's slot (sized for the largest filter, so any can be chosen at
 /// run time), and what a slot would take with one filter only. Instruction column 0: these
 /// are sizes, not costs.
+// Its own frame: inlined into `main`, every row's locals would share one huge frame.
+#[inline(never)]
 fn capacity_rows() {
     use core::mem::size_of;
     use tracker_core::filter::alpha_beta::AlphaBeta;
@@ -223,6 +238,8 @@ fn scan<S: Scalar, F: Filter<S>>(f: &mut F, dt: Interval<S>, z: Measurement<S>) 
     f.update(z);
 }
 
+// Its own frame: inlined into `main`, every row's locals would share one huge frame.
+#[inline(never)]
 fn filter_rows<S: Scalar>(counter: &mut icount::InstructionCounter) {
     filter_row::<S, _>(
         counter,
