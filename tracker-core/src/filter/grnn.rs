@@ -207,6 +207,18 @@ impl<S: Real, const CAP: usize> Network<S, CAP> {
         num / den
     }
 
+    /// One step of Fig. 2: estimate (steps 1 and 2 just pass the observation on), then teach
+    /// the estimate as the newest model.
+    fn step(&mut self, observed: S, sigma: S) -> S {
+        let e = if self.len() < 2 {
+            observed
+        } else {
+            self.estimate(observed, sigma)
+        };
+        self.teach(e);
+        e
+    }
+
     /// Teaches a model: grows while below the rated length, else the oldest drops.
     fn teach(&mut self, v: S) {
         let (head, len) = (usize::from(self.head), usize::from(self.len));
@@ -331,23 +343,8 @@ impl<S: Real> GrnnFilter<S> {
         let mut stable = [S::ZERO; 2];
         let mut manoeuvre = [S::ZERO; 2];
         for axis in 0..2 {
-            // Steps 1 and 2: the observation is the output and the model.
-            let s = &mut self.stable[axis];
-            let e = if s.len() < 2 {
-                observed[axis]
-            } else {
-                s.estimate(observed[axis], sigma_stable)
-            };
-            s.teach(e);
-            stable[axis] = e;
-            let m = &mut self.manoeuvre[axis];
-            let e = if m.len() < 2 {
-                observed[axis]
-            } else {
-                m.estimate(observed[axis], sigma_manoeuvre)
-            };
-            m.teach(e);
-            manoeuvre[axis] = e;
+            stable[axis] = self.stable[axis].step(observed[axis], sigma_stable);
+            manoeuvre[axis] = self.manoeuvre[axis].step(observed[axis], sigma_manoeuvre);
         }
         self.detect(stable, manoeuvre);
         self.velocity = if self.manoeuvring { manoeuvre } else { stable };
