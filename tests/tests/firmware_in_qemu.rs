@@ -169,3 +169,38 @@ fn demo_on_the_firmware_tracks_like_inproc_and_meets_its_bounds() {
     assert!(s.cpa_error_p95_m < 1000.0, "{}", s.report());
     assert!(s.tcpa_error_p95_s < 600.0, "{}", s.report());
 }
+
+/// The noisy-link guarantee against the firmware: at a 10⁻³ byte error rate both ways, the
+/// tracks over QEMU are those of the clean in-process run, scan for scan.
+#[test]
+fn a_noisy_link_to_the_firmware_changes_no_track() {
+    use tracker_host::demo::{Demo, DemoFilter, DemoOptions};
+    use tracker_host::faults::{FaultRates, FaultyTransport};
+    use tracker_host::link::{self, Client, LinkSpec};
+    if !qemu_or_skip("a_noisy_link_to_the_firmware_changes_no_track") {
+        return;
+    }
+    let options = DemoOptions {
+        scenario: tracker_core::sim::ScenarioKind::OpenSea,
+        targets: 40,
+        seed: 6,
+        speedup: None,
+        duration_s: 300.0,
+        filter: DemoFilter::KalmanCv,
+    };
+    let qemu = link::open(&LinkSpec::Qemu, &qemu::QemuOptions::default()).expect("qemu");
+    let noisy = FaultyTransport::new(qemu, FaultRates::byte_errors(1e-3), 5);
+    let mut client = Client::new(Box::new(noisy));
+    client.timeout = std::time::Duration::from_millis(300);
+    client.retries = 50;
+    let mut on_mcu = Demo::new(client, options.clone()).expect("demo over a noisy link");
+    let inproc = link::open(&LinkSpec::Inproc, &qemu::QemuOptions::default()).unwrap();
+    let mut clean = Demo::new(Client::new(inproc), options).unwrap();
+    for _ in 0..120 {
+        let a = on_mcu.step().expect("scan over the noisy link");
+        let b = clean.step().unwrap();
+        assert_eq!(a.tracks, b.tracks, "scan {}", a.sim.scan);
+    }
+    let s = on_mcu.client().stats();
+    assert!(s.frames_damaged > 0 && s.retries > 0, "{s:?}");
+}
