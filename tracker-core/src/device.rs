@@ -198,7 +198,12 @@ impl Device {
             })
         };
         match request {
-            HostToDevice::Hello => Reply::One(DeviceToHost::HelloAck(self.info())),
+            HostToDevice::Hello => {
+                // A handshake opens a new session (perhaps a restarted host, whose request ids
+                // start again): forget the last request, so no new one passes for a retry.
+                self.last_change = None;
+                Reply::One(DeviceToHost::HelloAck(self.info()))
+            }
             HostToDevice::Echo(bytes) => Reply::One(DeviceToHost::Echo(bytes.clone())),
             HostToDevice::GetStats => Reply::One(DeviceToHost::Stats(self.stats)),
             HostToDevice::Configure(config) => ack(self.tracker.configure(*config)),

@@ -317,6 +317,9 @@ where
                 filter
             );
             println!("{}", summary.report());
+            for event in d.events() {
+                println!("event: {event}");
+            }
             println!(
                 "host time per scan (link included): mean {:.2} ms, max {:.2} ms",
                 mean.as_secs_f64() * 1e3,

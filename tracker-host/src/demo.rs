@@ -105,47 +105,120 @@ pub struct Demo {
     evaluator: Evaluator,
     options: DemoOptions,
     host_times: Vec<Duration>,
+    boot_id: u32,
+    events: Vec<String>,
+    /// Track numbers in the device's last report.
+    last_tracks: Vec<u16>,
 }
 
 impl Demo {
     /// Handshakes, configures the device's tracker and sets up the scenario.
     pub fn new(mut client: Client, options: DemoOptions) -> anyhow::Result<Self> {
-        client.hello().context("handshake")?;
-        let config = TrackerConfig {
-            filter: options.filter.choice(),
-            plot_sigma_m: PLOT_SIGMA_M,
-            ..TrackerConfig::DEFAULT
-        };
-        expect_ack(
-            client.request(&HostToDevice::Configure(config))?,
-            "configure",
-        )?;
-        // Start from an empty table: a board may still hold an earlier run's tracks.
-        expect_ack(
-            client.request(&HostToDevice::Command(
-                tracker_core::icd::TrackCommand::CancelAll,
-            ))?,
-            "cancel all",
-        )?;
+        let info = client.hello().context("handshake")?;
         let scenario = Scenario::new(ScenarioConfig {
             kind: options.scenario,
             ..ScenarioConfig::open_sea(options.targets, options.seed)
         });
-        Ok(Demo {
+        let mut demo = Demo {
             client,
             scenario,
             evaluator: Evaluator::default(),
             options,
             host_times: Vec::new(),
-        })
+            boot_id: info.boot_id,
+            events: Vec::new(),
+            last_tracks: Vec::new(),
+        };
+        demo.configure()?;
+        // Start from an empty table: a board may still hold an earlier run's tracks.
+        demo.command(tracker_core::icd::TrackCommand::CancelAll)?;
+        Ok(demo)
+    }
+
+    fn configure(&mut self) -> anyhow::Result<()> {
+        let config = TrackerConfig {
+            filter: self.options.filter.choice(),
+            plot_sigma_m: PLOT_SIGMA_M,
+            ..TrackerConfig::DEFAULT
+        };
+        expect_ack(
+            self.client.request(&HostToDevice::Configure(config))?,
+            "configure",
+        )
+    }
+
+    /// What happened on the link worth telling the operator (a firmware reset, a host
+    /// restart), oldest first.
+    pub fn events(&self) -> &[String] {
+        &self.events
+    }
+
+    /// After a refused request: handshakes again, and if the device has a new boot id it
+    /// was reset. Then it is configured again and the caller redoes the scan; the tracks
+    /// come back through initiation. Returns whether it was a reset.
+    fn recover_from_reset(&mut self, scan: u32) -> anyhow::Result<bool> {
+        let info = self
+            .client
+            .hello()
+            .context("handshake after a refused request")?;
+        if info.boot_id == self.boot_id {
+            return Ok(false);
+        }
+        self.events.push(format!(
+            "scan {scan}: firmware reset detected (boot id {:#010x} -> {:#010x}); configured again, re-acquiring",
+            self.boot_id, info.boot_id
+        ));
+        self.boot_id = info.boot_id;
+        self.last_tracks.clear();
+        self.configure()?;
+        Ok(true)
+    }
+
+    /// Restarts the host side as a host program restart would: a new client (new decoder,
+    /// request ids from 1) on the same link, a handshake, and the device's full, live track
+    /// table, which is returned. The device keeps tracking throughout.
+    pub fn restart_host(&mut self) -> anyhow::Result<Vec<TrackState>> {
+        let placeholder = Client::new(Box::new(crate::link::InprocTransport::new()));
+        let old = std::mem::replace(&mut self.client, placeholder);
+        let (timeout, retries) = (old.timeout, old.retries);
+        let mut client = Client::new(old.into_transport());
+        client.timeout = timeout;
+        client.retries = retries;
+        let info = client.hello().context("handshake after the host restart")?;
+        self.events.push(format!(
+            "host restarted: re-attached to {} (boot id {:#010x})",
+            info.firmware, info.boot_id
+        ));
+        if info.boot_id != self.boot_id {
+            self.events
+                .push("the firmware was reset meanwhile".to_string());
+            self.boot_id = info.boot_id;
+        }
+        let mut tracks = Vec::new();
+        for reply in client.request_all(&HostToDevice::GetTracks)? {
+            match reply {
+                DeviceToHost::Tracks(t) => tracks.extend(t.tracks),
+                other => bail!("track report answered {other:?}"),
+            }
+        }
+        self.client = client;
+        Ok(tracks)
     }
 
     /// Sends an operator command (acquire, cancel) to the device.
     pub fn command(&mut self, command: tracker_core::icd::TrackCommand) -> anyhow::Result<()> {
+        use tracker_core::icd::TrackCommand;
         expect_ack(
             self.client.request(&HostToDevice::Command(command))?,
             "command",
-        )
+        )?;
+        // Tracks the operator dropped are not missing ones.
+        match command {
+            TrackCommand::CancelAll => self.last_tracks.clear(),
+            TrackCommand::Cancel { track } => self.last_tracks.retain(|&t| t != track),
+            TrackCommand::Acquire { .. } => {}
+        }
+        Ok(())
     }
 
     /// The antenna period, s.
@@ -172,6 +245,49 @@ impl Demo {
             gps_velocity_mps: Some(own.velocity_mps),
             ..NavSample::default()
         };
+        let (plots_m, association, tracks) = match self.scan_on_device(&sim, &own, nav) {
+            Ok(done) => done,
+            Err(refused) => {
+                let reset = self.recover_from_reset(sim.scan)?;
+                // All tracks can also go at once for good reasons (every tentative track
+                // failing on the same scan): then the scan is simply redone.
+                let vanished = refused.downcast_ref::<TracksGone>().is_some();
+                if !reset && !vanished {
+                    return Err(refused);
+                }
+                self.last_tracks.clear();
+                self.scan_on_device(&sim, &own, nav)?
+            }
+        };
+        let mut targets: Vec<TargetData> = tracks
+            .iter()
+            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
+            .map(|t| TargetData::new(&own, t))
+            .collect();
+        targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+        self.evaluator
+            .scan(&sim, &tracks, self.scenario.config().scan_s);
+        let host_time = started.elapsed();
+        self.host_times.push(host_time);
+        Ok(ScanView {
+            sim,
+            plots_m,
+            own,
+            tracks,
+            targets,
+            association,
+            host_time,
+        })
+    }
+
+    /// The device's part of a scan: own ship, plots, gates, association, assignments.
+    /// Fails when the device refuses a request or has lost every track.
+    fn scan_on_device(
+        &mut self,
+        sim: &ScanOutput,
+        own: &OwnShip,
+        nav: NavSample,
+    ) -> anyhow::Result<(Vec<EastNorth>, Association, Vec<TrackState>)> {
         expect_ack(
             self.client.request(&HostToDevice::OwnShip(nav))?,
             "own ship",
@@ -200,6 +316,11 @@ impl Demo {
                 }
             }
         }
+        // Every track gone at once: the device was probably reset (or its table cleared).
+        let known = |id: &u16| gates.iter().any(|g| g.track == *id);
+        if !self.last_tracks.is_empty() && !self.last_tracks.iter().any(known) {
+            return Err(TracksGone.into());
+        }
         // The same conversion as the device's, in the same f32 arithmetic.
         let plots_m: Vec<EastNorth> = sim
             .plots
@@ -208,25 +329,12 @@ impl Demo {
             .collect();
         let association = associate::associate(&gates, &plots_m, CHI2_2DOF_99);
         let tracks = self.send_assignments(sim.scan, &association)?;
-        let mut targets: Vec<TargetData> = tracks
+        self.last_tracks = tracks
             .iter()
-            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
-            .map(|t| TargetData::new(&own, t))
+            .filter(|t| t.status != TrackStatus::Lost)
+            .map(|t| t.track)
             .collect();
-        targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
-        self.evaluator
-            .scan(&sim, &tracks, self.scenario.config().scan_s);
-        let host_time = started.elapsed();
-        self.host_times.push(host_time);
-        Ok(ScanView {
-            sim,
-            plots_m,
-            own,
-            tracks,
-            targets,
-            association,
-            host_time,
-        })
+        Ok((plots_m, association, tracks))
     }
 
     fn send_assignments(&mut self, scan: u32, a: &Association) -> anyhow::Result<Vec<TrackState>> {
@@ -304,6 +412,18 @@ impl Demo {
         self.evaluator.summary(self.scenario.targets().len())
     }
 }
+
+/// Every track the device had a scan ago is gone from its gates.
+#[derive(Debug)]
+struct TracksGone;
+
+impl std::fmt::Display for TracksGone {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("the device's tracks are all gone")
+    }
+}
+
+impl std::error::Error for TracksGone {}
 
 fn expect_ack(reply: DeviceToHost, what: &str) -> anyhow::Result<()> {
     match reply {

@@ -101,22 +101,51 @@ pub trait Transport: Send {
 
 /// The device code running inside the host process.
 pub struct InprocTransport {
+    shared: std::sync::Arc<std::sync::Mutex<Inproc>>,
+}
+
+struct Inproc {
     device: Box<Device>,
     outbox: VecDeque<u8>,
+}
+
+fn fresh_device() -> Box<Device> {
+    Box::new(Device::new(DeviceConfig {
+        firmware: concat!("tracker-core ", env!("CARGO_PKG_VERSION"), " (inproc)"),
+        boot_id: fastrand::u32(1..),
+        max_tracks: 64,
+        max_plots_per_scan: 256,
+    }))
+}
+
+/// Resets the in-process device as a power cycle would (for tests of reset recovery).
+#[derive(Clone)]
+pub struct InprocReset(std::sync::Arc<std::sync::Mutex<Inproc>>);
+
+impl InprocReset {
+    /// A fresh device, with a new boot id; replies in flight are lost.
+    pub fn reset(&self) {
+        if let Ok(mut inner) = self.0.lock() {
+            inner.device = fresh_device();
+            inner.outbox.clear();
+        }
+    }
 }
 
 impl InprocTransport {
     /// A fresh in-process device.
     pub fn new() -> Self {
         InprocTransport {
-            device: Box::new(Device::new(DeviceConfig {
-                firmware: concat!("tracker-core ", env!("CARGO_PKG_VERSION"), " (inproc)"),
-                boot_id: fastrand::u32(1..),
-                max_tracks: 64,
-                max_plots_per_scan: 256,
+            shared: std::sync::Arc::new(std::sync::Mutex::new(Inproc {
+                device: fresh_device(),
+                outbox: VecDeque::new(),
             })),
-            outbox: VecDeque::new(),
         }
+    }
+
+    /// A handle that resets the device.
+    pub fn reset_handle(&self) -> InprocReset {
+        InprocReset(self.shared.clone())
     }
 }
 
@@ -128,16 +157,24 @@ impl Default for InprocTransport {
 
 impl Transport for InprocTransport {
     fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
-        let outbox = &mut self.outbox;
+        let mut guard = self
+            .shared
+            .lock()
+            .map_err(|_| io::Error::other("in-process device poisoned"))?;
+        let Inproc { device, outbox } = &mut *guard;
         for &b in bytes {
-            self.device.receive(b, &mut |reply| outbox.extend(reply));
+            device.receive(b, &mut |reply| outbox.extend(reply));
         }
         Ok(())
     }
 
     fn read(&mut self, buf: &mut [u8], _timeout: Duration) -> io::Result<usize> {
-        let n = buf.len().min(self.outbox.len());
-        for (dst, src) in buf.iter_mut().zip(self.outbox.drain(..n)) {
+        let mut guard = self
+            .shared
+            .lock()
+            .map_err(|_| io::Error::other("in-process device poisoned"))?;
+        let n = buf.len().min(guard.outbox.len());
+        for (dst, src) in buf.iter_mut().zip(guard.outbox.drain(..n)) {
             *dst = src;
         }
         Ok(n)
@@ -322,6 +359,11 @@ impl Client {
             scratch: vec![0; MAX_FRAME_BYTES],
             out: vec![0; MAX_ENCODED_FRAME_BYTES + 1],
         }
+    }
+
+    /// Gives the transport back (a host restart keeps the link and nothing else).
+    pub fn into_transport(self) -> Box<dyn Transport> {
+        self.transport
     }
 
     /// Host-side counters.
