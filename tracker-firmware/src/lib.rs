@@ -78,14 +78,29 @@ pub fn device() -> Option<&'static mut Device> {
     Some(device)
 }
 
+/// A watchdog the main loop feeds; a loop stuck anywhere stops feeding it and the chip is
+/// reset.
+pub trait Watchdog {
+    /// Tells the watchdog the loop is alive.
+    fn feed(&mut self);
+}
+
+/// No watchdog.
+impl Watchdog for () {
+    fn feed(&mut self) {}
+}
+
 /// Serves the host link forever: every received byte goes to the device, every reply goes
-/// out through `uart`.
-pub fn serve<U>(uart: &mut U, device: &mut Device) -> !
+/// out through `uart`; the watchdog is fed once per pass. Work per pass is bounded (one
+/// frame, at most a scan's gating or update), far inside the watchdog's period.
+pub fn serve<U, W>(uart: &mut U, device: &mut Device, watchdog: &mut W) -> !
 where
     U: Read<u8> + Write<u8>,
+    W: Watchdog,
 {
     let mut overruns: u32 = 0;
     loop {
+        watchdog.feed();
         match uart.read() {
             Ok(byte) => device.receive(byte, &mut |reply| {
                 for &b in reply {
