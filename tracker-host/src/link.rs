@@ -470,18 +470,6 @@ impl Client {
         }
     }
 
-    /// Waits for the reply to request `id`.
-    pub fn reply_to(&mut self, id: u32) -> Result<DeviceToHost, RequestError> {
-        let deadline = Instant::now() + self.timeout;
-        loop {
-            match self.next_frame(deadline)? {
-                Some((h, body)) if h.request_id == id => return Ok(body),
-                Some(_) => self.stats.unmatched += 1,
-                None => return Err(RequestError::Timeout),
-            }
-        }
-    }
-
     /// The next reply frame, or `None` at the deadline; damaged frames are counted and
     /// skipped.
     pub fn next_frame(
