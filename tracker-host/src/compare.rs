@@ -176,12 +176,14 @@ pub fn report(runs: u64, sigma_m: f64, scores: &[FilterScore], d: &DetectorScore
     };
     s += &format!(
         "\nGRNN manoeuvre detector: false alarms on {:.4} % of straight-run scans; detected in {} of {} runs, \
-         delay after onset median {} scans, 90th percentile {}, max {}\n",
+         within 5 scans of the onset in {}; delay median {} scans, 90th percentile {}, 95th {}, max {}\n",
         d.false_alarm_rate * 100.0,
         d.delays.len(),
         d.delays.len() + d.missed,
+        d.delays.iter().filter(|&&k| k <= 5).count(),
         pct(0.5),
         pct(0.9),
+        pct(0.95),
         pct(1.0)
     );
     s
@@ -193,11 +195,13 @@ mod tests {
 
     #[test]
     fn the_detector_meets_its_stated_bounds() {
-        let (scores, d) = run(20, 5.0).unwrap();
+        let (scores, d) = run(100, 5.0).unwrap();
         assert_eq!(scores.len(), 4);
         assert_eq!(d.missed, 0);
-        assert!(d.false_alarm_rate < 1e-3, "{}", d.false_alarm_rate);
-        assert!(d.delays[d.delays.len() / 2] <= 5, "{:?}", d.delays);
+        assert!(d.false_alarm_rate < 5e-4, "{}", d.false_alarm_rate);
+        // Within 5 scans of the onset in at least 90 % of the runs.
+        let within_5 = d.delays.iter().filter(|&&k| k <= 5).count();
+        assert!(within_5 >= 90, "{:?}", d.delays);
         assert!(scores.iter().all(|f| f.rms_velocity_mps.is_finite()));
     }
 }

@@ -115,10 +115,10 @@ pub struct GainArgs {
     /// GRNN manoeuvre filter's teaching sequence, scans (default 10).
     #[arg(long)]
     pub short: Option<usize>,
-    /// GRNN stable filter's teaching sequence, scans (default 40).
+    /// GRNN stable filter's teaching sequence, scans (default 45).
     #[arg(long)]
     pub long: Option<usize>,
-    /// GRNN detector onset threshold (default 2).
+    /// GRNN detector onset threshold (default 1.75).
     #[arg(long)]
     pub onset: Option<f64>,
     /// GRNN detector release threshold (default 1.5).

@@ -23,23 +23,29 @@
 //!
 //! ## Two filters and the manoeuvre detector (paper §3–4)
 //!
-//! A *manoeuvre* filter (teaching sequence 10, σ = 0.8·σ_v) and a *stable* filter (45, the
-//! paper's "above 40"; σ = 2·σ_v) run side by side. The paper leaves the detector open; ours is its second
-//! concept, a comparison of the two filters' outputs:
+//! A *manoeuvre* filter (teaching sequence 10, σ = 0.3·σ_v) and a *stable* filter (45, the
+//! paper's "above 40"; σ = 2·σ_v) run side by side. The narrow kernel makes the manoeuvre
+//! filter let an observation through as soon as it leaves the spread of its models, which is
+//! what the detector needs; the stable filter's wide kernel averages. The paper leaves the
+//! detector open; ours is its second concept, a comparison of the two filters' outputs:
 //!
-//! - statistic `z`: the mean of `V_manoeuvre − V_stable` over the last 3 scans, its length
-//!   divided by that mean's measured spread (learnt online while no manoeuvre is declared):
-//!   the normalisation by the noise level;
-//! - onset: `z > 2` on 3 successive scans (the paper's finding that one scan is not enough).
+//! - statistic `z`: the mean of `V_manoeuvre − V_stable` over the last 3 scans (`window`), its
+//!   length divided by that mean's measured spread (learnt online while no manoeuvre is
+//!   declared): the normalisation by the noise level;
+//! - onset: `z > 1.75` on 3 successive scans (the paper's finding that one scan is not enough).
 //!   The output switches to the manoeuvre filter and the stable filter's teaching sequence is
 //!   cut to the manoeuvre filter's models: the dynamically adapted length, since the stable
 //!   filter's pre-manoeuvre history is what makes it wrong now; during the manoeuvre it keeps
 //!   that short memory;
 //! - end (hysteresis): `z < 1.5` on 3 successive scans; the stable filter then grows back.
 //!
-//! The constants were chosen by Monte Carlo at 5 m position noise and 3 s scans (50 runs of
-//! 400 scans straight: no false alarm; a 60° turn at 2.9°/s: detected after 5 scans median,
-//! 7 at most). The detector waits for the first 30 scans while its statistics settle.
+//! The constants were chosen by a Monte Carlo grid (`tracker-host compare`, 500 runs at 5 m
+//! position noise and 3 s scans; manoeuvre σ factor 0.2–0.8, window 2–4, onset 1.4–2.6).
+//! At the chosen point a 60° turn at 2.9°/s is detected 4 scans after the onset at the median,
+//! 5 at the 90th percentile, 6 at the 95th, and false alarms take 0.01 % of straight-run scans.
+//! A lower onset buys no earlier detection at the 90th percentile and ten times the false
+//! alarms (1.4: 0.6 %); σ factor 0.8 (the first design) detects a scan later. The detector
+//! waits for the first 30 scans while its statistics settle.
 //!
 //! ## σ
 //!
@@ -81,6 +87,8 @@ pub struct GrnnConfig {
     pub release: f64,
     /// Successive scans over (under) the threshold that declare (end) a manoeuvre.
     pub consecutive: u8,
+    /// Scans the filters' difference is averaged over before it is tested (1–4).
+    pub window: u8,
     /// Gain of the position filter.
     pub position_gain: f64,
 }
@@ -90,12 +98,13 @@ impl Default for GrnnConfig {
         GrnnConfig {
             sigma_mps: None,
             stable_sigma_factor: 2.0,
-            manoeuvre_sigma_factor: 0.8,
+            manoeuvre_sigma_factor: 0.3,
             short: 10,
             long: 45,
-            onset: 2.0,
+            onset: 1.75,
             release: 1.5,
             consecutive: 3,
+            window: 3,
             position_gain: 0.5,
         }
     }
@@ -103,8 +112,8 @@ impl Default for GrnnConfig {
 
 /// Scans the detector waits while its statistics settle.
 const WARM_UP: u32 = 30;
-/// Scans the difference is averaged over.
-const AVERAGE: usize = 3;
+/// Most scans the difference can be averaged over.
+const AVERAGE: usize = 4;
 
 impl GrnnConfig {
     /// Checks the parameters.
@@ -120,6 +129,7 @@ impl GrnnConfig {
                 && positive(self.release)
                 && self.release <= self.onset
                 && self.consecutive >= 1
+                && (1..=AVERAGE as u8).contains(&self.window)
                 && positive(self.position_gain)
                 && self.position_gain <= 1.0,
         )
@@ -355,7 +365,7 @@ impl<S: Real> GrnnFilter<S> {
         if let Some(last) = self.differences.last_mut() {
             *last = [manoeuvre[0] - stable[0], manoeuvre[1] - stable[1]];
         }
-        let n = (self.steps as usize).clamp(1, AVERAGE);
+        let n = (self.steps as usize).clamp(1, usize::from(self.config.window));
         let mut mean = [S::ZERO; 2];
         for d in self.differences.iter().rev().take(n) {
             mean[0] += d[0];
@@ -565,7 +575,7 @@ mod tests {
     fn turns_are_detected_and_released_and_straight_runs_are_quiet() {
         let mut delays = std::vec::Vec::new();
         let mut false_alarm_scans = 0;
-        for seed in 1..=20 {
+        for seed in 1..=60 {
             // A 60° turn at 2.9°/s with the speed falling from 8 to 6 m/s.
             let (flags, _) = run_track(seed, 300, 200, 60.0, 7, Some(6.0), 5.0);
             false_alarm_scans += flags[..200].iter().filter(|&&m| m).count();
@@ -574,9 +584,11 @@ mod tests {
             assert!(!flags[299], "seed {seed}: released after the turn");
         }
         delays.sort();
-        // Stated bound: detected within 5 scans of the onset in most runs, 8 at worst.
-        assert!(delays[10] <= 5, "median delay {delays:?}");
-        assert!(delays[19] <= 8, "delays {delays:?}");
+        // Stated bound (90 % within 5 scans of the onset over 500 runs in `compare`), with a
+        // margin for 60 runs: 85 % within 5, none later than 9.
+        let within_5 = delays.iter().filter(|&&d| d <= 5).count();
+        assert!(within_5 >= 51, "delays {delays:?}");
+        assert!(delays[59] <= 9, "delays {delays:?}");
         assert_eq!(false_alarm_scans, 0);
     }
 
