@@ -8,7 +8,7 @@
 use crc::{Crc, CRC_32_ISO_HDLC};
 use serde::{de::DeserializeOwned, Serialize};
 
-use crate::icd::{ErrorCode, Header, MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, PROTOCOL_VERSION};
+use crate::icd::{ErrorCode, Header, MAX_FRAME_BYTES, PROTOCOL_VERSION};
 
 /// CRC-32/ISO-HDLC (the Ethernet and zlib CRC), table-driven: 1 KiB of flash.
 const CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
@@ -130,13 +130,35 @@ pub fn decode_payload<T: DeserializeOwned>(
 
 /// Reassembles frames from bytes that arrive one at a time or in pieces.
 ///
-/// Holds at most [`MAX_ENCODED_FRAME_BYTES`]; a longer run without a delimiter is dropped
-/// whole and reported once, at its delimiter.
-#[derive(Clone, Debug)]
+/// Bytes are COBS-decoded as they arrive (cobs's byte-at-a-time [`cobs::DecoderState`], which
+/// has no indexing and so no panic path), into a buffer of [`MAX_FRAME_BYTES`]. A frame that
+/// would decode longer is dropped whole and reported once, at its delimiter.
+#[derive(Debug)]
 pub struct FrameDecoder {
-    buf: [u8; MAX_ENCODED_FRAME_BYTES],
+    buf: [u8; MAX_FRAME_BYTES],
+    /// Decoded bytes held.
     len: usize,
-    overflowed: bool,
+    /// Encoded bytes received since the last delimiter.
+    received: usize,
+    state: cobs::DecoderState,
+    /// Why the frame being received is already lost, reported at its delimiter.
+    error: Option<FrameError>,
+}
+
+// cobs's state is not `Clone`; its variants are public, so copy it by hand.
+impl Clone for FrameDecoder {
+    fn clone(&self) -> Self {
+        use cobs::DecoderState::{Grab, GrabChain, Idle};
+        FrameDecoder {
+            state: match self.state {
+                Idle => Idle,
+                Grab(n) => Grab(n),
+                GrabChain(n) => GrabChain(n),
+            },
+            error: self.error,
+            ..*self
+        }
+    }
 }
 
 impl Default for FrameDecoder {
@@ -149,51 +171,63 @@ impl FrameDecoder {
     /// An empty decoder.
     pub const fn new() -> Self {
         FrameDecoder {
-            buf: [0; MAX_ENCODED_FRAME_BYTES],
+            buf: [0; MAX_FRAME_BYTES],
             len: 0,
-            overflowed: false,
+            received: 0,
+            state: cobs::DecoderState::Idle,
+            error: None,
         }
     }
 
-    /// Bytes held of a frame not yet delimited.
+    /// Encoded bytes held of a frame not yet delimited.
     pub fn pending(&self) -> usize {
-        self.len
+        self.received
     }
 
     /// Feeds one byte. At a delimiter returns the checked payload (header and body, CRC
     /// removed) or why the frame was rejected. Empty frames (repeated delimiters, which a
     /// sender may use to flush the line) return `None`.
     pub fn push(&mut self, byte: u8) -> Option<Result<&[u8], FrameError>> {
+        use cobs::DecodeResult;
         if byte != 0 {
-            match self.buf.get_mut(self.len) {
-                Some(slot) if !self.overflowed => {
-                    *slot = byte;
-                    self.len += 1;
+            self.received = self.received.saturating_add(1);
+            if self.error.is_none() {
+                match self.state.feed(byte) {
+                    Ok(DecodeResult::DataStart) => self.len = 0,
+                    Ok(DecodeResult::DataContinue(b)) => match self.buf.get_mut(self.len) {
+                        Some(slot) => {
+                            *slot = b;
+                            self.len += 1;
+                        }
+                        None => self.error = Some(FrameError::Oversize),
+                    },
+                    Ok(DecodeResult::NoData | DecodeResult::DataComplete) => {}
+                    Err(_) => self.error = Some(FrameError::Cobs),
                 }
-                _ => self.overflowed = true,
             }
             return None;
         }
-        let (len, overflowed) = (self.len, self.overflowed);
-        self.len = 0;
-        self.overflowed = false;
-        if overflowed {
-            return Some(Err(FrameError::Oversize));
-        }
-        if len == 0 {
+        // The delimiter: the frame ends here whatever state it was in.
+        let received = core::mem::take(&mut self.received);
+        let error = self.error.take();
+        let state = core::mem::take(&mut self.state);
+        let len = core::mem::take(&mut self.len);
+        if received == 0 {
             return None;
         }
-        // Checked slicing throughout: the firmware must have no reachable panic.
-        let frame = self.buf.get_mut(..len)?;
-        let n = match cobs::decode_in_place(frame) {
-            Ok(n) => n,
-            Err(_) => return Some(Err(FrameError::Cobs)),
-        };
-        if n <= CRC_BYTES || n > MAX_FRAME_BYTES {
+        if let Some(e) = error {
+            return Some(Err(e));
+        }
+        let mut state = state;
+        if !matches!(state.feed(0), Ok(DecodeResult::DataComplete)) {
+            return Some(Err(FrameError::Cobs));
+        }
+        if len <= CRC_BYTES {
             return Some(Err(FrameError::Crc));
         }
-        let decoded = frame.get(..n)?;
-        let (payload, crc) = decoded.split_at_checked(n - CRC_BYTES)?;
+        // Checked slicing throughout: the firmware must have no reachable panic.
+        let decoded = self.buf.get(..len)?;
+        let (payload, crc) = decoded.split_at_checked(len - CRC_BYTES)?;
         let expected: [u8; CRC_BYTES] = crc.try_into().ok()?;
         if CRC32.checksum(payload) != u32::from_le_bytes(expected) {
             return Some(Err(FrameError::Crc));
@@ -205,7 +239,10 @@ impl FrameDecoder {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::icd::{DeviceToHost, HostToDevice, HOST_TO_DEVICE_VARIANTS, MAX_ECHO_BYTES};
+    use crate::icd::{
+        DeviceToHost, HostToDevice, HOST_TO_DEVICE_VARIANTS, MAX_ECHO_BYTES,
+        MAX_ENCODED_FRAME_BYTES,
+    };
     use heapless::Vec;
 
     fn frame_of(header: Header, body: &HostToDevice) -> std::vec::Vec<u8> {

@@ -21,6 +21,7 @@
 
 use heapless::Vec;
 
+use crate::bounded::take_up_to;
 use crate::filter::alpha_beta::{AlphaBeta, AlphaBetaGains};
 use crate::filter::alpha_beta_gamma::{AbgGains, AlphaBetaGamma};
 use crate::filter::grnn::{GrnnConfig, GrnnFilter};
@@ -336,10 +337,20 @@ impl TrackTable {
                     }
                     best.pop();
                 }
+                // Insertion into the sorted list by swaps (a library sort keeps a panic path
+                // for inconsistent orderings, which the firmware must not have).
                 let _ = best.push((d2, index));
-                best.sort_unstable_by(|a, b| a.0.total_cmp(&b.0));
+                for i in (1..best.len()).rev() {
+                    let Some((left, right)) = best.split_at_mut_checked(i) else {
+                        break;
+                    };
+                    match (left.last_mut(), right.first_mut()) {
+                        (Some(a), Some(b)) if b.0 < a.0 => core::mem::swap(a, b),
+                        _ => break,
+                    }
+                }
             }
-            t.gated = best.iter().map(|&(_, i)| i).collect();
+            t.gated = take_up_to(best.iter().map(|&(_, i)| i));
         }
     }
 

@@ -9,6 +9,7 @@
 
 use heapless::Vec;
 
+use crate::bounded::take_up_to;
 use crate::filter::Measurement;
 use crate::geo::{self, EastNorth};
 use crate::icd::{
@@ -177,7 +178,7 @@ impl Tracker {
             scan: self.report_scan,
             part,
             parts,
-            gates: (start..end).filter_map(|i| self.table.gated(i)).collect(),
+            gates: take_up_to((start..end).filter_map(|i| self.table.gated(i))),
         }
     }
 
@@ -234,12 +235,13 @@ impl Tracker {
             scan: self.report_scan,
             part,
             parts,
-            tracks: tracks
-                .get(start..end)
-                .unwrap_or(&[])
-                .iter()
-                .map(|t| t.state())
-                .collect(),
+            tracks: take_up_to(
+                tracks
+                    .get(start..end)
+                    .unwrap_or(&[])
+                    .iter()
+                    .map(|t| t.state()),
+            ),
         }
     }
 

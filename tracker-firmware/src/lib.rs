@@ -25,6 +25,8 @@ use cortex_m_rt::{exception, ExceptionFrame};
 use embedded_hal_nb::serial::{Read, Write};
 use tracker_core::device::{Device, DeviceConfig};
 
+#[cfg(all(feature = "rtt", not(feature = "qemu")))]
+use defmt_rtt as _;
 #[cfg(feature = "qemu")]
 use defmt_semihosting as _;
 #[cfg(all(feature = "panic-probe", not(feature = "panic-never")))]

@@ -87,7 +87,7 @@ pub struct GrnnConfig {
     pub release: f64,
     /// Successive scans over (under) the threshold that declare (end) a manoeuvre.
     pub consecutive: u8,
-    /// Scans the filters' difference is averaged over before it is tested (1–4).
+    /// Scans the filters' difference is averaged over before it is tested (1–3).
     pub window: u8,
     /// Gain of the position filter.
     pub position_gain: f64,
@@ -113,7 +113,7 @@ impl Default for GrnnConfig {
 /// Scans the detector waits while its statistics settle.
 const WARM_UP: u32 = 30;
 /// Most scans the difference can be averaged over.
-const AVERAGE: usize = 4;
+const AVERAGE: usize = 3;
 
 impl GrnnConfig {
     /// Checks the parameters.
@@ -365,7 +365,10 @@ impl<S: Real> GrnnFilter<S> {
         if let Some(last) = self.differences.last_mut() {
             *last = [manoeuvre[0] - stable[0], manoeuvre[1] - stable[1]];
         }
-        let n = (self.steps as usize).clamp(1, usize::from(self.config.window));
+        // min/max, not clamp: clamp's bound check is a panic path on the firmware.
+        let n = (self.steps as usize)
+            .min(usize::from(self.config.window))
+            .max(1);
         let mut mean = [S::ZERO; 2];
         for d in self.differences.iter().rev().take(n) {
             mean[0] += d[0];
