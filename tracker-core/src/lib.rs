@@ -33,6 +33,7 @@ pub mod filter;
 pub mod frame;
 pub mod geo;
 pub mod icd;
+pub mod metrics;
 pub mod scalar;
 pub mod sim;
 pub mod track;

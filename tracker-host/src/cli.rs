@@ -8,7 +8,7 @@ use clap::{Parser, Subcommand};
 
 use crate::link::{self, Client, LinkSpec};
 use crate::qemu::{self, QemuOptions};
-use crate::{bench_mcu, compare, demo, display, link_check, precision, replay, target};
+use crate::{bench_mcu, compare, demo, display, link_check, precision, replay, reproduce, target};
 
 /// ARPA-style marine radar target tracker: host side.
 #[derive(Debug, Parser)]
@@ -103,6 +103,15 @@ pub enum Command {
         /// Position noise per axis, m.
         #[arg(long, default_value_t = 5.0)]
         sigma: f64,
+    },
+    /// Reruns the seed papers' experiments: DIR/report.md (paper figure beside ours) and plots.
+    Reproduce {
+        /// Experiments: all (default), abg-2drms, abge-sweep, thesis, grnn.
+        #[arg(value_name = "NAME")]
+        names: Vec<String>,
+        /// Directory for report.md and the plots.
+        #[arg(long, value_name = "DIR", default_value = "reproduce")]
+        out: PathBuf,
     },
     /// How far f32 and fixed point drift from f64 on a long run, per filter.
     Precision {
@@ -335,6 +344,12 @@ where
         Command::Compare { runs, sigma } => {
             let (scores, detector) = compare::run(*runs, *sigma)?;
             print!("{}", compare::report(*runs, *sigma, &scores, &detector));
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Reproduce { names, out } => {
+            let report = reproduce::run(names, out)?;
+            print!("{report}");
+            eprintln!("written: {}", out.join("report.md").display());
             Ok(ExitCode::SUCCESS)
         }
         Command::Precision { scans, seed } => {

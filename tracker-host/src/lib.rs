@@ -18,4 +18,5 @@ pub mod link_check;
 pub mod precision;
 pub mod qemu;
 pub mod replay;
+pub mod reproduce;
 pub mod target;

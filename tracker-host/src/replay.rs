@@ -180,9 +180,11 @@ fn unused(args: &GainArgs, filter: FilterKind, allowed: &[&str]) -> anyhow::Resu
 fn alpha_beta_design(a: &GainArgs) -> anyhow::Result<AlphaBetaGains> {
     let design = match (a.alpha_schedule.as_deref(), a.xi, a.alpha, a.beta) {
         (Some("least-squares"), None, None, None) => AlphaBetaGains::LeastSquares,
-        (Some(other), None, None, None) => {
-            bail!("option --alpha-schedule: unknown schedule `{other}` (expected least-squares)")
-        }
+        (Some("thesis"), None, Some(alpha), None) => AlphaBetaGains::ThesisFixedAlpha { alpha },
+        (Some("thesis"), _, None, _) => bail!("option --alpha-schedule thesis needs --alpha"),
+        (Some(other), None, None, None) => bail!(
+            "option --alpha-schedule: unknown schedule `{other}` (expected least-squares, or thesis with --alpha)"
+        ),
         (None, Some(xi), None, None) => AlphaBetaGains::FadingMemory { xi },
         (None, None, Some(alpha), Some(beta)) => AlphaBetaGains::Fixed { alpha, beta },
         (None, None, Some(alpha), None) => AlphaBetaGains::BenedictBordner { alpha },

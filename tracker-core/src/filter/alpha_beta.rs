@@ -36,6 +36,11 @@ pub enum AlphaBetaGains {
     },
     /// The growing-memory least-squares schedule (thesis eq. 2-3/2-4).
     LeastSquares,
+    /// The thesis as run in Examples I–II: α fixed, β from eq. 2-4's schedule 6/(k(k+1)).
+    ThesisFixedAlpha {
+        /// Position gain g.
+        alpha: f64,
+    },
     /// Critically damped: both closed-loop poles at ξ.
     FadingMemory {
         /// ξ in [0, 1]: 0 follows the measurements, 1 ignores them.
@@ -51,7 +56,7 @@ impl AlphaBetaGains {
             AlphaBetaGains::BenedictBordner { alpha } => {
                 Some([alpha, alpha * alpha / (2.0 - alpha)])
             }
-            AlphaBetaGains::LeastSquares => None,
+            AlphaBetaGains::LeastSquares | AlphaBetaGains::ThesisFixedAlpha { .. } => None,
             AlphaBetaGains::FadingMemory { xi } => Some([1.0 - xi * xi, (1.0 - xi) * (1.0 - xi)]),
         }
     }
@@ -62,7 +67,8 @@ impl AlphaBetaGains {
         let ok = match *self {
             AlphaBetaGains::LeastSquares => true,
             AlphaBetaGains::FadingMemory { xi } => (0.0..=1.0).contains(&xi),
-            AlphaBetaGains::BenedictBordner { alpha } => alpha > 0.0 && alpha <= 1.0,
+            AlphaBetaGains::BenedictBordner { alpha }
+            | AlphaBetaGains::ThesisFixedAlpha { alpha } => alpha > 0.0 && alpha <= 1.0,
             AlphaBetaGains::Fixed { alpha, beta } => {
                 alpha.is_finite()
                     && beta.is_finite()
@@ -77,9 +83,12 @@ impl AlphaBetaGains {
     /// A filter with these gains in scalar `S`.
     pub fn build<S: Scalar>(&self) -> Result<AlphaBeta<S>, FilterError> {
         self.validate()?;
-        Ok(GhFilter::with_schedule(match self.constant() {
-            Some(g) => Schedule::Constant(g.map(S::gain_from_f64)),
-            None => Schedule::LeastSquares,
+        Ok(GhFilter::with_schedule(match (self, self.constant()) {
+            (_, Some(g)) => Schedule::Constant(g.map(S::gain_from_f64)),
+            (AlphaBetaGains::ThesisFixedAlpha { alpha }, None) => {
+                Schedule::FixedAlphaLeastSquaresBeta(S::gain_from_f64(*alpha))
+            }
+            (_, None) => Schedule::LeastSquares,
         }))
     }
 }
@@ -89,6 +98,7 @@ mod tests {
     use super::*;
     use crate::filter::gh::pole_mismatch;
     use crate::filter::testing::{polynomial, run};
+    use crate::filter::{Filter, Interval, Measurement};
     use crate::scalar::Fix;
 
     #[test]
@@ -126,6 +136,27 @@ mod tests {
             assert!((e.position_m[0] - z[0]).abs() < 1e-6, "{design:?}");
             assert!((e.velocity_mps[1] + 3.0).abs() < 1e-6, "{design:?}");
         }
+    }
+
+    #[test]
+    fn thesis_schedule_keeps_alpha_and_fades_beta() {
+        let mut f = AlphaBetaGains::ThesisFixedAlpha { alpha: 0.3 }
+            .build::<f64>()
+            .unwrap();
+        f.start(Measurement::new([0.0, 0.0]).unwrap());
+        for k in 2..6u32 {
+            let [a, b] = f.gains();
+            assert_eq!(a, 0.3);
+            assert!(
+                (b - 6.0 / f64::from(k * (k + 1))).abs() < 1e-12,
+                "k {k}: β {b}"
+            );
+            f.predict(Interval::new(1.0).unwrap());
+            f.update(Measurement::new([1.0, 1.0]).unwrap());
+        }
+        assert!(AlphaBetaGains::ThesisFixedAlpha { alpha: 1.5 }
+            .validate()
+            .is_err());
     }
 
     #[test]

@@ -27,6 +27,10 @@ pub enum Schedule<G, const N: usize> {
     /// The growing-memory least-squares α-β gains of thesis eq. 2-3 and 2-4 (only for
     /// N = 2): α(k) = 2(2k−1)/(k(k+1)), β(k) = 6/(k(k+1)), k the measurement number.
     LeastSquares,
+    /// A fixed α with eq. 2-4's β(k) = 6/(k(k+1)) (only for N = 2): the thesis's Examples I
+    /// and II, which vary α and take β "from (2-4)" whatever α is. β fades to zero, so the
+    /// velocity stops following: why α = 0.3 fares so badly there.
+    FixedAlphaLeastSquaresBeta(G),
 }
 
 /// A g-h-k-l filter of order `N` (2: α-β, 3: α-β-γ, 4: α-β-γ-η) in scalar `S`.
@@ -78,6 +82,17 @@ impl<S: Scalar, const N: usize> GhFilter<S, N> {
                 }
                 if let Some(beta) = g.get_mut(1) {
                     *beta = S::gain_from_ratio(6, den);
+                }
+                g
+            }
+            Schedule::FixedAlphaLeastSquaresBeta(alpha) => {
+                let k = self.measurements.saturating_add(1).max(2);
+                let mut g = [S::gain_from_ratio(0, 1); N];
+                if let Some(a) = g.get_mut(0) {
+                    *a = alpha;
+                }
+                if let Some(beta) = g.get_mut(1) {
+                    *beta = S::gain_from_ratio(6, k.saturating_mul(k + 1));
                 }
                 g
             }
@@ -164,7 +179,7 @@ impl<S: Scalar, const N: usize> Filter<S> for GhFilter<S, N> {
                 *qi = qi.add_scaled(e, g);
             }
         }
-        if let Schedule::LeastSquares = self.schedule {
+        if !matches!(self.schedule, Schedule::Constant(_)) {
             self.measurements = self.measurements.saturating_add(1);
             self.gains = self.scheduled_gains();
         }
