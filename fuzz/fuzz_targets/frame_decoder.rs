@@ -5,7 +5,7 @@
 use libfuzzer_sys::fuzz_target;
 use tracker_core::frame::{decode_payload, FrameDecoder};
 use tracker_core::icd::{
-    DeviceToHost, HostToDevice, HOST_TO_DEVICE_VARIANTS, MAX_ENCODED_FRAME_BYTES,
+    DeviceToHost, HostToDevice, HOST_TO_DEVICE_VARIANTS, MAX_FRAME_BYTES,
 };
 
 fuzz_target!(|data: &[u8]| {
@@ -15,6 +15,6 @@ fuzz_target!(|data: &[u8]| {
             let _ = decode_payload::<HostToDevice>(payload, HOST_TO_DEVICE_VARIANTS);
             let _ = decode_payload::<DeviceToHost>(payload, u32::MAX);
         }
-        assert!(decoder.pending() <= MAX_ENCODED_FRAME_BYTES);
+        assert!(decoder.pending() <= MAX_FRAME_BYTES);
     }
 });

@@ -179,9 +179,9 @@ impl FrameDecoder {
         }
     }
 
-    /// Encoded bytes held of a frame not yet delimited.
+    /// Decoded bytes held of a frame not yet delimited (at most [`MAX_FRAME_BYTES`]).
     pub fn pending(&self) -> usize {
-        self.received
+        self.len
     }
 
     /// Feeds one byte. At a delimiter returns the checked payload (header and body, CRC

@@ -34,6 +34,7 @@ pub mod frame;
 pub mod geo;
 pub mod icd;
 pub mod metrics;
+pub mod nav;
 pub mod scalar;
 pub mod sim;
 pub mod track;

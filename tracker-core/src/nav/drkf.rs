@@ -1,0 +1,497 @@
+//! The dead-reckoning Kalman filter (DRKF) of `004_be25d15b4854a4f6.txt` §2: own-ship
+//! position and velocity from whatever of GPS, Loran-C, speedlog and gyro is available.
+//!
+//! States (eq. 4a), in the paper's order: x position, x current, x vessel velocity (through
+//! the water), x acceleration; the same four for y; Loran-C x and y errors; speedlog error.
+//! Current, acceleration, Loran-C and speedlog errors are first-order Gauss–Markov (eq. 1).
+//! Axes: x east, y north, metres and seconds.
+//!
+//! Measurements (eq. 7a–7d): GPS position and velocity over ground, Loran-C position (with
+//! its Markov error), the speedlog's speed (ground-lock: over ground, current included, eq.
+//! 7c; bottom-lock: through the water, eq. 7d), and the gyro bearing. The bearing's H (H82,
+//! H86 of eq. 7b) is that of the course over ground, atan2(v_x + c_x, v_y + c_y), and is
+//! used as printed. Any subset may arrive; none is an error.
+
+use nalgebra::{Matrix4, RealField, SMatrix, SVector};
+
+use super::{sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar};
+use crate::filter::FilterError;
+
+/// Number of states.
+pub const STATES: usize = 11;
+/// State indices (eq. 4a, zero-based).
+pub mod ix {
+    /// x position, m.
+    pub const X: usize = 0;
+    /// x current, m/s.
+    pub const CX: usize = 1;
+    /// x vessel velocity through the water, m/s.
+    pub const VX: usize = 2;
+    /// x acceleration, m/s².
+    pub const AX: usize = 3;
+    /// y position, m.
+    pub const Y: usize = 4;
+    /// y current, m/s.
+    pub const CY: usize = 5;
+    /// y vessel velocity through the water, m/s.
+    pub const VY: usize = 6;
+    /// y acceleration, m/s².
+    pub const AY: usize = 7;
+    /// Loran-C x error, m.
+    pub const LX: usize = 8;
+    /// Loran-C y error, m.
+    pub const LY: usize = 9;
+    /// Speedlog error, m/s.
+    pub const SL: usize = 10;
+}
+
+/// What the speedlog measures (eq. 7c, 7d).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SpeedlogMode {
+    /// Speed over ground, current included (eq. 7c).
+    GroundLock,
+    /// Speed through the water (eq. 7d).
+    BottomLock,
+}
+
+/// DRKF parameters: the models of Table I and the sensors' noise.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DrkfConfig {
+    /// Ocean current, per axis.
+    pub current: GaussMarkov,
+    /// Vessel acceleration, per axis.
+    pub acceleration: GaussMarkov,
+    /// Loran-C position error, per axis.
+    pub loran: GaussMarkov,
+    /// Speedlog error.
+    pub speedlog: GaussMarkov,
+    /// GPS position noise variance per axis, m² (R1, R2).
+    pub gps_position_var: f64,
+    /// GPS velocity noise variance per axis, m²/s² (R3, R4).
+    pub gps_velocity_var: f64,
+    /// Loran-C white noise variance per axis, m² (on top of its Markov error).
+    pub loran_var: f64,
+    /// Speedlog white noise variance, m²/s².
+    pub speedlog_var: f64,
+    /// Gyro bearing noise variance, rad².
+    pub gyro_var: f64,
+    /// Speedlog mode.
+    pub speedlog_mode: SpeedlogMode,
+}
+
+impl DrkfConfig {
+    /// Table I, test 1 of the paper (β_L-C 0.25, β_S-L 0.5, acceleration σ 0.5 β 1, bearing
+    /// 1°); the Loran-C white noise and the speedlog white noise are not given: 25 m² and
+    /// 0.01 m²/s² (our choice).
+    pub fn table_1(test: usize) -> Option<Self> {
+        // (σc², βc, GPS pos var, GPS vel var, Loran var, speedlog Markov var)
+        let row = match test {
+            1 => (0.3, 0.17, 1600.0, 0.25, 500.0, 0.5),
+            2 => (0.7, 0.33, 800.0, 0.25, 500.0, 0.5),
+            3 => (0.25, 0.17, 800.0, 0.5, 1100.0, 0.025),
+            4 => (0.0025, 0.17, 800.0, 0.5, 1100.0, 0.0025),
+            5 => (0.1, 0.125, 1600.0, 0.5, 1100.0, 0.025),
+            _ => return None,
+        };
+        Some(DrkfConfig {
+            current: GaussMarkov::with_variance(row.0, row.1),
+            acceleration: GaussMarkov::with_variance(0.25, 1.0),
+            loran: GaussMarkov::with_variance(row.4, 0.25),
+            speedlog: GaussMarkov::with_variance(row.5, 0.5),
+            gps_position_var: row.2,
+            gps_velocity_var: row.3,
+            loran_var: 25.0,
+            speedlog_var: 0.01,
+            gyro_var: (1.0f64).to_radians() * (1.0f64).to_radians(),
+            speedlog_mode: SpeedlogMode::GroundLock,
+        })
+    }
+
+    fn validate(&self) -> Result<(), FilterError> {
+        let var = |v: f64| v.is_finite() && v > 0.0;
+        FilterError::check(
+            self.current.is_valid()
+                && self.acceleration.is_valid()
+                && self.loran.is_valid()
+                && self.speedlog.is_valid()
+                && var(self.gps_position_var)
+                && var(self.gps_velocity_var)
+                && var(self.loran_var)
+                && var(self.speedlog_var)
+                && var(self.gyro_var),
+        )
+    }
+}
+
+/// One second's own-ship sensor data; `None`: not available (normal, not an error).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct NavFix {
+    /// GPS position (east, north), m.
+    pub gps_position_m: Option<[f64; 2]>,
+    /// GPS velocity over ground (east, north), m/s.
+    pub gps_velocity_mps: Option<[f64; 2]>,
+    /// Loran-C position (east, north), m.
+    pub loran_position_m: Option<[f64; 2]>,
+    /// Speedlog speed, m/s.
+    pub speedlog_mps: Option<f64>,
+    /// Gyro bearing, radians true.
+    pub gyro_rad: Option<f64>,
+}
+
+/// Below this speed the speedlog and gyro rows are singular and skipped, m/s.
+const MIN_SPEED_MPS: f64 = 0.2;
+
+/// The dead-reckoning filter in scalar `T` (f32 on the MCU, f64 on the host).
+#[derive(Clone, Debug)]
+pub struct Drkf<T: RealField + Copy> {
+    config: DrkfConfig,
+    x: SVector<T, STATES>,
+    p: SMatrix<T, STATES, STATES>,
+    /// Φ and Q of the last interval, reused while the interval repeats (sensors at 1 s).
+    cached: Option<(T, SMatrix<T, STATES, STATES>, SMatrix<T, STATES, STATES>)>,
+    last_nis: T,
+}
+
+fn c<T: RealField + Copy>(v: f64) -> T {
+    nalgebra::convert(v)
+}
+
+impl<T: RealField + Copy> Drkf<T> {
+    /// A filter at `position_m` with velocity `velocity_mps` (through the water, no current
+    /// assumed), with standard deviations `position_sd_m` and `velocity_sd_mps`.
+    pub fn new(
+        config: DrkfConfig,
+        position_m: [f64; 2],
+        velocity_mps: [f64; 2],
+        position_sd_m: f64,
+        velocity_sd_mps: f64,
+    ) -> Result<Self, FilterError> {
+        config.validate()?;
+        let finite = position_m
+            .iter()
+            .chain(&velocity_mps)
+            .all(|v| v.is_finite());
+        FilterError::check(finite && position_sd_m > 0.0 && velocity_sd_mps > 0.0)?;
+        let mut x = SVector::<T, STATES>::zeros();
+        x[ix::X] = c(position_m[0]);
+        x[ix::Y] = c(position_m[1]);
+        x[ix::VX] = c(velocity_mps[0]);
+        x[ix::VY] = c(velocity_mps[1]);
+        let mut p = SMatrix::<T, STATES, STATES>::zeros();
+        let var = |g: &GaussMarkov| c::<T>(g.sigma * g.sigma);
+        for (i, v) in [
+            (ix::X, c(position_sd_m * position_sd_m)),
+            (ix::Y, c(position_sd_m * position_sd_m)),
+            (ix::VX, c(velocity_sd_mps * velocity_sd_mps)),
+            (ix::VY, c(velocity_sd_mps * velocity_sd_mps)),
+            (ix::CX, var(&config.current)),
+            (ix::CY, var(&config.current)),
+            (ix::AX, var(&config.acceleration)),
+            (ix::AY, var(&config.acceleration)),
+            (ix::LX, var(&config.loran)),
+            (ix::LY, var(&config.loran)),
+            (ix::SL, var(&config.speedlog)),
+        ] {
+            p[(i, i)] = v;
+        }
+        Ok(Drkf {
+            config,
+            x,
+            p,
+            cached: None,
+            last_nis: T::zero(),
+        })
+    }
+
+    /// Φ and Q over `dt` s: Van Loan on one axis's 4×4 block, eq. 2 on the scalar states.
+    pub fn transition(
+        &self,
+        dt: T,
+    ) -> Option<(SMatrix<T, STATES, STATES>, SMatrix<T, STATES, STATES>)> {
+        let cfg = &self.config;
+        let (bc, bv) = (
+            c::<T>(cfg.current.beta_per_s),
+            c::<T>(cfg.acceleration.beta_per_s),
+        );
+        let (o, z) = (T::one(), T::zero());
+        let f = Matrix4::new(z, o, o, z, z, -bc, z, z, z, z, z, o, z, z, z, -bv);
+        let mut qc = Matrix4::zeros();
+        qc[(1, 1)] = c(cfg.current.alpha() * cfg.current.alpha());
+        qc[(3, 3)] = c(cfg.acceleration.alpha() * cfg.acceleration.alpha());
+        let (phi4, q4) = van_loan::<T, 4, 8>(&f, &qc, dt)?;
+        let mut phi = SMatrix::<T, STATES, STATES>::zeros();
+        let mut q = SMatrix::<T, STATES, STATES>::zeros();
+        for base in [ix::X, ix::Y] {
+            phi.fixed_view_mut::<4, 4>(base, base).copy_from(&phi4);
+            q.fixed_view_mut::<4, 4>(base, base).copy_from(&q4);
+        }
+        let dt64 = nalgebra::try_convert::<T, f64>(dt).unwrap_or(1.0);
+        for (i, g) in [
+            (ix::LX, &cfg.loran),
+            (ix::LY, &cfg.loran),
+            (ix::SL, &cfg.speedlog),
+        ] {
+            phi[(i, i)] = c(g.a(dt64));
+            q[(i, i)] = c(g.b(dt64) * g.b(dt64));
+        }
+        Some((phi, q))
+    }
+
+    /// Propagates the state and covariance over `dt_s` (> 0, at most a day).
+    pub fn predict(&mut self, dt_s: f64) -> Result<(), FilterError> {
+        FilterError::check(dt_s.is_finite() && dt_s > 0.0 && dt_s <= 86_400.0)?;
+        let dt: T = c(dt_s);
+        let (phi, q) = match &self.cached {
+            Some((d, phi, q)) if *d == dt => (*phi, *q),
+            _ => {
+                let (phi, q) = self.transition(dt).ok_or(FilterError::BadParameter)?;
+                self.cached = Some((dt, phi, q));
+                (phi, q)
+            }
+        };
+        self.x = phi * self.x;
+        self.p = phi * self.p * phi.transpose() + q;
+        Ok(())
+    }
+
+    /// Applies what of `fix` is there. Returns the number of scalar measurements used.
+    /// Non-finite values are refused whole, before any change.
+    pub fn update(&mut self, fix: &NavFix) -> Result<usize, FilterError> {
+        let pairs = [
+            fix.gps_position_m,
+            fix.gps_velocity_mps,
+            fix.loran_position_m,
+        ];
+        let finite = pairs.iter().flatten().flatten().all(|v| v.is_finite())
+            && fix.speedlog_mps.is_none_or(f64::is_finite)
+            && fix.gyro_rad.is_none_or(f64::is_finite);
+        FilterError::check(finite)?;
+        let cfg = self.config;
+        let x = self.x;
+        let mut rows: heapless::Vec<Scalar<T, STATES>, 8> = heapless::Vec::new();
+        let unit = |i: usize, j: Option<usize>| {
+            let mut h = SVector::<T, STATES>::zeros();
+            h[i] = T::one();
+            if let Some(j) = j {
+                h[j] = T::one();
+            }
+            h
+        };
+        let mut push = |residual: T, h: SVector<T, STATES>, r: f64| {
+            let _ = rows.push(Scalar {
+                residual,
+                h,
+                r: c(r),
+            });
+        };
+        if let Some([e, n]) = fix.gps_position_m {
+            push(
+                c::<T>(e) - x[ix::X],
+                unit(ix::X, None),
+                cfg.gps_position_var,
+            );
+            push(
+                c::<T>(n) - x[ix::Y],
+                unit(ix::Y, None),
+                cfg.gps_position_var,
+            );
+        }
+        if let Some([e, n]) = fix.gps_velocity_mps {
+            push(
+                c::<T>(e) - x[ix::CX] - x[ix::VX],
+                unit(ix::CX, Some(ix::VX)),
+                cfg.gps_velocity_var,
+            );
+            push(
+                c::<T>(n) - x[ix::CY] - x[ix::VY],
+                unit(ix::CY, Some(ix::VY)),
+                cfg.gps_velocity_var,
+            );
+        }
+        if let Some([e, n]) = fix.loran_position_m {
+            push(
+                c::<T>(e) - x[ix::X] - x[ix::LX],
+                unit(ix::X, Some(ix::LX)),
+                cfg.loran_var,
+            );
+            push(
+                c::<T>(n) - x[ix::Y] - x[ix::LY],
+                unit(ix::Y, Some(ix::LY)),
+                cfg.loran_var,
+            );
+        }
+        let (gx, gy) = (x[ix::CX] + x[ix::VX], x[ix::CY] + x[ix::VY]);
+        let ground2 = gx * gx + gy * gy;
+        let min2: T = c(MIN_SPEED_MPS * MIN_SPEED_MPS);
+        if let Some(s) = fix.speedlog_mps {
+            let mut h = SVector::<T, STATES>::zeros();
+            h[ix::SL] = T::one();
+            let speed = match cfg.speedlog_mode {
+                SpeedlogMode::GroundLock if ground2 > min2 => {
+                    let r = ground2.sqrt();
+                    // Eq. 7c: H72 on x2 and x3, H76 on x6 and x7.
+                    for (i, v) in [(ix::CX, gx), (ix::VX, gx), (ix::CY, gy), (ix::VY, gy)] {
+                        h[i] = v / r;
+                    }
+                    Some(r)
+                }
+                SpeedlogMode::BottomLock => {
+                    let (vx, vy) = (x[ix::VX], x[ix::VY]);
+                    let r2 = vx * vx + vy * vy;
+                    (r2 > min2).then(|| {
+                        let r = r2.sqrt();
+                        h[ix::VX] = vx / r;
+                        h[ix::VY] = vy / r;
+                        r
+                    })
+                }
+                SpeedlogMode::GroundLock => None,
+            };
+            if let Some(speed) = speed {
+                push(c::<T>(s) - speed - x[ix::SL], h, cfg.speedlog_var);
+            }
+        }
+        if let Some(b) = fix.gyro_rad {
+            if ground2 > min2 {
+                // Eq. 7b: H82 = (x6+x7)/|v|², H86 = (x2+x3)/|v|², as printed.
+                let mut h = SVector::<T, STATES>::zeros();
+                let (h82, h86) = (gy / ground2, gx / ground2);
+                h[ix::CX] = h82;
+                h[ix::VX] = h82;
+                h[ix::CY] = -h86;
+                h[ix::VY] = -h86;
+                push(wrap_pi(c::<T>(b) - gx.atan2(gy)), h, cfg.gyro_var);
+            }
+        }
+        let (used, nis) = sequential_update(&mut self.x, &mut self.p, &rows);
+        self.last_nis = nis;
+        Ok(used)
+    }
+
+    /// The state (eq. 4a order).
+    pub fn state(&self) -> &SVector<T, STATES> {
+        &self.x
+    }
+
+    /// The covariance.
+    pub fn covariance(&self) -> &SMatrix<T, STATES, STATES> {
+        &self.p
+    }
+
+    /// NIS (Σ ν²/S) of the last update.
+    pub fn last_nis(&self) -> T {
+        self.last_nis
+    }
+
+    /// Position (east, north), m.
+    pub fn position_m(&self) -> [T; 2] {
+        [self.x[ix::X], self.x[ix::Y]]
+    }
+
+    /// Velocity over ground (vessel + current), m/s.
+    pub fn velocity_over_ground_mps(&self) -> [T; 2] {
+        [
+            self.x[ix::CX] + self.x[ix::VX],
+            self.x[ix::CY] + self.x[ix::VY],
+        ]
+    }
+
+    /// Covariance of (x, y, v_x over ground, v_y over ground): J P Jᵀ. The TTKF's R for its
+    /// own-ship measurements (eq. 9a).
+    pub fn own_ship_covariance(&self) -> SMatrix<T, 4, 4> {
+        let mut j = SMatrix::<T, 4, STATES>::zeros();
+        j[(0, ix::X)] = T::one();
+        j[(1, ix::Y)] = T::one();
+        j[(2, ix::CX)] = T::one();
+        j[(2, ix::VX)] = T::one();
+        j[(3, ix::CY)] = T::one();
+        j[(3, ix::VY)] = T::one();
+        j * self.p * j.transpose()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn filter() -> Drkf<f64> {
+        Drkf::new(
+            DrkfConfig::table_1(1).unwrap(),
+            [0.0, 0.0],
+            [5.0, 5.0],
+            50.0,
+            2.0,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn transition_is_eq_5_for_the_integrator_entries() {
+        let f = filter();
+        let (phi, q) = f.transition(1.0).unwrap();
+        assert!((phi[(ix::X, ix::CX)] - 0.17f64.mul_add(-0.5, 1.0)).abs() < 0.01);
+        assert!((phi[(ix::X, ix::VX)] - 1.0).abs() < 1e-12);
+        assert!((phi[(ix::CX, ix::CX)] - (-0.17f64).exp()).abs() < 1e-12);
+        assert!((phi[(ix::LX, ix::LX)] - (-0.25f64).exp()).abs() < 1e-12);
+        assert!((q[(ix::SL, ix::SL)] - 0.5 * (1.0 - (-1.0f64).exp())).abs() < 1e-12);
+        // The two axes are the same block and independent.
+        assert_eq!(phi[(ix::X, ix::VX)], phi[(ix::Y, ix::VY)]);
+        assert_eq!(q[(ix::X, ix::Y)], 0.0);
+    }
+
+    #[test]
+    fn covariance_grows_dead_reckoning_and_collapses_when_gps_returns() {
+        let mut f = filter();
+        let (mut x, mut v) = ([0.0, 0.0], [5.0, 5.0]);
+        let fix = |x: [f64; 2], v: [f64; 2], gps: bool| NavFix {
+            gps_position_m: gps.then_some(x),
+            gps_velocity_mps: gps.then_some(v),
+            loran_position_m: None,
+            speedlog_mps: Some((v[0] * v[0] + v[1] * v[1]).sqrt()),
+            gyro_rad: Some(v[0].atan2(v[1])),
+        };
+        let mut sd = std::vec::Vec::new();
+        for k in 0..600 {
+            f.predict(1.0).unwrap();
+            x = [x[0] + v[0], x[1] + v[1]];
+            let gps = !(200..400).contains(&k);
+            f.update(&fix(x, v, gps)).unwrap();
+            sd.push(f.covariance()[(ix::X, ix::X)].sqrt());
+            v = [v[0], v[1]];
+        }
+        assert!(sd[199] < 25.0, "with GPS {}", sd[199]);
+        assert!(
+            sd[399] > 2.0 * sd[199],
+            "dead reckoning {} vs {}",
+            sd[399],
+            sd[199]
+        );
+        assert!(
+            sd[250] < sd[300] && sd[300] < sd[399],
+            "grows while dead reckoning"
+        );
+        assert!(
+            sd[420] < 0.6 * sd[399],
+            "collapses when GPS returns: {} -> {}",
+            sd[399],
+            sd[420]
+        );
+        let e = f.position_m();
+        assert!((e[0] - x[0]).abs() < 30.0 && (e[1] - x[1]).abs() < 30.0);
+    }
+
+    #[test]
+    fn missing_sensors_are_normal_and_bad_values_are_refused() {
+        let mut f = filter();
+        f.predict(1.0).unwrap();
+        assert_eq!(f.update(&NavFix::default()).unwrap(), 0);
+        let before = f.state().clone_owned();
+        let bad = NavFix {
+            gps_position_m: Some([f64::NAN, 0.0]),
+            ..NavFix::default()
+        };
+        assert!(f.update(&bad).is_err());
+        assert_eq!(*f.state(), before);
+        assert!(f.predict(0.0).is_err() && f.predict(f64::INFINITY).is_err());
+    }
+}
