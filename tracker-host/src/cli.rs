@@ -104,6 +104,12 @@ pub enum Command {
         #[arg(long, default_value_t = 5.0)]
         sigma: f64,
     },
+    /// The IMO ARPA accuracy test (A.823 App. 2) by Monte Carlo: our EKFs and a least-squares plot.
+    Arpa {
+        /// Monte Carlo runs per scenario.
+        #[arg(long, default_value_t = 500)]
+        runs: u64,
+    },
     /// Reruns the seed papers' experiments: DIR/report.md (paper figure beside ours) and plots.
     Reproduce {
         /// Experiments: all (default), abg-2drms, abge-sweep, thesis, grnn.
@@ -345,6 +351,32 @@ where
             let (scores, detector) = compare::run(*runs, *sigma)?;
             print!("{}", compare::report(*runs, *sigma, &scores, &detector));
             Ok(ExitCode::SUCCESS)
+        }
+        Command::Arpa { runs } => {
+            let table = crate::arpa::run(*runs)?;
+            print!("{}", crate::arpa::report(*runs, &table));
+            let missed = crate::arpa::missed(&table);
+            for m in &missed {
+                println!(
+                    "missed: scenario {}, {} min, {}: {:.2} > {}{}",
+                    m.scenario,
+                    m.minute,
+                    m.figure,
+                    m.ours,
+                    m.limit,
+                    if m.out_of_reach() {
+                        format!(" (the least-squares plot misses it too: {:.2})", m.baseline)
+                    } else {
+                        String::new()
+                    }
+                );
+            }
+            let ok = missed.iter().all(|m| m.out_of_reach());
+            Ok(if ok {
+                ExitCode::SUCCESS
+            } else {
+                ExitCode::FAILURE
+            })
         }
         Command::Reproduce { names, out } => {
             let report = reproduce::run(names, out)?;

@@ -5,6 +5,7 @@
 //! thin shell over [`cli::run`], so tests drive exactly what users run.
 #![warn(missing_docs)]
 
+pub mod arpa;
 pub mod associate;
 pub mod bench_mcu;
 pub mod cli;

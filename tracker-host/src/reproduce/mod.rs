@@ -89,7 +89,7 @@ pub fn run(names: &[String], out: &Path) -> anyhow::Result<String> {
 }
 
 /// A standard normal sample (Box–Muller); the experiments' only noise source.
-pub(crate) fn normal(rng: &mut fastrand::Rng) -> f64 {
+pub fn normal(rng: &mut fastrand::Rng) -> f64 {
     let (u, v) = (rng.f64().max(1e-300), rng.f64());
     (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
 }
