@@ -93,6 +93,15 @@ pub enum Command {
         /// Number type.
         #[arg(long, value_enum, default_value_t = replay::ScalarKind::F64)]
         scalar: replay::ScalarKind,
+        /// Own-ship sensors for `--filter ttkf`: CSV t,gps_x,gps_y,gps_vx,gps_vy,loran_x,loran_y,speedlog,gyro (empty cell: not available).
+        #[arg(long, value_name = "CSV")]
+        nav: Option<PathBuf>,
+        /// Radar range σ for `--filter ttkf`, m.
+        #[arg(long, default_value_t = 20.0)]
+        range_sd: f64,
+        /// Radar bearing σ for `--filter ttkf`, degrees.
+        #[arg(long, default_value_t = 0.5)]
+        bearing_sd: f64,
     },
     /// GRNN against the CV Kalman and α-β filters on a manoeuvring target, and the GRNN
     /// manoeuvre detector's false alarms and delay (Monte Carlo).
@@ -251,7 +260,31 @@ where
             input,
             output,
             scalar,
+            nav,
+            range_sd,
+            bearing_sd,
         } => {
+            if *filter == replay::FilterKind::Ttkf {
+                let nav = nav
+                    .as_ref()
+                    .ok_or_else(|| anyhow::anyhow!("--filter ttkf needs --nav CSV"))?;
+                if !(*range_sd > 0.0 && *bearing_sd > 0.0) {
+                    anyhow::bail!("options --range-sd and --bearing-sd must be positive");
+                }
+                let noise = crate::replay_nav::RadarNoise {
+                    range_sd_m: *range_sd,
+                    bearing_sd_deg: *bearing_sd,
+                };
+                let n = crate::replay_nav::replay(input, nav, output, noise)?;
+                eprintln!(
+                    "replay: {n} radar fixes through the DRKF + TTKF -> {}",
+                    output.display()
+                );
+                return Ok(ExitCode::SUCCESS);
+            }
+            if nav.is_some() {
+                anyhow::bail!("option --nav applies to --filter ttkf only");
+            }
             let spec = replay::FilterSpec::from_args(*filter, gains)?;
             let measurements = replay::read_measurements(input)?;
             let rows = replay::run(&spec, *scalar, &measurements)?;

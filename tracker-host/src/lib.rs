@@ -19,5 +19,6 @@ pub mod link_check;
 pub mod precision;
 pub mod qemu;
 pub mod replay;
+pub mod replay_nav;
 pub mod reproduce;
 pub mod target;

@@ -43,6 +43,9 @@ pub enum FilterKind {
     KalmanCa,
     /// GRNN neural filter with a manoeuvre detector (paper 003).
     Grnn,
+    /// Paper 004's target-tracking EKF fed by its dead-reckoning EKF: polar `--input`, own-ship
+    /// sensors in `--nav`.
+    Ttkf,
 }
 
 /// The number type a replay computes in.
@@ -205,6 +208,9 @@ impl FilterSpec {
     /// apply and missing gains.
     pub fn from_args(kind: FilterKind, a: &GainArgs) -> anyhow::Result<Self> {
         let spec = match kind {
+            FilterKind::Ttkf => bail!(
+                "--filter ttkf runs over polar fixes with --nav (not a single-track filter spec)"
+            ),
             FilterKind::AlphaBeta => {
                 unused(a, kind, &["--alpha", "--beta", "--xi", "--alpha-schedule"])?;
                 FilterSpec::AlphaBeta(alpha_beta_design(a)?)
