@@ -368,6 +368,16 @@ impl<T: RealField + Copy> Drkf<T> {
         Ok(used)
     }
 
+    /// Switches the speedlog between ground-lock and bottom-lock (the log reports which).
+    pub fn set_speedlog_mode(&mut self, mode: SpeedlogMode) {
+        self.config.speedlog_mode = mode;
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &DrkfConfig {
+        &self.config
+    }
+
     /// The state (eq. 4a order).
     pub fn state(&self) -> &SVector<T, STATES> {
         &self.x

@@ -13,6 +13,7 @@ use anyhow::{bail, Context};
 
 mod abg_2drms;
 mod abge_sweep;
+mod drttkf;
 mod grnn;
 pub mod plot;
 mod thesis;
@@ -27,7 +28,7 @@ pub struct Experiment {
 }
 
 /// Every experiment, in report order.
-pub const EXPERIMENTS: [Experiment; 4] = [
+pub const EXPERIMENTS: [Experiment; 5] = [
     Experiment {
         name: "abg-2drms",
         what: "000_1d4538ac71ce8a6a.txt: α-β-γ at ξ = 0.9, 2drms of smoothing and prediction",
@@ -47,6 +48,11 @@ pub const EXPERIMENTS: [Experiment; 4] = [
         name: "grnn",
         what: "003_59e231011a82eeef.txt: the GRNN filter against CV Kalman and α-β on a manoeuvre",
         run: grnn::run,
+    },
+    Experiment {
+        name: "drttkf",
+        what: "004_be25d15b4854a4f6.txt: the dead-reckoning and target-tracking EKFs, Tables I–III and eq. 10",
+        run: drttkf::run,
     },
 ];
 
