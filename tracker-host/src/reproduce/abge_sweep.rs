@@ -206,6 +206,18 @@ pub(super) fn run(out: &Path) -> anyhow::Result<String> {
          CA Kalman {:.2} m.\n\n",
         t3.tracking_rms, t4.tracking_rms, best_kalman.1.tracking_rms
     );
+    let pct = |ours: f64, paper: f64| 100.0 * (ours - paper) / paper;
+    let _ = write!(
+        s,
+        "Ours against the paper: total tracking error α-β-γ {:+.1} %, α-β-γ-η {:+.1} %; total \
+         estimation error {:+.1} %, {:+.1} %; optimal ξ {:+.2}, {:+.2}.\n\n",
+        pct(t3.tracking, 19_592.20),
+        pct(t4.tracking, 17_858.93),
+        pct(t3.estimation, 10_646.02),
+        pct(t4.estimation, 10_226.53),
+        xi3 - 0.64,
+        xi4 - 0.74,
+    );
     let gain = 100.0 * (t3.tracking - t4.tracking) / t3.tracking;
     let _ = write!(
         s,

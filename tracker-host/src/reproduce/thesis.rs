@@ -227,16 +227,17 @@ pub(super) fn run(out: &Path) -> anyhow::Result<String> {
     for model in [Model::I, Model::II, Model::III] {
         let _ = write!(
             s,
-            "### Model {}\n\n| tracker | ours | paper | paper, comparison table |\n|---|---|---|---|\n",
+            "### Model {}\n\n| tracker | ours | paper | paper, comparison table | ours against paper |\n|---|---|---|---|---|\n",
             model.name()
         );
         let mut ours = Vec::new();
         for (setting, (p1, p2)) in SETTINGS.iter().zip(paper(model)) {
             let e = error(model, *setting, RUNS)?;
             ours.push(e);
+            let diff = p1.map_or("–".into(), |p| format!("{:+.0} %", 100.0 * (e - p) / p));
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {diff} |",
                 setting.label(),
                 fig(Some(e)),
                 fig(p1),
