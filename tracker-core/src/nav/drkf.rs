@@ -14,7 +14,10 @@
 
 use nalgebra::{Matrix4, RealField, SMatrix, SVector};
 
-use super::{sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar};
+use super::{
+    predict_with, sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar, Transition,
+    TransitionCache,
+};
 use crate::filter::FilterError;
 
 /// Number of states.
@@ -148,7 +151,7 @@ pub struct Drkf<T: RealField + Copy> {
     x: SVector<T, STATES>,
     p: SMatrix<T, STATES, STATES>,
     /// Φ and Q of the last interval, reused while the interval repeats (sensors at 1 s).
-    cached: Option<(T, SMatrix<T, STATES, STATES>, SMatrix<T, STATES, STATES>)>,
+    cached: TransitionCache<T, STATES>,
     last_nis: T,
 }
 
@@ -204,54 +207,16 @@ impl<T: RealField + Copy> Drkf<T> {
     }
 
     /// Φ and Q over `dt` s: Van Loan on one axis's 4×4 block, eq. 2 on the scalar states.
-    pub fn transition(
-        &self,
-        dt: T,
-    ) -> Option<(SMatrix<T, STATES, STATES>, SMatrix<T, STATES, STATES>)> {
-        let cfg = &self.config;
-        let (bc, bv) = (
-            c::<T>(cfg.current.beta_per_s),
-            c::<T>(cfg.acceleration.beta_per_s),
-        );
-        let (o, z) = (T::one(), T::zero());
-        let f = Matrix4::new(z, o, o, z, z, -bc, z, z, z, z, z, o, z, z, z, -bv);
-        let mut qc = Matrix4::zeros();
-        qc[(1, 1)] = c(cfg.current.alpha() * cfg.current.alpha());
-        qc[(3, 3)] = c(cfg.acceleration.alpha() * cfg.acceleration.alpha());
-        let (phi4, q4) = van_loan::<T, 4, 8>(&f, &qc, dt)?;
-        let mut phi = SMatrix::<T, STATES, STATES>::zeros();
-        let mut q = SMatrix::<T, STATES, STATES>::zeros();
-        for base in [ix::X, ix::Y] {
-            phi.fixed_view_mut::<4, 4>(base, base).copy_from(&phi4);
-            q.fixed_view_mut::<4, 4>(base, base).copy_from(&q4);
-        }
-        let dt64 = nalgebra::try_convert::<T, f64>(dt).unwrap_or(1.0);
-        for (i, g) in [
-            (ix::LX, &cfg.loran),
-            (ix::LY, &cfg.loran),
-            (ix::SL, &cfg.speedlog),
-        ] {
-            phi[(i, i)] = c(g.a(dt64));
-            q[(i, i)] = c(g.b(dt64) * g.b(dt64));
-        }
-        Some((phi, q))
+    pub fn transition(&self, dt: T) -> Option<Transition<T, STATES>> {
+        transition(&self.config, dt)
     }
 
     /// Propagates the state and covariance over `dt_s` (> 0, at most a day).
     pub fn predict(&mut self, dt_s: f64) -> Result<(), FilterError> {
-        FilterError::check(dt_s.is_finite() && dt_s > 0.0 && dt_s <= 86_400.0)?;
-        let dt: T = c(dt_s);
-        let (phi, q) = match &self.cached {
-            Some((d, phi, q)) if *d == dt => (*phi, *q),
-            _ => {
-                let (phi, q) = self.transition(dt).ok_or(FilterError::BadParameter)?;
-                self.cached = Some((dt, phi, q));
-                (phi, q)
-            }
-        };
-        self.x = phi * self.x;
-        self.p = phi * self.p * phi.transpose() + q;
-        Ok(())
+        let config = self.config;
+        predict_with(&mut self.x, &mut self.p, &mut self.cached, dt_s, |dt| {
+            transition(&config, dt)
+        })
     }
 
     /// Applies what of `fix` is there. Returns the number of scalar measurements used.
@@ -418,6 +383,37 @@ impl<T: RealField + Copy> Drkf<T> {
         j[(3, ix::VY)] = T::one();
         j * self.p * j.transpose()
     }
+}
+
+/// Φ and Q over `dt` s: Van Loan on one axis's 4×4 block, eq. 2 on the scalar states.
+fn transition<T: RealField + Copy>(config: &DrkfConfig, dt: T) -> Option<Transition<T, STATES>> {
+    let cfg = config;
+    let (bc, bv) = (
+        c::<T>(cfg.current.beta_per_s),
+        c::<T>(cfg.acceleration.beta_per_s),
+    );
+    let (o, z) = (T::one(), T::zero());
+    let f = Matrix4::new(z, o, o, z, z, -bc, z, z, z, z, z, o, z, z, z, -bv);
+    let mut qc = Matrix4::zeros();
+    qc[(1, 1)] = c(cfg.current.alpha() * cfg.current.alpha());
+    qc[(3, 3)] = c(cfg.acceleration.alpha() * cfg.acceleration.alpha());
+    let (phi4, q4) = van_loan::<T, 4, 8>(&f, &qc, dt)?;
+    let mut phi = SMatrix::<T, STATES, STATES>::zeros();
+    let mut q = SMatrix::<T, STATES, STATES>::zeros();
+    for base in [ix::X, ix::Y] {
+        phi.fixed_view_mut::<4, 4>(base, base).copy_from(&phi4);
+        q.fixed_view_mut::<4, 4>(base, base).copy_from(&q4);
+    }
+    let dt64 = nalgebra::try_convert::<T, f64>(dt).unwrap_or(1.0);
+    for (i, g) in [
+        (ix::LX, &cfg.loran),
+        (ix::LY, &cfg.loran),
+        (ix::SL, &cfg.speedlog),
+    ] {
+        phi[(i, i)] = c(g.a(dt64));
+        q[(i, i)] = c(g.b(dt64) * g.b(dt64));
+    }
+    Some((phi, q))
 }
 
 #[cfg(test)]

@@ -126,6 +126,38 @@ pub fn expm<T: RealField + Copy, const M: usize>(a: &SMatrix<T, M, M>) -> SMatri
     sum
 }
 
+/// Φ and Q of one interval.
+pub type Transition<T, const N: usize> = (SMatrix<T, N, N>, SMatrix<T, N, N>);
+
+/// The last interval's Φ and Q, reused while the interval repeats (sensors at a fixed rate).
+pub(crate) type TransitionCache<T, const N: usize> =
+    Option<(T, SMatrix<T, N, N>, SMatrix<T, N, N>)>;
+
+/// x ← Φx, P ← ΦPΦᵀ + Q over `dt_s` (> 0, at most a day), Φ and Q from `cache` or, for a new
+/// interval, from `transition`.
+pub(crate) fn predict_with<T: RealField + Copy, const N: usize>(
+    x: &mut SVector<T, N>,
+    p: &mut SMatrix<T, N, N>,
+    cache: &mut TransitionCache<T, N>,
+    dt_s: f64,
+    transition: impl FnOnce(T) -> Option<Transition<T, N>>,
+) -> Result<(), crate::filter::FilterError> {
+    use crate::filter::FilterError;
+    FilterError::check(dt_s.is_finite() && dt_s > 0.0 && dt_s <= 86_400.0)?;
+    let dt: T = nalgebra::convert(dt_s);
+    let (phi, q) = match cache {
+        Some((d, phi, q)) if *d == dt => (*phi, *q),
+        _ => {
+            let (phi, q) = transition(dt).ok_or(FilterError::BadParameter)?;
+            *cache = Some((dt, phi, q));
+            (phi, q)
+        }
+    };
+    *x = phi * *x;
+    *p = phi * *p * phi.transpose() + q;
+    Ok(())
+}
+
 /// One scalar measurement, linearised about the predicted state.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Scalar<T: RealField + Copy, const N: usize> {

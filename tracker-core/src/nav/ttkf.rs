@@ -10,7 +10,10 @@
 
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector4};
 
-use super::{sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar};
+use super::{
+    predict_with, sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar, Transition,
+    TransitionCache,
+};
 use crate::filter::FilterError;
 
 /// Number of states.
@@ -94,7 +97,7 @@ pub struct Ttkf<T: RealField + Copy> {
     config: TtkfConfig,
     x: SVector<T, STATES>,
     p: SMatrix<T, STATES, STATES>,
-    cached: Option<(T, SMatrix<T, STATES, STATES>, SMatrix<T, STATES, STATES>)>,
+    cached: TransitionCache<T, STATES>,
     last_nis: T,
 }
 
@@ -152,54 +155,16 @@ impl<T: RealField + Copy> Ttkf<T> {
 
     /// Φ (eq. 8c) and Q (eq. 6) over `dt`: Van Loan on each [position, velocity,
     /// acceleration] chain (3×3), scattered into the state order.
-    pub fn transition(
-        &self,
-        dt: T,
-    ) -> Option<(SMatrix<T, STATES, STATES>, SMatrix<T, STATES, STATES>)> {
-        let mut phi = SMatrix::<T, STATES, STATES>::zeros();
-        let mut q = SMatrix::<T, STATES, STATES>::zeros();
-        for (g, axes) in [
-            (
-                &self.config.own_acceleration,
-                [[ix::OX, ix::OVX, ix::OAX], [ix::OY, ix::OVY, ix::OAY]],
-            ),
-            (
-                &self.config.target_acceleration,
-                [[ix::TX, ix::TVX, ix::TAX], [ix::TY, ix::TVY, ix::TAY]],
-            ),
-        ] {
-            let (o, z, b) = (T::one(), T::zero(), c::<T>(g.beta_per_s));
-            let f = Matrix3::new(z, o, z, z, z, o, z, z, -b);
-            let mut qc = Matrix3::zeros();
-            qc[(2, 2)] = c(g.alpha() * g.alpha());
-            let (phi3, q3) = van_loan::<T, 3, 6>(&f, &qc, dt)?;
-            for idx in axes {
-                for (r, &i) in idx.iter().enumerate() {
-                    for (k, &j) in idx.iter().enumerate() {
-                        phi[(i, j)] = phi3[(r, k)];
-                        q[(i, j)] = q3[(r, k)];
-                    }
-                }
-            }
-        }
-        Some((phi, q))
+    pub fn transition(&self, dt: T) -> Option<Transition<T, STATES>> {
+        transition(&self.config, dt)
     }
 
     /// Propagates over `dt_s` (> 0, at most a day).
     pub fn predict(&mut self, dt_s: f64) -> Result<(), FilterError> {
-        FilterError::check(dt_s.is_finite() && dt_s > 0.0 && dt_s <= 86_400.0)?;
-        let dt: T = c(dt_s);
-        let (phi, q) = match &self.cached {
-            Some((d, phi, q)) if *d == dt => (*phi, *q),
-            _ => {
-                let (phi, q) = self.transition(dt).ok_or(FilterError::BadParameter)?;
-                self.cached = Some((dt, phi, q));
-                (phi, q)
-            }
-        };
-        self.x = phi * self.x;
-        self.p = phi * self.p * phi.transpose() + q;
-        Ok(())
+        let config = self.config;
+        predict_with(&mut self.x, &mut self.p, &mut self.cached, dt_s, |dt| {
+            transition(&config, dt)
+        })
     }
 
     /// Eq. 9a z1–z4: the DRKF's estimate with its covariance as R. The errors are correlated,
@@ -316,6 +281,38 @@ impl<T: RealField + Copy> Ttkf<T> {
     pub fn own_velocity_mps(&self) -> [T; 2] {
         [self.x[ix::OVX], self.x[ix::OVY]]
     }
+}
+
+/// Φ (eq. 8c) and Q (eq. 6) over `dt`: Van Loan on each [position, velocity,
+/// acceleration] chain (3×3), scattered into the state order.
+fn transition<T: RealField + Copy>(config: &TtkfConfig, dt: T) -> Option<Transition<T, STATES>> {
+    let mut phi = SMatrix::<T, STATES, STATES>::zeros();
+    let mut q = SMatrix::<T, STATES, STATES>::zeros();
+    for (g, axes) in [
+        (
+            &config.own_acceleration,
+            [[ix::OX, ix::OVX, ix::OAX], [ix::OY, ix::OVY, ix::OAY]],
+        ),
+        (
+            &config.target_acceleration,
+            [[ix::TX, ix::TVX, ix::TAX], [ix::TY, ix::TVY, ix::TAY]],
+        ),
+    ] {
+        let (o, z, b) = (T::one(), T::zero(), c::<T>(g.beta_per_s));
+        let f = Matrix3::new(z, o, z, z, z, o, z, z, -b);
+        let mut qc = Matrix3::zeros();
+        qc[(2, 2)] = c(g.alpha() * g.alpha());
+        let (phi3, q3) = van_loan::<T, 3, 6>(&f, &qc, dt)?;
+        for idx in axes {
+            for (r, &i) in idx.iter().enumerate() {
+                for (k, &j) in idx.iter().enumerate() {
+                    phi[(i, j)] = phi3[(r, k)];
+                    q[(i, j)] = q3[(r, k)];
+                }
+            }
+        }
+    }
+    Some((phi, q))
 }
 
 #[cfg(test)]
