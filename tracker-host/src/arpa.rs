@@ -137,14 +137,16 @@ fn figures(e: &Estimate) -> [f64; 6] {
     [rc, rs / KN, cpa / NM, tcpa / 60.0, tc, ts / KN]
 }
 
-fn course_speed(v: [f64; 2]) -> (f64, f64) {
+/// Course (degrees true) and speed of a velocity.
+pub(crate) fn course_speed(v: [f64; 2]) -> (f64, f64) {
     (
         v[0].atan2(v[1]).to_degrees().rem_euclid(360.0),
         v[0].hypot(v[1]),
     )
 }
 
-fn cpa(r: [f64; 2], v: [f64; 2]) -> (f64, f64) {
+/// CPA, m, and TCPA, s, of a relative position and velocity (TCPA 0 without relative motion).
+pub(crate) fn cpa(r: [f64; 2], v: [f64; 2]) -> (f64, f64) {
     let v2 = v[0] * v[0] + v[1] * v[1];
     if v2 < 1e-9 {
         return (r[0].hypot(r[1]), 0.0);
@@ -399,6 +401,24 @@ impl Miss {
     /// The ideal manual plot misses it too: out of reach under this sensor model.
     pub fn out_of_reach(&self) -> bool {
         self.baseline > self.limit
+    }
+}
+
+impl std::fmt::Display for Miss {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "missed: scenario {}, {} min, {}: {:.2} > {}",
+            self.scenario, self.minute, self.figure, self.ours, self.limit
+        )?;
+        if self.out_of_reach() {
+            write!(
+                f,
+                " (the least-squares plot misses it too: {:.2})",
+                self.baseline
+            )?;
+        }
+        Ok(())
     }
 }
 

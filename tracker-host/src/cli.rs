@@ -390,19 +390,7 @@ where
             print!("{}", crate::arpa::report(*runs, &table));
             let missed = crate::arpa::missed(&table);
             for m in &missed {
-                println!(
-                    "missed: scenario {}, {} min, {}: {:.2} > {}{}",
-                    m.scenario,
-                    m.minute,
-                    m.figure,
-                    m.ours,
-                    m.limit,
-                    if m.out_of_reach() {
-                        format!(" (the least-squares plot misses it too: {:.2})", m.baseline)
-                    } else {
-                        String::new()
-                    }
-                );
+                println!("{m}");
             }
             let ok = missed.iter().all(|m| m.out_of_reach());
             Ok(if ok {

@@ -20,11 +20,7 @@ const SCANS: usize = 300;
 /// Truth and measurements of one run: (true velocities, measurements).
 fn manoeuvring_run(seed: u64, sigma_m: f64, manoeuvre: bool) -> (Vec<[f64; 2]>, Vec<Measurement>) {
     let mut rng = fastrand::Rng::with_seed(seed);
-    let mut gauss = move || {
-        // Box–Muller.
-        let (u, v) = (rng.f64().max(1e-300), rng.f64());
-        (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
-    };
+    let mut gauss = move || crate::reproduce::normal(&mut rng);
     let (mut x, mut y, mut course, mut speed) = (0.0f64, 0.0f64, 45f64.to_radians(), 8.0f64);
     let (mut truth, mut meas) = (Vec::new(), Vec::new());
     for k in 0..SCANS {

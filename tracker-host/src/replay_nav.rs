@@ -227,14 +227,9 @@ pub fn run(
         );
         let rel = [tp[0] - op[0], tp[1] - op[1]];
         let rv = [tv[0] - ov[0], tv[1] - ov[1]];
-        let v2 = rv[0] * rv[0] + rv[1] * rv[1];
-        let tcpa = if v2 > 1e-9 {
-            -(rel[0] * rv[0] + rel[1] * rv[1]) / v2
-        } else {
-            0.0
-        };
-        let cpa = (rel[0] + rv[0] * tcpa).hypot(rel[1] + rv[1] * tcpa);
-        let deg = |v: [f64; 2]| v[0].atan2(v[1]).to_degrees().rem_euclid(360.0);
+        let (cpa, tcpa) = crate::arpa::cpa(rel, rv);
+        let (course, speed) = crate::arpa::course_speed(tv);
+        let (rel_course, rel_speed) = crate::arpa::course_speed(rv);
         out.push(NavRow {
             values: [
                 p.t,
@@ -247,13 +242,13 @@ pub fn run(
                 fixpos[0] - pred[0],
                 fixpos[1] - pred[1],
                 rel[0].hypot(rel[1]),
-                deg(rel),
+                crate::arpa::course_speed(rel).0,
                 cpa,
                 tcpa,
-                deg(tv),
-                tv[0].hypot(tv[1]),
-                deg(rv),
-                v2.sqrt(),
+                course,
+                speed,
+                rel_course,
+                rel_speed,
             ],
         });
         pi += 1;

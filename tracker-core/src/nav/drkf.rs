@@ -15,7 +15,7 @@
 use nalgebra::{Matrix4, RealField, SMatrix, SVector};
 
 use super::{
-    predict_with, sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar, Transition,
+    c, predict_with, sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar, Transition,
     TransitionCache,
 };
 use crate::filter::FilterError;
@@ -153,10 +153,6 @@ pub struct Drkf<T: RealField + Copy> {
     /// Φ and Q of the last interval, reused while the interval repeats (sensors at 1 s).
     cached: TransitionCache<T, STATES>,
     last_nis: T,
-}
-
-fn c<T: RealField + Copy>(v: f64) -> T {
-    nalgebra::convert(v)
 }
 
 impl<T: RealField + Copy> Drkf<T> {

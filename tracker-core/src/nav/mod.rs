@@ -27,6 +27,11 @@ pub mod ttkf;
 
 use nalgebra::{RealField, SMatrix, SVector};
 
+/// An f64 constant in the filter's scalar.
+pub(crate) fn c<T: RealField + Copy>(v: f64) -> T {
+    nalgebra::convert(v)
+}
+
 /// A first-order Gauss–Markov process (eq. 1): `ȧ = −βa + √(2σ²β)·w`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct GaussMarkov {

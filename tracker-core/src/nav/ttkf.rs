@@ -11,7 +11,7 @@
 use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector4};
 
 use super::{
-    predict_with, sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar, Transition,
+    c, predict_with, sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar, Transition,
     TransitionCache,
 };
 use crate::filter::FilterError;
@@ -85,10 +85,6 @@ pub struct OwnShip<T: RealField + Copy> {
     pub velocity_mps: [T; 2],
     /// Covariance of (x, y, v_x, v_y).
     pub covariance: SMatrix<T, 4, 4>,
-}
-
-fn c<T: RealField + Copy>(v: f64) -> T {
-    nalgebra::convert(v)
 }
 
 /// The tracking filter in scalar `T`.

@@ -294,20 +294,7 @@ pub(super) fn run(out: &Path) -> anyhow::Result<String> {
     s += &crate::arpa::report(runs, &table);
     s += "```\n";
     for m in crate::arpa::missed(&table) {
-        let _ = writeln!(
-            s,
-            "\nMissed: scenario {}, {} min, {}: {:.2} against {}{}.",
-            m.scenario,
-            m.minute,
-            m.figure,
-            m.ours,
-            m.limit,
-            if m.out_of_reach() {
-                format!(" (the ideal plot misses it too: {:.2})", m.baseline)
-            } else {
-                String::new()
-            }
-        );
+        let _ = writeln!(s, "\n{m}.");
     }
     Ok(s)
 }
