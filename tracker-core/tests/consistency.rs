@@ -150,3 +150,104 @@ fn drkf_with_every_sensor_is_nearly_consistent() {
         "NIS inside at {nis_inside}/{measured}"
     );
 }
+
+/// (mean NEES, steps with the run-averaged NEES inside its band, radar steps with the NIS
+/// inside, radar steps) of the TTKF: own ship and target moving by the filter's own model,
+/// the own-ship estimate arriving every second with a correlated 4×4 error covariance (the
+/// DRKF's role), radar range and azimuth every 3 s.
+fn ttkf_runs() -> (f64, usize, usize, usize) {
+    use tracker_core::nav::ttkf::{self, OwnShip, Ttkf, TtkfConfig};
+    use tracker_core::nav::GaussMarkov;
+    const N: usize = ttkf::STATES;
+    let config = TtkfConfig {
+        own_acceleration: GaussMarkov::with_variance(0.02 * 0.02, 0.05),
+        target_acceleration: GaussMarkov::with_variance(0.05 * 0.05, 0.1),
+        range_var_m2: 20.0 * 20.0,
+        bearing_var_rad2: 0.3f64.to_radians().powi(2),
+        initial_speed_sd_mps: 5.0,
+        glint_sd_m: 0.0,
+    };
+    // The own-ship estimate's error covariance (x, y, v_x, v_y): metres and decimetres per
+    // second, position and velocity errors correlated as a filter's are.
+    let r = SMatrix::<f64, 4, 4>::new(
+        25.0, 5.0, 0.5, 0.1, //
+        5.0, 16.0, 0.1, 0.4, //
+        0.5, 0.1, 0.04, 0.005, //
+        0.1, 0.4, 0.005, 0.03,
+    );
+    let mut nees_sum = vec![0.0; STEPS];
+    let mut nis_sum = vec![0.0; STEPS];
+    let mut nis_dof = vec![0usize; STEPS];
+    let mut rng = Pcg32::seed_from_u64(11);
+    for _ in 0..RUNS {
+        let own0 = OwnShip {
+            position_m: [0.0, 0.0],
+            velocity_mps: [0.0, 6.0],
+            covariance: r,
+        };
+        let mut f = Ttkf::<f64>::new(config, &own0, 6000.0, 0.9).unwrap();
+        let mut x: SVector<f64, N> = f.state() + sample(&mut rng, f.covariance());
+        let (phi, q) = f.transition(1.0).unwrap();
+        for k in 0..STEPS {
+            x = phi * x + sample(&mut rng, &q);
+            f.predict(1.0).unwrap();
+            use ttkf::ix;
+            let truth = SVector::<f64, 4>::new(x[ix::OX], x[ix::OY], x[ix::OVX], x[ix::OVY]);
+            let z = truth + sample(&mut rng, &r);
+            f.update_own_ship(&OwnShip {
+                position_m: [z[0], z[1]],
+                velocity_mps: [z[2], z[3]],
+                covariance: r,
+            })
+            .unwrap();
+            if k % 3 == 2 {
+                let (dx, dy) = (x[ix::TX] - x[ix::OX], x[ix::TY] - x[ix::OY]);
+                let n = |rng: &mut Pcg32, var: f64| {
+                    let z: f64 = StandardNormal.sample(rng);
+                    var.sqrt() * z
+                };
+                let range = dx.hypot(dy) + n(&mut rng, config.range_var_m2);
+                let bearing = dx.atan2(dy) + n(&mut rng, config.bearing_var_rad2);
+                nis_sum[k] += f.update_radar(range, bearing).unwrap();
+                nis_dof[k] += 2;
+            }
+            let e = x - f.state();
+            let p = Cholesky::new(*f.covariance()).expect("P positive definite");
+            nees_sum[k] += (e.transpose() * p.solve(&e))[(0, 0)];
+        }
+    }
+    let (lo, hi) = bounds((RUNS * N) as f64, RUNS as f64);
+    let nees_inside = nees_sum
+        .iter()
+        .filter(|&&s| (lo..=hi).contains(&(s / RUNS as f64)))
+        .count();
+    let measured = (0..STEPS).filter(|&k| nis_dof[k] > 0).count();
+    let nis_inside = (0..STEPS)
+        .filter(|&k| {
+            let (l, h) = bounds(nis_dof[k] as f64, 1.0);
+            nis_dof[k] > 0 && (l..=h).contains(&nis_sum[k])
+        })
+        .count();
+    let mean_nees = nees_sum.iter().sum::<f64>() / (RUNS * STEPS) as f64;
+    println!(
+        "TTKF, {RUNS} runs × {STEPS} s: mean NEES {mean_nees:.2} (dof {N}, 95 % band of a \
+         {RUNS}-run average {lo:.2}–{hi:.2}); NEES inside at {nees_inside}/{STEPS} steps, radar \
+         NIS at {nis_inside}/{measured}"
+    );
+    (mean_nees, nees_inside, nis_inside, measured)
+}
+
+/// The TTKF (whitened own-ship updates, linearised range and azimuth) passes the same test.
+#[test]
+fn ttkf_is_consistent() {
+    let (mean, nees_inside, nis_inside, measured) = ttkf_runs();
+    assert!((mean / 12.0 - 1.0).abs() < 0.1, "mean NEES {mean}");
+    assert!(
+        nees_inside >= STEPS * 85 / 100,
+        "NEES inside at {nees_inside}/{STEPS}"
+    );
+    assert!(
+        nis_inside >= measured * 85 / 100,
+        "NIS inside at {nis_inside}/{measured}"
+    );
+}

@@ -59,3 +59,12 @@ pub fn per_call(counter: &mut InstructionCounter, calls: u32, mut f: impl FnMut(
     let net = full.saturating_sub(empty) as f32 * INSTRUCTIONS_PER_TICK as f32;
     net / calls.max(1) as f32
 }
+
+/// The bench table's header.
+pub const HEADER: &str = "name,scalar,instructions_per_call,ram_bytes";
+
+/// Prints one row of the bench table on semihosting stdout:
+/// `name,scalar,instructions_per_call,ram_bytes`.
+pub fn report(name: &str, scalar: &str, instructions: f32, ram_bytes: usize) {
+    semihosting::println!("{},{},{:.1},{}", name, scalar, instructions, ram_bytes);
+}

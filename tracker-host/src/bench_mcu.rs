@@ -56,10 +56,26 @@ pub fn parse(output: &str) -> anyhow::Result<Vec<BenchRow>> {
     Ok(rows)
 }
 
-/// Builds (or takes) the bench ELF, runs it and returns its rows.
+/// The firmware's bench binaries: the tracker's hot paths, and paper 004's navigation
+/// filters (a binary of their own for the stack the dense reference needs).
+pub const BENCH_BINARIES: [&str; 2] = ["bench", "bench-nav"];
+
+/// Runs the given bench ELF, or builds and runs every one of [`BENCH_BINARIES`], and returns
+/// the rows.
 pub fn run(elf: Option<&Path>) -> anyhow::Result<Vec<BenchRow>> {
-    let elf = qemu::firmware_elf("bench", elf)?;
-    let out = qemu::run_to_exit(&elf, Duration::from_secs(300))?;
+    let mut rows = Vec::new();
+    if let Some(elf) = elf {
+        rows.extend(run_one(&qemu::firmware_elf("bench", Some(elf))?)?);
+    } else {
+        for bin in BENCH_BINARIES {
+            rows.extend(run_one(&qemu::firmware_elf(bin, None)?)?);
+        }
+    }
+    Ok(rows)
+}
+
+fn run_one(elf: &Path) -> anyhow::Result<Vec<BenchRow>> {
+    let out = qemu::run_to_exit(elf, Duration::from_secs(300))?;
     parse(&out)
 }
 

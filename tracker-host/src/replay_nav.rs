@@ -164,6 +164,7 @@ pub fn run(
         range_var_m2: noise.range_sd_m * noise.range_sd_m,
         bearing_var_rad2: noise.bearing_sd_deg.to_radians().powi(2),
         initial_speed_sd_mps: 10.0,
+        glint_sd_m: 0.0,
     };
     let own = |d: &Drkf<f64>| OwnShip {
         position_m: d.position_m(),

@@ -12,11 +12,15 @@
 //! H86 of eq. 7b) is that of the course over ground, atan2(v_x + c_x, v_y + c_y), and is
 //! used as printed. Any subset may arrive; none is an error.
 
-use nalgebra::{Matrix4, RealField, SMatrix, SVector};
+use core::marker::PhantomData;
 
+use nalgebra::{Matrix1, Matrix4, RealField, SMatrix, SVector};
+
+use super::algebra::{
+    chain_add, chain_columns, chain_rows, chain_scatter, chain_state, Block, Row,
+};
 use super::{
-    c, predict_with, sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar, Transition,
-    TransitionCache,
+    c, predict_cached, van_loan, wrap_pi, Algebra, Discretised, GaussMarkov, Structured, Transition,
 };
 use crate::filter::FilterError;
 
@@ -46,6 +50,135 @@ pub mod ix {
     pub const LY: usize = 9;
     /// Speedlog error, m/s.
     pub const SL: usize = 10;
+}
+
+/// Each axis's [position, current, velocity, acceleration] chain (eq. 4c: upper triangular).
+const AXES: [[usize; 4]; 2] = [
+    [ix::X, ix::CX, ix::VX, ix::AX],
+    [ix::Y, ix::CY, ix::VY, ix::AY],
+];
+
+/// Φ (eq. 5) and Q (eq. 6) over one interval, as the model has them: one 4×4 block for
+/// both axes and eq. 2's scalars for the Loran-C and speedlog errors.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blocks<T: RealField + Copy> {
+    axis: (Matrix4<T>, Matrix4<T>),
+    /// (a, b²) of the Loran-C error (both axes) and of the speedlog error.
+    loran: (Matrix1<T>, Matrix1<T>),
+    speedlog: (Matrix1<T>, Matrix1<T>),
+}
+
+impl<T: RealField + Copy> Blocks<T> {
+    /// Van Loan on one axis's 4×4 block, eq. 2 on the scalar states.
+    pub(crate) fn new(cfg: &DrkfConfig, dt: T) -> Option<Self> {
+        let (bc, bv) = (
+            c::<T>(cfg.current.beta_per_s),
+            c::<T>(cfg.acceleration.beta_per_s),
+        );
+        let (o, z) = (T::one(), T::zero());
+        let f = Matrix4::new(z, o, o, z, z, -bc, z, z, z, z, z, o, z, z, z, -bv);
+        let mut qc = Matrix4::zeros();
+        qc[(1, 1)] = c(cfg.current.alpha() * cfg.current.alpha());
+        qc[(3, 3)] = c(cfg.acceleration.alpha() * cfg.acceleration.alpha());
+        let axis = van_loan::<T, 4, 8>(&f, &qc, dt)?;
+        let dt64 = nalgebra::try_convert::<T, f64>(dt)?;
+        let scalar = |g: &GaussMarkov| {
+            (
+                Matrix1::new(c(g.a(dt64))),
+                Matrix1::new(c(g.b(dt64) * g.b(dt64))),
+            )
+        };
+        Some(Blocks {
+            axis,
+            loran: scalar(&cfg.loran),
+            speedlog: scalar(&cfg.speedlog),
+        })
+    }
+
+    fn scalars(&self) -> [([usize; 1], &Block<T, 1>); 3] {
+        [
+            ([ix::LX], &self.loran),
+            ([ix::LY], &self.loran),
+            ([ix::SL], &self.speedlog),
+        ]
+    }
+}
+
+/// A·v for an axis's Φ (eq. 5): position integrates current and velocity, velocity
+/// integrates acceleration, current and acceleration decay. The zeros and ones are exact in
+/// Van Loan's result too (F's first column is zero and its current row has only −β_c).
+#[inline(always)]
+fn axis_phi<T: RealField + Copy>(a: &Matrix4<T>) -> impl Fn([T; 4]) -> [T; 4] + '_ {
+    move |[p, cur, v, acc]| {
+        [
+            p + a[(0, 1)] * cur + a[(0, 2)] * v + a[(0, 3)] * acc,
+            a[(1, 1)] * cur,
+            v + a[(2, 3)] * acc,
+            a[(3, 3)] * acc,
+        ]
+    }
+}
+
+#[inline(always)]
+fn scalar_phi<T: RealField + Copy>(a: &Matrix1<T>) -> impl Fn([T; 1]) -> [T; 1] + '_ {
+    move |[v]| [a[(0, 0)] * v]
+}
+
+impl<T: RealField + Copy> Blocks<T> {
+    /// Propagates the DRKF's states, the first [`STATES`] of an `M`-state filter.
+    #[inline(always)]
+    pub(crate) fn propagate_leading<const M: usize>(
+        &self,
+        x: &mut SVector<T, M>,
+        p: &mut SMatrix<T, M, M>,
+    ) {
+        let (phi, q) = &self.axis;
+        for chain in AXES {
+            chain_rows(p, chain, axis_phi(phi));
+        }
+        for (chain, (a, _)) in self.scalars() {
+            chain_rows(p, chain, scalar_phi(a));
+        }
+        for chain in AXES {
+            chain_columns(p, chain, axis_phi(phi));
+            chain_add(p, chain, q);
+            chain_state(x, chain, axis_phi(phi));
+        }
+        for (chain, (a, b2)) in self.scalars() {
+            chain_columns(p, chain, scalar_phi(a));
+            chain_add(p, chain, b2);
+            chain_state(x, chain, scalar_phi(a));
+        }
+    }
+
+    /// Scatters Φ and Q into the leading block of `M`-state matrices.
+    pub(crate) fn scatter_leading<const M: usize>(
+        &self,
+        phi: &mut SMatrix<T, M, M>,
+        q: &mut SMatrix<T, M, M>,
+    ) {
+        for chain in AXES {
+            chain_scatter(phi, chain, &self.axis.0);
+            chain_scatter(q, chain, &self.axis.1);
+        }
+        for (chain, (a, b2)) in self.scalars() {
+            chain_scatter(phi, chain, a);
+            chain_scatter(q, chain, b2);
+        }
+    }
+}
+
+impl<T: RealField + Copy> Discretised<T, STATES> for Blocks<T> {
+    fn propagate_blocks(&self, x: &mut SVector<T, STATES>, p: &mut SMatrix<T, STATES, STATES>) {
+        self.propagate_leading(x, p);
+    }
+
+    fn dense(&self) -> Transition<T, STATES> {
+        let mut phi = SMatrix::<T, STATES, STATES>::zeros();
+        let mut q = SMatrix::<T, STATES, STATES>::zeros();
+        self.scatter_leading(&mut phi, &mut q);
+        (phi, q)
+    }
 }
 
 /// What the speedlog measures (eq. 7c, 7d).
@@ -144,21 +277,66 @@ pub struct NavFix {
 /// Below this speed the speedlog and gyro rows are singular and skipped, m/s.
 const MIN_SPEED_MPS: f64 = 0.2;
 
-/// The dead-reckoning filter in scalar `T` (f32 on the MCU, f64 on the host).
+/// The sensors' noise variances (eq. 7's R) in the filter's scalar, converted once: on the
+/// M4F an f64 → f32 conversion is a software call.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct SensorNoise<T> {
+    gps_position: T,
+    gps_velocity: T,
+    loran: T,
+    speedlog: T,
+    gyro: T,
+}
+
+impl<T: RealField + Copy> SensorNoise<T> {
+    pub(crate) fn new(cfg: &DrkfConfig) -> Self {
+        SensorNoise {
+            gps_position: c(cfg.gps_position_var),
+            gps_velocity: c(cfg.gps_velocity_var),
+            loran: c(cfg.loran_var),
+            speedlog: c(cfg.speedlog_var),
+            gyro: c(cfg.gyro_var),
+        }
+    }
+}
+
+/// The dead-reckoning filter in scalar `T` (f32 on the MCU, f64 on the host), with `A`'s
+/// covariance arithmetic ([`Structured`] unless a benchmark asks for the dense reference).
 #[derive(Clone, Debug)]
-pub struct Drkf<T: RealField + Copy> {
+pub struct Drkf<T: RealField + Copy, A: Algebra = Structured> {
     config: DrkfConfig,
     x: SVector<T, STATES>,
     p: SMatrix<T, STATES, STATES>,
     /// Φ and Q of the last interval, reused while the interval repeats (sensors at 1 s).
-    cached: TransitionCache<T, STATES>,
+    cached: Option<(T, Blocks<T>)>,
+    noise: SensorNoise<T>,
     last_nis: T,
+    algebra: PhantomData<A>,
 }
 
 impl<T: RealField + Copy> Drkf<T> {
     /// A filter at `position_m` with velocity `velocity_mps` (through the water, no current
     /// assumed), with standard deviations `position_sd_m` and `velocity_sd_mps`.
     pub fn new(
+        config: DrkfConfig,
+        position_m: [f64; 2],
+        velocity_mps: [f64; 2],
+        position_sd_m: f64,
+        velocity_sd_mps: f64,
+    ) -> Result<Self, FilterError> {
+        Self::with_algebra(
+            config,
+            position_m,
+            velocity_mps,
+            position_sd_m,
+            velocity_sd_mps,
+        )
+    }
+}
+
+impl<T: RealField + Copy, A: Algebra> Drkf<T, A> {
+    /// As [`Drkf::new`], with `A`'s covariance arithmetic.
+    pub fn with_algebra(
         config: DrkfConfig,
         position_m: [f64; 2],
         velocity_mps: [f64; 2],
@@ -198,133 +376,31 @@ impl<T: RealField + Copy> Drkf<T> {
             x,
             p,
             cached: None,
+            noise: SensorNoise::new(&config),
             last_nis: T::zero(),
+            algebra: PhantomData,
         })
     }
 
     /// Φ and Q over `dt` s: Van Loan on one axis's 4×4 block, eq. 2 on the scalar states.
     pub fn transition(&self, dt: T) -> Option<Transition<T, STATES>> {
-        transition(&self.config, dt)
+        Blocks::new(&self.config, dt).map(|b| b.dense())
     }
 
     /// Propagates the state and covariance over `dt_s` (> 0, at most a day).
     pub fn predict(&mut self, dt_s: f64) -> Result<(), FilterError> {
         let config = self.config;
-        predict_with(&mut self.x, &mut self.p, &mut self.cached, dt_s, |dt| {
-            transition(&config, dt)
+        predict_cached::<T, STATES, A, _>(&mut self.x, &mut self.p, &mut self.cached, dt_s, |dt| {
+            Blocks::new(&config, dt)
         })
     }
 
     /// Applies what of `fix` is there. Returns the number of scalar measurements used.
     /// Non-finite values are refused whole, before any change.
     pub fn update(&mut self, fix: &NavFix) -> Result<usize, FilterError> {
-        let pairs = [
-            fix.gps_position_m,
-            fix.gps_velocity_mps,
-            fix.loran_position_m,
-        ];
-        let finite = pairs.iter().flatten().flatten().all(|v| v.is_finite())
-            && fix.speedlog_mps.is_none_or(f64::is_finite)
-            && fix.gyro_rad.is_none_or(f64::is_finite);
-        FilterError::check(finite)?;
-        let cfg = self.config;
-        let x = self.x;
-        let mut rows: heapless::Vec<Scalar<T, STATES>, 8> = heapless::Vec::new();
-        let unit = |i: usize, j: Option<usize>| {
-            let mut h = SVector::<T, STATES>::zeros();
-            h[i] = T::one();
-            if let Some(j) = j {
-                h[j] = T::one();
-            }
-            h
-        };
-        let mut push = |residual: T, h: SVector<T, STATES>, r: f64| {
-            let _ = rows.push(Scalar {
-                residual,
-                h,
-                r: c(r),
-            });
-        };
-        if let Some([e, n]) = fix.gps_position_m {
-            push(
-                c::<T>(e) - x[ix::X],
-                unit(ix::X, None),
-                cfg.gps_position_var,
-            );
-            push(
-                c::<T>(n) - x[ix::Y],
-                unit(ix::Y, None),
-                cfg.gps_position_var,
-            );
-        }
-        if let Some([e, n]) = fix.gps_velocity_mps {
-            push(
-                c::<T>(e) - x[ix::CX] - x[ix::VX],
-                unit(ix::CX, Some(ix::VX)),
-                cfg.gps_velocity_var,
-            );
-            push(
-                c::<T>(n) - x[ix::CY] - x[ix::VY],
-                unit(ix::CY, Some(ix::VY)),
-                cfg.gps_velocity_var,
-            );
-        }
-        if let Some([e, n]) = fix.loran_position_m {
-            push(
-                c::<T>(e) - x[ix::X] - x[ix::LX],
-                unit(ix::X, Some(ix::LX)),
-                cfg.loran_var,
-            );
-            push(
-                c::<T>(n) - x[ix::Y] - x[ix::LY],
-                unit(ix::Y, Some(ix::LY)),
-                cfg.loran_var,
-            );
-        }
-        let (gx, gy) = (x[ix::CX] + x[ix::VX], x[ix::CY] + x[ix::VY]);
-        let ground2 = gx * gx + gy * gy;
-        let min2: T = c(MIN_SPEED_MPS * MIN_SPEED_MPS);
-        if let Some(s) = fix.speedlog_mps {
-            let mut h = SVector::<T, STATES>::zeros();
-            h[ix::SL] = T::one();
-            let speed = match cfg.speedlog_mode {
-                SpeedlogMode::GroundLock if ground2 > min2 => {
-                    let r = ground2.sqrt();
-                    // Eq. 7c: H72 on x2 and x3, H76 on x6 and x7.
-                    for (i, v) in [(ix::CX, gx), (ix::VX, gx), (ix::CY, gy), (ix::VY, gy)] {
-                        h[i] = v / r;
-                    }
-                    Some(r)
-                }
-                SpeedlogMode::BottomLock => {
-                    let (vx, vy) = (x[ix::VX], x[ix::VY]);
-                    let r2 = vx * vx + vy * vy;
-                    (r2 > min2).then(|| {
-                        let r = r2.sqrt();
-                        h[ix::VX] = vx / r;
-                        h[ix::VY] = vy / r;
-                        r
-                    })
-                }
-                SpeedlogMode::GroundLock => None,
-            };
-            if let Some(speed) = speed {
-                push(c::<T>(s) - speed - x[ix::SL], h, cfg.speedlog_var);
-            }
-        }
-        if let Some(b) = fix.gyro_rad {
-            if ground2 > min2 {
-                // Eq. 7b: H82 = (x6+x7)/|v|², H86 = (x2+x3)/|v|², as printed.
-                let mut h = SVector::<T, STATES>::zeros();
-                let (h82, h86) = (gy / ground2, gx / ground2);
-                h[ix::CX] = h82;
-                h[ix::VX] = h82;
-                h[ix::CY] = -h86;
-                h[ix::VY] = -h86;
-                push(wrap_pi(c::<T>(b) - gx.atan2(gy)), h, cfg.gyro_var);
-            }
-        }
-        let (used, nis) = sequential_update(&mut self.x, &mut self.p, &rows);
+        let mut rows = heapless::Vec::new();
+        sensor_rows(&self.config, &self.noise, &self.x, fix, &mut rows)?;
+        let (used, nis) = A::update(&mut self.x, &mut self.p, &rows);
         self.last_nis = nis;
         Ok(used)
     }
@@ -381,35 +457,97 @@ impl<T: RealField + Copy> Drkf<T> {
     }
 }
 
-/// Φ and Q over `dt` s: Van Loan on one axis's 4×4 block, eq. 2 on the scalar states.
-fn transition<T: RealField + Copy>(config: &DrkfConfig, dt: T) -> Option<Transition<T, STATES>> {
-    let cfg = config;
-    let (bc, bv) = (
-        c::<T>(cfg.current.beta_per_s),
-        c::<T>(cfg.acceleration.beta_per_s),
-    );
-    let (o, z) = (T::one(), T::zero());
-    let f = Matrix4::new(z, o, o, z, z, -bc, z, z, z, z, z, o, z, z, z, -bv);
-    let mut qc = Matrix4::zeros();
-    qc[(1, 1)] = c(cfg.current.alpha() * cfg.current.alpha());
-    qc[(3, 3)] = c(cfg.acceleration.alpha() * cfg.acceleration.alpha());
-    let (phi4, q4) = van_loan::<T, 4, 8>(&f, &qc, dt)?;
-    let mut phi = SMatrix::<T, STATES, STATES>::zeros();
-    let mut q = SMatrix::<T, STATES, STATES>::zeros();
-    for base in [ix::X, ix::Y] {
-        phi.fixed_view_mut::<4, 4>(base, base).copy_from(&phi4);
-        q.fixed_view_mut::<4, 4>(base, base).copy_from(&q4);
+/// Eq. 7a–7d: the scalar measurements in `fix`, linearised at `x`, appended to `rows` (of which the first
+/// [`STATES`] are the DRKF's, so a coupled filter shares them). Non-finite values are refused
+/// whole.
+pub(crate) fn sensor_rows<T: RealField + Copy, const N: usize>(
+    cfg: &DrkfConfig,
+    noise: &SensorNoise<T>,
+    x: &SVector<T, N>,
+    fix: &NavFix,
+    rows: &mut heapless::Vec<Row<T>, 8>,
+) -> Result<(), FilterError> {
+    FilterError::check(N >= STATES)?;
+    let pairs = [
+        fix.gps_position_m,
+        fix.gps_velocity_mps,
+        fix.loran_position_m,
+    ];
+    let finite = pairs.iter().flatten().flatten().all(|v| v.is_finite())
+        && fix.speedlog_mps.is_none_or(f64::is_finite)
+        && fix.gyro_rad.is_none_or(f64::is_finite);
+    FilterError::check(finite)?;
+    let o = T::one();
+    let mut push = |residual: T, h: &[(usize, T)], r: T| {
+        let _ = rows.push(Row::new(residual, r, h));
+    };
+    if let Some([e, n]) = fix.gps_position_m {
+        push(c::<T>(e) - x[ix::X], &[(ix::X, o)], noise.gps_position);
+        push(c::<T>(n) - x[ix::Y], &[(ix::Y, o)], noise.gps_position);
     }
-    let dt64 = nalgebra::try_convert::<T, f64>(dt).unwrap_or(1.0);
-    for (i, g) in [
-        (ix::LX, &cfg.loran),
-        (ix::LY, &cfg.loran),
-        (ix::SL, &cfg.speedlog),
-    ] {
-        phi[(i, i)] = c(g.a(dt64));
-        q[(i, i)] = c(g.b(dt64) * g.b(dt64));
+    if let Some([e, n]) = fix.gps_velocity_mps {
+        push(
+            c::<T>(e) - x[ix::CX] - x[ix::VX],
+            &[(ix::CX, o), (ix::VX, o)],
+            noise.gps_velocity,
+        );
+        push(
+            c::<T>(n) - x[ix::CY] - x[ix::VY],
+            &[(ix::CY, o), (ix::VY, o)],
+            noise.gps_velocity,
+        );
     }
-    Some((phi, q))
+    if let Some([e, n]) = fix.loran_position_m {
+        push(
+            c::<T>(e) - x[ix::X] - x[ix::LX],
+            &[(ix::X, o), (ix::LX, o)],
+            noise.loran,
+        );
+        push(
+            c::<T>(n) - x[ix::Y] - x[ix::LY],
+            &[(ix::Y, o), (ix::LY, o)],
+            noise.loran,
+        );
+    }
+    let (gx, gy) = (x[ix::CX] + x[ix::VX], x[ix::CY] + x[ix::VY]);
+    let ground2 = gx * gx + gy * gy;
+    let min2: T = c(MIN_SPEED_MPS * MIN_SPEED_MPS);
+    if let Some(s) = fix.speedlog_mps {
+        match cfg.speedlog_mode {
+            SpeedlogMode::GroundLock if ground2 > min2 => {
+                let r = ground2.sqrt();
+                // Eq. 7c: H72 on x2 and x3, H76 on x6 and x7.
+                let (hx, hy) = (gx / r, gy / r);
+                let h = [
+                    (ix::CX, hx),
+                    (ix::VX, hx),
+                    (ix::CY, hy),
+                    (ix::VY, hy),
+                    (ix::SL, o),
+                ];
+                push(c::<T>(s) - r - x[ix::SL], &h, noise.speedlog);
+            }
+            SpeedlogMode::BottomLock => {
+                let (vx, vy) = (x[ix::VX], x[ix::VY]);
+                let r2 = vx * vx + vy * vy;
+                if r2 > min2 {
+                    let r = r2.sqrt();
+                    let h = [(ix::VX, vx / r), (ix::VY, vy / r), (ix::SL, o)];
+                    push(c::<T>(s) - r - x[ix::SL], &h, noise.speedlog);
+                }
+            }
+            SpeedlogMode::GroundLock => {}
+        }
+    }
+    if let Some(b) = fix.gyro_rad {
+        if ground2 > min2 {
+            // Eq. 7b: H82 = (x6+x7)/|v|², H86 = (x2+x3)/|v|², as printed.
+            let (h82, h86) = (gy / ground2, gx / ground2);
+            let h = [(ix::CX, h82), (ix::VX, h82), (ix::CY, -h86), (ix::VY, -h86)];
+            push(wrap_pi(c::<T>(b) - gx.atan2(gy)), &h, noise.gyro);
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]
@@ -439,6 +577,42 @@ mod tests {
         // The two axes are the same block and independent.
         assert_eq!(phi[(ix::X, ix::VX)], phi[(ix::Y, ix::VY)]);
         assert_eq!(q[(ix::X, ix::Y)], 0.0);
+    }
+
+    #[test]
+    fn structured_arithmetic_is_the_dense_filter() {
+        // Every sensor, then dead reckoning, bottom lock, and an uneven interval.
+        let cfg = DrkfConfig::table_1(2).unwrap();
+        let mut s = Drkf::<f64>::new(cfg, [10.0, -5.0], [4.0, 6.0], 50.0, 2.0).unwrap();
+        let mut d =
+            Drkf::<f64, crate::nav::Dense>::with_algebra(cfg, [10.0, -5.0], [4.0, 6.0], 50.0, 2.0)
+                .unwrap();
+        for k in 0..120 {
+            let t = f64::from(k);
+            let all = k < 40;
+            let fix = NavFix {
+                gps_position_m: all.then_some([4.0 * t + 3.0, 6.0 * t - 2.0]),
+                gps_velocity_mps: all.then_some([4.1, 5.9]),
+                loran_position_m: all.then_some([4.0 * t - 20.0, 6.0 * t + 15.0]),
+                speedlog_mps: Some(7.3),
+                gyro_rad: Some(0.6),
+            };
+            if k == 80 {
+                s.set_speedlog_mode(SpeedlogMode::BottomLock);
+                d.set_speedlog_mode(SpeedlogMode::BottomLock);
+            }
+            let dt = if k % 7 == 3 { 1.7 } else { 1.0 };
+            s.predict(dt).unwrap();
+            d.predict(dt).unwrap();
+            assert_eq!(s.update(&fix).unwrap(), d.update(&fix).unwrap());
+            let scale = d.covariance().abs().max();
+            assert!(
+                (s.covariance() - d.covariance()).abs().max() < 1e-9 * scale,
+                "P at {k}"
+            );
+            assert!((s.state() - d.state()).abs().max() < 1e-9, "x at {k}");
+            assert!((s.last_nis() - d.last_nis()).abs() < 1e-9);
+        }
     }
 
     #[test]

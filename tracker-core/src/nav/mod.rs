@@ -22,8 +22,13 @@
 //! with no matrix inverse and a measurement vector of any size (eq. 7b "adjusted dynamically").
 //! Covariances use the Joseph form. Angle residuals are wrapped to ±π.
 
+pub mod algebra;
+pub mod coupled;
 pub mod drkf;
 pub mod ttkf;
+
+use algebra::Discretised;
+pub use algebra::{Algebra, Dense, Structured};
 
 use nalgebra::{RealField, SMatrix, SVector};
 
@@ -134,84 +139,48 @@ pub fn expm<T: RealField + Copy, const M: usize>(a: &SMatrix<T, M, M>) -> SMatri
 /// Φ and Q of one interval.
 pub type Transition<T, const N: usize> = (SMatrix<T, N, N>, SMatrix<T, N, N>);
 
-/// The last interval's Φ and Q, reused while the interval repeats (sensors at a fixed rate).
-pub(crate) type TransitionCache<T, const N: usize> =
-    Option<(T, SMatrix<T, N, N>, SMatrix<T, N, N>)>;
-
-/// x ← Φx, P ← ΦPΦᵀ + Q over `dt_s` (> 0, at most a day), Φ and Q from `cache` or, for a new
-/// interval, from `transition`.
-pub(crate) fn predict_with<T: RealField + Copy, const N: usize>(
+/// x ← Φx, P ← ΦPΦᵀ + Q over `dt_s` (> 0, at most a day) with `A`'s arithmetic. The model's
+/// discretisation is kept in `cache` and reused while the interval repeats (sensors at a
+/// fixed rate); `discretise` makes it for a new interval.
+pub(crate) fn predict_cached<T, const N: usize, A, D>(
     x: &mut SVector<T, N>,
     p: &mut SMatrix<T, N, N>,
-    cache: &mut TransitionCache<T, N>,
+    cache: &mut Option<(T, D)>,
     dt_s: f64,
-    transition: impl FnOnce(T) -> Option<Transition<T, N>>,
-) -> Result<(), crate::filter::FilterError> {
+    discretise: impl FnOnce(T) -> Option<D>,
+) -> Result<(), crate::filter::FilterError>
+where
+    T: RealField + Copy,
+    A: Algebra,
+    D: Discretised<T, N>,
+{
     use crate::filter::FilterError;
     FilterError::check(dt_s.is_finite() && dt_s > 0.0 && dt_s <= 86_400.0)?;
     let dt: T = nalgebra::convert(dt_s);
-    let (phi, q) = match cache {
-        Some((d, phi, q)) if *d == dt => (*phi, *q),
+    let model = match cache {
+        Some((d, model)) if *d == dt => model,
         _ => {
-            let (phi, q) = transition(dt).ok_or(FilterError::BadParameter)?;
-            *cache = Some((dt, phi, q));
-            (phi, q)
+            let model = discretise(dt).ok_or(FilterError::BadParameter)?;
+            &mut cache.insert((dt, model)).1
         }
     };
-    *x = phi * *x;
-    *p = phi * *p * phi.transpose() + q;
+    A::propagate(x, p, model);
     Ok(())
 }
 
-/// One scalar measurement, linearised about the predicted state.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Scalar<T: RealField + Copy, const N: usize> {
-    /// z − h(x̂⁻), wrapped when an angle.
-    pub residual: T,
-    /// ∂h/∂x at x̂⁻.
-    pub h: SVector<T, N>,
-    /// Measurement noise variance.
-    pub r: T,
-}
-
-/// Applies `rows` one at a time (Joseph form), each against the state as moved by the ones
-/// before. Rows whose innovation variance is not positive and finite are skipped. Returns the
-/// rows used and, for the NIS, Σ innovation²/S over them.
-pub(crate) fn sequential_update<T: RealField + Copy, const N: usize>(
-    x: &mut SVector<T, N>,
-    p: &mut SMatrix<T, N, N>,
-    rows: &[Scalar<T, N>],
-) -> (usize, T) {
-    let x_pred = *x;
-    let mut used = 0;
-    let mut nis = T::zero();
-    for row in rows {
-        let innovation = row.residual - row.h.dot(&(*x - x_pred));
-        let ph = *p * row.h;
-        let s = row.h.dot(&ph) + row.r;
-        if s <= T::zero() || !s.is_finite() || !innovation.is_finite() {
-            continue;
-        }
-        let k = ph / s;
-        *x += k * innovation;
-        // Joseph: (I − khᵀ)P(I − khᵀ)ᵀ + k r kᵀ, with rank-one products only.
-        let a = *p - k * ph.transpose();
-        let ah = a * row.h;
-        *p = a - ah * k.transpose() + k * k.transpose() * row.r;
-        *p = (*p + p.transpose()) * nalgebra::convert::<f64, T>(0.5);
-        used += 1;
-        nis += innovation * innovation / s;
-    }
-    (used, nis)
-}
-
-/// `a` wrapped to (−π, π].
+/// `a` wrapped to (−π, π]. Residuals of two angles in (−π, π] need one step; only a wild
+/// input pays for the remainder (a software call on the M4F).
 pub(crate) fn wrap_pi<T: RealField + Copy>(a: T) -> T {
-    let two_pi = T::two_pi();
-    let mut w = a % two_pi;
-    if w > T::pi() {
+    let (pi, two_pi) = (T::pi(), T::two_pi());
+    let three_pi = pi + two_pi;
+    let mut w = if a >= three_pi || a <= -three_pi {
+        a % two_pi
+    } else {
+        a
+    };
+    if w > pi {
         w -= two_pi;
-    } else if w <= -T::pi() {
+    } else if w <= -pi {
         w += two_pi;
     }
     w
@@ -220,7 +189,7 @@ pub(crate) fn wrap_pi<T: RealField + Copy>(a: T) -> T {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::{Matrix2, Matrix4};
+    use nalgebra::Matrix4;
 
     #[test]
     fn gauss_markov_discretisation_is_eq_2() {
@@ -295,38 +264,15 @@ mod tests {
     }
 
     #[test]
-    fn sequential_update_equals_the_batch_update() {
-        let mut p = Matrix2::new(4.0, 1.0, 1.0, 3.0);
-        let mut x = nalgebra::Vector2::new(1.0, -1.0);
-        let rows = [
-            Scalar {
-                residual: 0.5,
-                h: nalgebra::Vector2::new(1.0, 0.0),
-                r: 2.0,
-            },
-            Scalar {
-                residual: -0.3,
-                h: nalgebra::Vector2::new(1.0, 1.0),
-                r: 1.0,
-            },
-        ];
-        // Batch: H 2×2, R diag.
-        let h = Matrix2::new(1.0, 0.0, 1.0, 1.0);
-        let r = Matrix2::new(2.0, 0.0, 0.0, 1.0);
-        let s = h * p * h.transpose() + r;
-        let k = p * h.transpose() * s.try_inverse().unwrap();
-        let xb = x + k * nalgebra::Vector2::new(0.5, -0.3);
-        let pb = (Matrix2::identity() - k * h) * p;
-        let (used, _) = sequential_update(&mut x, &mut p, &rows);
-        assert_eq!(used, 2);
-        assert!((x - xb).abs().max() < 1e-12 && (p - pb).abs().max() < 1e-12);
-    }
-
-    #[test]
     fn angles_wrap() {
         let pi = core::f64::consts::PI;
         assert!((wrap_pi(3.0 * pi / 2.0) + pi / 2.0).abs() < 1e-12);
         assert!((wrap_pi(-3.0 * pi / 2.0) - pi / 2.0).abs() < 1e-12);
         assert!((wrap_pi(0.1f64) - 0.1).abs() < 1e-15);
+        assert!((wrap_pi(2.9 * pi) - 0.9 * pi).abs() < 1e-12);
+        assert!((wrap_pi(-2.9 * pi) + 0.9 * pi).abs() < 1e-12);
+        assert!((wrap_pi(-3.0 * pi) - pi).abs() < 1e-12);
+        assert!((wrap_pi(101.5 * pi) + 0.5 * pi).abs() < 1e-9);
+        assert_eq!(wrap_pi(-pi), pi);
     }
 }

@@ -8,11 +8,15 @@
 //! the radar range and azimuth (true bearing, from north through east). Own-ship data and
 //! radar arrive at their own rates; [`Ttkf::predict`] takes any interval.
 
-use nalgebra::{Matrix3, RealField, SMatrix, SVector, Vector4};
+use core::marker::PhantomData;
 
+use nalgebra::{Matrix3, Matrix4, RealField, SMatrix, SVector, Vector4};
+
+use super::algebra::{
+    chain_add, chain_columns, chain_rows, chain_scatter, chain_state, Block, Row,
+};
 use super::{
-    c, predict_with, sequential_update, van_loan, wrap_pi, GaussMarkov, Scalar, Transition,
-    TransitionCache,
+    c, predict_cached, van_loan, wrap_pi, Algebra, Discretised, GaussMarkov, Structured, Transition,
 };
 use crate::filter::FilterError;
 
@@ -47,6 +51,91 @@ pub mod ix {
     pub const TAY: usize = 11;
 }
 
+/// The four [position, velocity, acceleration] chains of eq. 8c: own ship x and y, target
+/// x and y.
+const CHAINS: [[usize; 3]; 4] = [
+    [ix::OX, ix::OVX, ix::OAX],
+    [ix::OY, ix::OVY, ix::OAY],
+    [ix::TX, ix::TVX, ix::TAX],
+    [ix::TY, ix::TVY, ix::TAY],
+];
+
+/// Φ (eq. 8c) and Q (eq. 6) over one interval, as the model has them: one 3×3 block for the
+/// own ship's chains (both axes alike) and one for the target's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Blocks<T: RealField + Copy> {
+    own: (Matrix3<T>, Matrix3<T>),
+    target: (Matrix3<T>, Matrix3<T>),
+}
+
+impl<T: RealField + Copy> Blocks<T> {
+    /// Van Loan on each chain's 3×3 model.
+    pub(crate) fn new(config: &TtkfConfig, dt: T) -> Option<Self> {
+        let chain = |g: &GaussMarkov| {
+            let (o, z, b) = (T::one(), T::zero(), c::<T>(g.beta_per_s));
+            let f = Matrix3::new(z, o, z, z, z, o, z, z, -b);
+            let mut qc = Matrix3::zeros();
+            qc[(2, 2)] = c(g.alpha() * g.alpha());
+            van_loan::<T, 3, 6>(&f, &qc, dt)
+        };
+        Some(Blocks {
+            own: chain(&config.own_acceleration)?,
+            target: chain(&config.target_acceleration)?,
+        })
+    }
+
+    /// The target's chain block (Φ, Q).
+    pub(crate) fn target(&self) -> &(Matrix3<T>, Matrix3<T>) {
+        &self.target
+    }
+
+    fn chains(&self) -> [([usize; 3], &Block<T, 3>); 4] {
+        [
+            (CHAINS[0], &self.own),
+            (CHAINS[1], &self.own),
+            (CHAINS[2], &self.target),
+            (CHAINS[3], &self.target),
+        ]
+    }
+}
+
+/// A·v for a chain's Φ (eq. 8c): upper triangular with a unit diagonal but for the
+/// acceleration's e^{−βΔ}; its zeros and ones are exact in Van Loan's result too, since F's
+/// first column and last row are those of the chain.
+#[inline(always)]
+pub(crate) fn chain_phi<T: RealField + Copy>(a: &Matrix3<T>) -> impl Fn([T; 3]) -> [T; 3] + '_ {
+    move |[p, v, acc]| {
+        [
+            p + a[(0, 1)] * v + a[(0, 2)] * acc,
+            v + a[(1, 2)] * acc,
+            a[(2, 2)] * acc,
+        ]
+    }
+}
+
+impl<T: RealField + Copy> Discretised<T, STATES> for Blocks<T> {
+    fn propagate_blocks(&self, x: &mut SVector<T, STATES>, p: &mut SMatrix<T, STATES, STATES>) {
+        for (chain, (phi, _)) in self.chains() {
+            chain_rows(p, chain, chain_phi(phi));
+        }
+        for (chain, (phi, q)) in self.chains() {
+            chain_columns(p, chain, chain_phi(phi));
+            chain_add(p, chain, q);
+            chain_state(x, chain, chain_phi(phi));
+        }
+    }
+
+    fn dense(&self) -> Transition<T, STATES> {
+        let mut phi = SMatrix::<T, STATES, STATES>::zeros();
+        let mut q = SMatrix::<T, STATES, STATES>::zeros();
+        for (chain, (phi3, q3)) in self.chains() {
+            chain_scatter(&mut phi, chain, phi3);
+            chain_scatter(&mut q, chain, q3);
+        }
+        (phi, q)
+    }
+}
+
 /// TTKF parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TtkfConfig {
@@ -60,17 +149,23 @@ pub struct TtkfConfig {
     pub bearing_var_rad2: f64,
     /// Prior standard deviation of the target's velocity at acquisition, m/s.
     pub initial_speed_sd_mps: f64,
+    /// Wander of the echo point over the target's extent (glint), σ per axis, m (0: a point
+    /// target). It adds to the range variance and, as a cross-range distance, σ²/r² to the
+    /// azimuth's: at short range it, not the beam, dominates the azimuth error.
+    pub glint_sd_m: f64,
 }
 
 impl TtkfConfig {
-    fn validate(&self) -> Result<(), FilterError> {
+    pub(crate) fn validate(&self) -> Result<(), FilterError> {
         let var = |v: f64| v.is_finite() && v > 0.0;
         FilterError::check(
             self.own_acceleration.is_valid()
                 && self.target_acceleration.is_valid()
                 && var(self.range_var_m2)
                 && var(self.bearing_var_rad2)
-                && var(self.initial_speed_sd_mps),
+                && var(self.initial_speed_sd_mps)
+                && self.glint_sd_m.is_finite()
+                && self.glint_sd_m >= 0.0,
         )
     }
 }
@@ -87,19 +182,36 @@ pub struct OwnShip<T: RealField + Copy> {
     pub covariance: SMatrix<T, 4, 4>,
 }
 
-/// The tracking filter in scalar `T`.
+/// The tracking filter in scalar `T` (f32 on the MCU, f64 on the host), with `A`'s
+/// covariance arithmetic ([`Structured`] unless a benchmark asks for the dense reference).
 #[derive(Clone, Debug)]
-pub struct Ttkf<T: RealField + Copy> {
+pub struct Ttkf<T: RealField + Copy, A: Algebra = Structured> {
     config: TtkfConfig,
     x: SVector<T, STATES>,
     p: SMatrix<T, STATES, STATES>,
-    cached: TransitionCache<T, STATES>,
+    /// Φ and Q of the last interval, reused while the interval repeats.
+    cached: Option<(T, Blocks<T>)>,
+    /// Range, azimuth and glint variances in `T`, converted once.
+    radar_noise: [T; 3],
     last_nis: T,
+    algebra: PhantomData<A>,
 }
 
 impl<T: RealField + Copy> Ttkf<T> {
     /// Starts on a target at `range_m`, `bearing_rad` (true) from `own`.
     pub fn new(
+        config: TtkfConfig,
+        own: &OwnShip<T>,
+        range_m: f64,
+        bearing_rad: f64,
+    ) -> Result<Self, FilterError> {
+        Self::with_algebra(config, own, range_m, bearing_rad)
+    }
+}
+
+impl<T: RealField + Copy, A: Algebra> Ttkf<T, A> {
+    /// As [`Ttkf::new`], with `A`'s covariance arithmetic.
+    pub fn with_algebra(
         config: TtkfConfig,
         own: &OwnShip<T>,
         range_m: f64,
@@ -112,9 +224,6 @@ impl<T: RealField + Copy> Ttkf<T> {
         x[ix::OY] = own.position_m[1];
         x[ix::OVX] = own.velocity_mps[0];
         x[ix::OVY] = own.velocity_mps[1];
-        let (s, co) = (libm::sin(bearing_rad), libm::cos(bearing_rad));
-        x[ix::TX] = own.position_m[0] + c(range_m * s);
-        x[ix::TY] = own.position_m[1] + c(range_m * co);
         let mut p = SMatrix::<T, STATES, STATES>::zeros();
         p.fixed_view_mut::<2, 2>(0, 0)
             .copy_from(&own.covariance.fixed_view::<2, 2>(0, 0));
@@ -127,39 +236,37 @@ impl<T: RealField + Copy> Ttkf<T> {
         let ga = |g: &GaussMarkov| c::<T>(g.sigma * g.sigma);
         p[(ix::OAX, ix::OAX)] = ga(&config.own_acceleration);
         p[(ix::OAY, ix::OAY)] = ga(&config.own_acceleration);
-        p[(ix::TAX, ix::TAX)] = ga(&config.target_acceleration);
-        p[(ix::TAY, ix::TAY)] = ga(&config.target_acceleration);
-        // Target position: the radar's error ellipse, taken round (its larger axis), plus
-        // the own-ship position's.
-        let pos_var = config
-            .range_var_m2
-            .max(range_m * range_m * config.bearing_var_rad2);
-        for (t, o) in [(ix::TX, ix::OX), (ix::TY, ix::OY)] {
-            p[(t, t)] = p[(o, o)] + c(pos_var);
-        }
-        let v0 = c::<T>(config.initial_speed_sd_mps * config.initial_speed_sd_mps);
-        p[(ix::TVX, ix::TVX)] = v0;
-        p[(ix::TVY, ix::TVY)] = v0;
+        acquire(
+            &config,
+            &mut x,
+            &mut p,
+            [ix::OX, ix::OY],
+            [CHAINS[2], CHAINS[3]],
+            range_m,
+            bearing_rad,
+        );
         Ok(Ttkf {
             config,
             x,
             p,
             cached: None,
+            radar_noise: radar_noise(&config),
             last_nis: T::zero(),
+            algebra: PhantomData,
         })
     }
 
     /// Φ (eq. 8c) and Q (eq. 6) over `dt`: Van Loan on each [position, velocity,
     /// acceleration] chain (3×3), scattered into the state order.
     pub fn transition(&self, dt: T) -> Option<Transition<T, STATES>> {
-        transition(&self.config, dt)
+        Blocks::new(&self.config, dt).map(|b| b.dense())
     }
 
     /// Propagates over `dt_s` (> 0, at most a day).
     pub fn predict(&mut self, dt_s: f64) -> Result<(), FilterError> {
         let config = self.config;
-        predict_with(&mut self.x, &mut self.p, &mut self.cached, dt_s, |dt| {
-            transition(&config, dt)
+        predict_cached::<T, STATES, A, _>(&mut self.x, &mut self.p, &mut self.cached, dt_s, |dt| {
+            Blocks::new(&config, dt)
         })
     }
 
@@ -174,76 +281,34 @@ impl<T: RealField + Copy> Ttkf<T> {
         );
         FilterError::check(z.iter().chain(own.covariance.iter()).all(|v| v.is_finite()))?;
         let chol = nalgebra::Cholesky::new(own.covariance).ok_or(FilterError::BadParameter)?;
-        let l = chol.l();
+        let w = lower_inverse(&chol.l()).ok_or(FilterError::BadParameter)?;
         let idx = [ix::OX, ix::OY, ix::OVX, ix::OVY];
-        // Residuals and H rows (unit rows) before whitening.
-        let mut residual = Vector4::zeros();
-        let mut h = SMatrix::<T, 4, STATES>::zeros();
-        for (r, &i) in idx.iter().enumerate() {
-            residual[r] = z[r] - self.x[i];
-            h[(r, i)] = T::one();
-        }
-        // Forward substitution with L (no inverse, no panic path).
-        let mut wr = Vector4::zeros();
-        let mut wh = SMatrix::<T, 4, STATES>::zeros();
-        for r in 0..4 {
-            let mut acc = residual[r];
-            let mut acc_h = h.row(r).clone_owned();
-            for k in 0..r {
-                acc -= l[(r, k)] * wr[k];
-                acc_h -= wh.row(k) * l[(r, k)];
-            }
-            let d = l[(r, r)];
-            if d <= T::zero() || !d.is_finite() {
-                return Err(FilterError::BadParameter);
-            }
-            wr[r] = acc / d;
-            wh.set_row(r, &(acc_h / d));
-        }
-        let rows: [Scalar<T, STATES>; 4] = core::array::from_fn(|r| Scalar {
-            residual: wr[r],
-            h: wh.row(r).transpose(),
-            r: T::one(),
+        let residual = Vector4::from_fn(|r, _| z[r] - self.x[idx[r]]);
+        // Whitened row r: (L⁻¹)_r· on the four own-ship states (L⁻¹ is lower triangular).
+        let rows: [Row<T>; 4] = core::array::from_fn(|r| {
+            let entries: [(usize, T); 4] = core::array::from_fn(|k| (idx[k], w[(r, k)]));
+            Row::new(
+                w.row(r).dot(&residual.transpose()),
+                T::one(),
+                &entries[..=r],
+            )
         });
-        sequential_update(&mut self.x, &mut self.p, &rows);
+        A::update(&mut self.x, &mut self.p, &rows);
         Ok(())
     }
 
     /// Eq. 9a z5–z6: radar range, m, and azimuth, radians true (residual wrapped), with the
     /// H of eq. 9b–9c at the predicted state. Returns the NIS of the two.
     pub fn update_radar(&mut self, range_m: f64, bearing_rad: f64) -> Result<T, FilterError> {
-        FilterError::check(range_m.is_finite() && range_m >= 0.0 && bearing_rad.is_finite())?;
-        let dx = self.x[ix::TX] - self.x[ix::OX];
-        let dy = self.x[ix::TY] - self.x[ix::OY];
-        let r2 = dx * dx + dy * dy;
-        let r = r2.sqrt();
-        if r <= c(1.0) || !r.is_finite() {
-            return Err(FilterError::BadParameter);
-        }
-        let (h51, h52, h61, h62) = (dx / r, dy / r, dx / r2, dy / r2);
-        let mut hr = SVector::<T, STATES>::zeros();
-        hr[ix::OX] = -h51;
-        hr[ix::OY] = -h52;
-        hr[ix::TX] = h51;
-        hr[ix::TY] = h52;
-        let mut hb = SVector::<T, STATES>::zeros();
-        hb[ix::OX] = -h62;
-        hb[ix::OY] = h61;
-        hb[ix::TX] = h62;
-        hb[ix::TY] = -h61;
-        let rows = [
-            Scalar {
-                residual: c::<T>(range_m) - r,
-                h: hr,
-                r: c(self.config.range_var_m2),
-            },
-            Scalar {
-                residual: wrap_pi(c::<T>(bearing_rad) - dx.atan2(dy)),
-                h: hb,
-                r: c(self.config.bearing_var_rad2),
-            },
-        ];
-        let (_, nis) = sequential_update(&mut self.x, &mut self.p, &rows);
+        let rows = radar_rows(
+            &self.x,
+            [ix::OX, ix::OY],
+            [ix::TX, ix::TY],
+            self.radar_noise,
+            range_m,
+            bearing_rad,
+        )?;
+        let (_, nis) = A::update(&mut self.x, &mut self.p, &rows);
         self.last_nis = nis;
         Ok(nis)
     }
@@ -279,36 +344,128 @@ impl<T: RealField + Copy> Ttkf<T> {
     }
 }
 
-/// Φ (eq. 8c) and Q (eq. 6) over `dt`: Van Loan on each [position, velocity,
-/// acceleration] chain (3×3), scattered into the state order.
-fn transition<T: RealField + Copy>(config: &TtkfConfig, dt: T) -> Option<Transition<T, STATES>> {
-    let mut phi = SMatrix::<T, STATES, STATES>::zeros();
-    let mut q = SMatrix::<T, STATES, STATES>::zeros();
-    for (g, axes) in [
-        (
-            &config.own_acceleration,
-            [[ix::OX, ix::OVX, ix::OAX], [ix::OY, ix::OVY, ix::OAY]],
-        ),
-        (
-            &config.target_acceleration,
-            [[ix::TX, ix::TVX, ix::TAX], [ix::TY, ix::TVY, ix::TAY]],
-        ),
-    ] {
-        let (o, z, b) = (T::one(), T::zero(), c::<T>(g.beta_per_s));
-        let f = Matrix3::new(z, o, z, z, z, o, z, z, -b);
-        let mut qc = Matrix3::zeros();
-        qc[(2, 2)] = c(g.alpha() * g.alpha());
-        let (phi3, q3) = van_loan::<T, 3, 6>(&f, &qc, dt)?;
-        for idx in axes {
-            for (r, &i) in idx.iter().enumerate() {
-                for (k, &j) in idx.iter().enumerate() {
-                    phi[(i, j)] = phi3[(r, k)];
-                    q[(i, j)] = q3[(r, k)];
-                }
-            }
+/// The radar's range, azimuth and glint variances in `T`.
+pub(crate) fn radar_noise<T: RealField + Copy>(config: &TtkfConfig) -> [T; 3] {
+    [
+        c(config.range_var_m2),
+        c(config.bearing_var_rad2),
+        c(config.glint_sd_m * config.glint_sd_m),
+    ]
+}
+
+/// Puts a new target at `range_m`, `bearing_rad` (true) from the own-ship position at
+/// indices `own` into the state and covariance, on the [position, velocity, acceleration]
+/// chains `chains` (x, y): position from the plot, with the own ship's position covariance plus
+/// the plot's error ellipse; velocity unknown (`initial_speed_sd_mps`), acceleration at its
+/// Markov variance.
+pub(crate) fn acquire<T: RealField + Copy, const N: usize>(
+    config: &TtkfConfig,
+    x: &mut SVector<T, N>,
+    p: &mut SMatrix<T, N, N>,
+    own: [usize; 2],
+    chains: [[usize; 3]; 2],
+    range_m: f64,
+    bearing_rad: f64,
+) {
+    let (sin, cos) = (libm::sin(bearing_rad), libm::cos(bearing_rad));
+    let glint = config.glint_sd_m * config.glint_sd_m;
+    // The plot's error ellipse: range along the line of sight u = (sin, cos), range × azimuth
+    // across it, glint both ways.
+    let along = config.range_var_m2 + glint;
+    let across = range_m * range_m * config.bearing_var_rad2 + glint;
+    let cross = (along - across) * sin * cos;
+    let ellipse = [
+        [along * sin * sin + across * cos * cos, cross],
+        [cross, along * cos * cos + across * sin * sin],
+    ];
+    let own = own.map(|i| i.min(N - 1));
+    let pos = [chains[0][0], chains[1][0]].map(|i| i.min(N - 1));
+    // Target = own ship + the plot: it inherits the own-ship position's covariance with
+    // everything, and adds the plot's ellipse.
+    for j in (0..N).filter(|j| !pos.contains(j)) {
+        for (&t, &o) in pos.iter().zip(&own) {
+            let v = p[(o, j)];
+            p[(t, j)] = v;
+            p[(j, t)] = v;
         }
     }
-    Some((phi, q))
+    for (i, (&ti, &oi)) in pos.iter().zip(&own).enumerate() {
+        x[ti] = x[oi] + c(range_m * [sin, cos][i]);
+        for (k, (&tk, &ok)) in pos.iter().zip(&own).enumerate() {
+            p[(ti, tk)] = p[(oi, ok)] + c(ellipse[i][k]);
+        }
+    }
+    let v0 = config.initial_speed_sd_mps * config.initial_speed_sd_mps;
+    let g = &config.target_acceleration;
+    for chain in chains {
+        let [_, vel, acc] = chain.map(|i| i.min(N - 1));
+        p[(vel, vel)] = c(v0);
+        p[(acc, acc)] = c(g.sigma * g.sigma);
+    }
+}
+
+/// Eq. 9a z5–z6 with eq. 9b–9c's H at `x`: range, m, and azimuth, radians true (residual
+/// wrapped), of the target whose position is at state indices `target`, seen from the own
+/// ship's at `own`.
+pub(crate) fn radar_rows<T: RealField + Copy, const N: usize>(
+    x: &SVector<T, N>,
+    own: [usize; 2],
+    target: [usize; 2],
+    [range_var, bearing_var, glint_var]: [T; 3],
+    range_m: f64,
+    bearing_rad: f64,
+) -> Result<[Row<T>; 2], FilterError> {
+    FilterError::check(range_m.is_finite() && range_m >= 0.0 && bearing_rad.is_finite())?;
+    let dx = x[target[0].min(N - 1)] - x[own[0].min(N - 1)];
+    let dy = x[target[1].min(N - 1)] - x[own[1].min(N - 1)];
+    let r2 = dx * dx + dy * dy;
+    let r = r2.sqrt();
+    if r <= c(1.0) || !r.is_finite() {
+        return Err(FilterError::BadParameter);
+    }
+    let (h51, h52, h61, h62) = (dx / r, dy / r, dx / r2, dy / r2);
+    Ok([
+        Row::new(
+            c::<T>(range_m) - r,
+            range_var + glint_var,
+            &[
+                (own[0], -h51),
+                (own[1], -h52),
+                (target[0], h51),
+                (target[1], h52),
+            ],
+        ),
+        Row::new(
+            wrap_pi(c::<T>(bearing_rad) - dx.atan2(dy)),
+            bearing_var + glint_var / r2,
+            &[
+                (own[0], -h62),
+                (own[1], h61),
+                (target[0], h62),
+                (target[1], -h61),
+            ],
+        ),
+    ])
+}
+
+/// L⁻¹ of a lower-triangular 4×4 L by forward substitution; `None` unless its diagonal is
+/// positive and finite.
+fn lower_inverse<T: RealField + Copy>(l: &Matrix4<T>) -> Option<Matrix4<T>> {
+    let mut w = Matrix4::zeros();
+    for r in 0..4 {
+        let d = l[(r, r)];
+        if d <= T::zero() || !d.is_finite() {
+            return None;
+        }
+        for col in 0..=r {
+            let mut acc = if col == r { T::one() } else { T::zero() };
+            for k in col..r {
+                acc -= l[(r, k)] * w[(k, col)];
+            }
+            w[(r, col)] = acc / d;
+        }
+    }
+    Some(w)
 }
 
 #[cfg(test)]
@@ -322,6 +479,7 @@ mod tests {
             range_var_m2: 20.0 * 20.0,
             bearing_var_rad2: 0.5f64.to_radians().powi(2),
             initial_speed_sd_mps: 10.0,
+            glint_sd_m: 0.0,
         }
     }
 
@@ -371,6 +529,35 @@ mod tests {
         let cov = f.covariance();
         assert!((cov - cov.transpose()).abs().max() < 1e-9);
         assert!(nalgebra::Cholesky::new(*cov).is_some());
+    }
+
+    #[test]
+    fn structured_arithmetic_is_the_dense_filter() {
+        let mut s = Ttkf::<f64>::new(config(), &own(0.0), 5000.0, 0.8).unwrap();
+        let mut d =
+            Ttkf::<f64, crate::nav::Dense>::with_algebra(config(), &own(0.0), 5000.0, 0.8).unwrap();
+        for k in 1..=200 {
+            let t = f64::from(k);
+            let dt = if k % 9 == 4 { 0.6 } else { 1.0 };
+            s.predict(dt).unwrap();
+            d.predict(dt).unwrap();
+            let mut o = own(t);
+            o.covariance[(0, 2)] = 0.05;
+            o.covariance[(2, 0)] = 0.05;
+            s.update_own_ship(&o).unwrap();
+            d.update_own_ship(&o).unwrap();
+            if k % 3 == 0 {
+                let (r, b) = (5000.0 - 3.0 * t, 0.8 + 0.001 * t);
+                let (ns, nd) = (s.update_radar(r, b).unwrap(), d.update_radar(r, b).unwrap());
+                assert!((ns - nd).abs() < 1e-9);
+            }
+            let scale = d.covariance().abs().max();
+            assert!(
+                (s.covariance() - d.covariance()).abs().max() < 1e-9 * scale,
+                "P at {k}"
+            );
+            assert!((s.state() - d.state()).abs().max() < 1e-8, "x at {k}");
+        }
     }
 
     #[test]

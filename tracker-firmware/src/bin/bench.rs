@@ -26,9 +26,7 @@ use tracker_firmware::{board, icount};
 
 const CALLS: u32 = 200;
 
-fn row(name: &str, scalar: &str, instructions: f32, ram_bytes: usize) {
-    println!("{},{},{:.1},{}", name, scalar, instructions, ram_bytes);
-}
+use icount::report as row;
 
 /// One encoded request frame.
 fn request(body: &HostToDevice) -> ([u8; MAX_ENCODED_FRAME_BYTES], usize) {
@@ -265,72 +263,6 @@ fn filter_rows<S: Scalar>(counter: &mut icount::InstructionCounter) {
     filter_row::<S, _>(counter, "sswt", sswt.build::<S>().ok());
 }
 
-/// The dead-reckoning and target-tracking EKFs of paper 004 in f32: one DRKF second (predict,
-/// gyro and log), the Van Loan discretisation it caches, and the TTKF's two updates.
-// Its own frame: inlined into `main`, every row's locals would share one huge frame.
-#[inline(never)]
-fn nav_rows(counter: &mut icount::InstructionCounter) {
-    use tracker_core::nav::drkf::{Drkf, DrkfConfig, NavFix};
-    use tracker_core::nav::ttkf::{OwnShip, Ttkf, TtkfConfig};
-    use tracker_core::nav::GaussMarkov;
-    let Some(config) = DrkfConfig::table_1(1) else {
-        return;
-    };
-    let Ok(mut drkf) = Drkf::<f32>::new(config, [0.0, 0.0], [5.0, 5.0], 10.0, 1.0) else {
-        return;
-    };
-    let fix = NavFix {
-        speedlog_mps: Some(7.07),
-        gyro_rad: Some(0.785),
-        ..NavFix::default()
-    };
-    let per = icount::per_call(counter, 50, || {
-        let d = black_box(&mut drkf);
-        let _ = d.predict(1.0);
-        let _ = d.update(black_box(&fix));
-    });
-    row(
-        "drkf-second-gyro-log",
-        "f32",
-        per,
-        core::mem::size_of::<Drkf<f32>>(),
-    );
-    let per = icount::per_call(counter, 20, || {
-        black_box(black_box(&drkf).transition(black_box(1.0)));
-    });
-    row("drkf-van-loan", "f32", per, 0);
-    let own = OwnShip {
-        position_m: drkf.position_m(),
-        velocity_mps: drkf.velocity_over_ground_mps(),
-        covariance: drkf.own_ship_covariance(),
-    };
-    let config = TtkfConfig {
-        own_acceleration: GaussMarkov::with_variance(1e-8, 0.05),
-        target_acceleration: GaussMarkov::with_variance(2.5e-7, 1.0 / 120.0),
-        range_var_m2: 900.0,
-        bearing_var_rad2: 1.3e-5,
-        initial_speed_sd_mps: 10.0,
-    };
-    let Ok(mut ttkf) = Ttkf::<f32>::new(config, &own, 5000.0, 0.7) else {
-        return;
-    };
-    let per = icount::per_call(counter, 50, || {
-        let t = black_box(&mut ttkf);
-        let _ = t.predict(1.0);
-        let _ = t.update_own_ship(black_box(&own));
-    });
-    row(
-        "ttkf-second-own-ship",
-        "f32",
-        per,
-        core::mem::size_of::<Ttkf<f32>>(),
-    );
-    let per = icount::per_call(counter, 50, || {
-        let _ = black_box(&mut ttkf).update_radar(black_box(5000.0), black_box(0.7));
-    });
-    row("ttkf-radar", "f32", per, 0);
-}
-
 #[entry]
 fn main() -> ! {
     let Some(peripherals) = cortex_m::Peripherals::take() else {
@@ -341,7 +273,7 @@ fn main() -> ! {
         board::exit(1)
     };
 
-    println!("name,scalar,instructions_per_call,ram_bytes");
+    println!("{}", icount::HEADER);
     link_row(&mut counter, device, "link-hello", &HostToDevice::Hello);
     let echo16 = HostToDevice::Echo((0u8..16).collect());
     link_row(&mut counter, device, "link-echo-16B", &echo16);
@@ -366,6 +298,5 @@ fn main() -> ! {
             .build::<f32>()
             .ok(),
     );
-    nav_rows(&mut counter);
     board::exit(0)
 }

@@ -144,6 +144,7 @@ fn target_run(test: usize, seed: u64) -> anyhow::Result<(Vec<f64>, Vec<f64>)> {
         range_var_m2: 100.0,
         bearing_var_rad2: 1f64.to_radians().powi(2),
         initial_speed_sd_mps: 10.0,
+        glint_sd_m: 0.0,
     };
     let (mut tp, mut tv) = ([2000.0f64, 3000.0], [0.0f64, 0.0]);
     let mut f: Option<Ttkf<f64>> = None;
