@@ -66,6 +66,24 @@ pub enum Command {
         /// The filter every track runs.
         #[arg(long, value_enum, default_value_t = demo::DemoFilter::KalmanCv)]
         filter: demo::DemoFilter,
+        /// Send every confirmed target to a chart plotter as NMEA 0183 `TTM` and `TLL`
+        /// sentences each scan: `udp:HOST:PORT` or `tcp:PORT` (a server plotters connect to).
+        #[arg(long, value_name = "udp:HOST:PORT|tcp:PORT")]
+        nmea_out: Option<crate::nmea::OutSpec>,
+        /// Take own ship from NMEA 0183 (GGA/RMC, VTG, HDT, VHW) through the dead-reckoning
+        /// filter: `file:PATH` (a recording, replayed scan by scan), `udp:PORT`,
+        /// `tcp:HOST:PORT`, `serial:DEVICE@BAUD`.
+        #[arg(long, value_name = "SOURCE", conflicts_with = "nmea_record")]
+        nmea_in: Option<crate::nmea::InSpec>,
+        /// Take own ship from the simulated bridge sensors as NMEA, through the
+        /// dead-reckoning filter, and record the sentences to this file (`--nmea-in
+        /// file:PATH` replays it with the same result).
+        #[arg(long, value_name = "PATH")]
+        nmea_record: Option<std::path::PathBuf>,
+        /// Latitude and longitude of the local frame's origin, decimal degrees (for `TLL`
+        /// and own-ship positions).
+        #[arg(long, value_name = "LAT,LON", value_parser = crate::nmea::Origin::parse)]
+        origin: Option<crate::nmea::Origin>,
     },
     /// Check the link: handshake, echo frames of every size, bad input rejected, counters.
     LinkCheck {
@@ -307,6 +325,10 @@ where
             duration,
             plain,
             filter,
+            nmea_out,
+            nmea_in,
+            nmea_record,
+            origin,
         } => {
             if !(duration.is_finite() && *duration > 0.0) {
                 anyhow::bail!("--duration {duration}: must be a positive number of seconds");
@@ -323,7 +345,12 @@ where
                 duration_s: *duration,
                 filter: *filter,
             };
-            let mut d = demo::Demo::new(client, options)?;
+            let mut d = demo::Demo::new(client, options)?.with_nmea(&demo::NmeaOptions {
+                out: nmea_out.clone(),
+                own_ship_in: nmea_in.clone(),
+                record: nmea_record.clone(),
+                origin: origin.unwrap_or_default(),
+            })?;
             let limits = target::AlarmLimits::default();
             let use_tui = !*plain && std::io::IsTerminal::is_terminal(&std::io::stdout());
             let summary = if use_tui {
@@ -365,6 +392,9 @@ where
                 filter
             );
             println!("{}", summary.report());
+            if let Some(c) = d.nmea_counts() {
+                println!("own-ship NMEA: {c}");
+            }
             for event in d.events() {
                 println!("event: {event}");
             }

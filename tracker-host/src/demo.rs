@@ -3,6 +3,8 @@
 //! the same code in-process) predicts and rough-gates; this host refines the gates,
 //! associates, and shows the targets.
 
+use std::io::Write as _;
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context};
@@ -16,6 +18,7 @@ use tracker_core::sim::{ScanOutput, Scenario, ScenarioConfig, ScenarioKind};
 use crate::associate::{self, Association, CHI2_2DOF_99};
 use crate::evaluate::{Evaluator, Summary};
 use crate::link::Client;
+use crate::nmea;
 use crate::target::{OwnShip, TargetData};
 
 /// Filters the demo can run, with the parameters it uses for them.
@@ -109,6 +112,95 @@ pub struct Demo {
     events: Vec<String>,
     /// Track numbers in the device's last report.
     last_tracks: Vec<u16>,
+    /// NMEA with the bridge, when asked for.
+    nmea: Option<NmeaLink>,
+}
+
+/// NMEA 0183 with the bridge; everything off unless asked for.
+#[derive(Clone, Debug, Default)]
+pub struct NmeaOptions {
+    /// Send every confirmed target as `TTM` and `TLL` here each scan.
+    pub out: Option<nmea::OutSpec>,
+    /// Take own ship from these sentences (through the dead-reckoning filter) instead of the
+    /// simulation's truth.
+    pub own_ship_in: Option<nmea::InSpec>,
+    /// Take own ship from the simulation's bridge sensors, as NMEA sentences through the
+    /// dead-reckoning filter, and write the sentences to this file (a recording that
+    /// `own_ship_in: file:…` replays with the same result).
+    pub record: Option<PathBuf>,
+    /// The local frame's origin on the globe.
+    pub origin: nmea::Origin,
+}
+
+/// Where own ship comes from when NMEA is in play.
+enum OwnShipFeed {
+    /// The simulation's sensors, written to a recording.
+    Simulated(std::io::BufWriter<std::fs::File>),
+    /// An outside source.
+    Input(nmea::NmeaIn),
+}
+
+struct NmeaLink {
+    origin: nmea::Origin,
+    out: Option<nmea::NmeaOut>,
+    own: Option<(OwnShipFeed, nmea::OwnShipNav)>,
+}
+
+impl NmeaLink {
+    fn open(o: &NmeaOptions) -> anyhow::Result<Option<Self>> {
+        let feed = match (&o.own_ship_in, &o.record) {
+            (Some(_), Some(_)) => {
+                bail!("own ship from NMEA input or a recording of the simulation, not both")
+            }
+            (Some(spec), None) => Some(OwnShipFeed::Input(nmea::NmeaIn::open(spec)?)),
+            (None, Some(path)) => {
+                let f = std::fs::File::create(path)
+                    .with_context(|| format!("creating {}", path.display()))?;
+                Some(OwnShipFeed::Simulated(std::io::BufWriter::new(f)))
+            }
+            (None, None) => None,
+        };
+        if feed.is_none() && o.out.is_none() {
+            return Ok(None);
+        }
+        Ok(Some(NmeaLink {
+            origin: o.origin,
+            out: o.out.as_ref().map(nmea::NmeaOut::open).transpose()?,
+            own: feed.map(|f| (f, nmea::OwnShipNav::new(o.origin))),
+        }))
+    }
+
+    /// Own ship at the scan: from the sentences due by then, or the truth when own ship
+    /// does not come from NMEA.
+    fn own_ship(&mut self, sim: &ScanOutput) -> anyhow::Result<OwnShip> {
+        let truth = OwnShip {
+            position_m: sim.own_position_m,
+            velocity_mps: sim.own_velocity_mps,
+        };
+        let Some((feed, nav)) = self.own.as_mut() else {
+            return Ok(truth);
+        };
+        let t = sim.time_ms as f64 / 1000.0;
+        let lines = match feed {
+            OwnShipFeed::Simulated(file) => {
+                let p = truth.position_m.map(f64::from);
+                let v = truth.velocity_mps.map(f64::from);
+                let lines = nmea::own_ship_sentences(p, v, &self.origin, t);
+                for l in &lines {
+                    file.write_all(l.as_bytes())
+                        .context("writing the NMEA recording")?;
+                }
+                file.flush().context("writing the NMEA recording")?;
+                lines
+            }
+            OwnShipFeed::Input(input) => input.lines_until(t),
+        };
+        for l in &lines {
+            nav.feed(l);
+        }
+        // Before the first position fix own ship stays at the origin, stopped.
+        Ok(nav.own_ship_at(t).unwrap_or_default())
+    }
 }
 
 impl Demo {
@@ -128,6 +220,7 @@ impl Demo {
             boot_id: info.boot_id,
             events: Vec::new(),
             last_tracks: Vec::new(),
+            nmea: None,
         };
         demo.configure()?;
         // Start from an empty table: a board may still hold an earlier run's tracks.
@@ -235,9 +328,12 @@ impl Demo {
     pub fn step(&mut self) -> anyhow::Result<ScanView> {
         let started = Instant::now();
         let sim = self.scenario.next_scan();
-        let own = OwnShip {
-            position_m: sim.own_position_m,
-            velocity_mps: sim.own_velocity_mps,
+        let own = match self.nmea.as_mut() {
+            Some(n) => n.own_ship(&sim)?,
+            None => OwnShip {
+                position_m: sim.own_position_m,
+                velocity_mps: sim.own_velocity_mps,
+            },
         };
         let nav = NavSample {
             time_ms: sim.time_ms,
@@ -265,6 +361,18 @@ impl Demo {
             .map(|t| TargetData::new(&own, t))
             .collect();
         targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+        if let Some(NmeaLink {
+            out: Some(out),
+            origin,
+            ..
+        }) = self.nmea.as_mut()
+        {
+            out.send(&nmea::targets_sentences(
+                &targets,
+                origin,
+                sim.time_ms as f64 / 1000.0,
+            ));
+        }
         self.evaluator
             .scan(&sim, &tracks, self.scenario.config().scan_s);
         let host_time = started.elapsed();
@@ -395,6 +503,21 @@ impl Demo {
             }
         }
         Ok(self.summary())
+    }
+
+    /// Adds NMEA 0183 with the bridge: targets out, own ship in (see [`NmeaOptions`]).
+    pub fn with_nmea(mut self, options: &NmeaOptions) -> anyhow::Result<Self> {
+        self.nmea = NmeaLink::open(options)?;
+        Ok(self)
+    }
+
+    /// What became of the own-ship sentences, when own ship comes from NMEA.
+    pub fn nmea_counts(&self) -> Option<nmea::NavCounts> {
+        self.nmea
+            .as_ref()?
+            .own
+            .as_ref()
+            .map(|(_, nav)| nav.counts())
     }
 
     /// Host time of every scan so far, link included.

@@ -16,6 +16,7 @@ pub mod evaluate;
 pub mod faults;
 pub mod link;
 pub mod link_check;
+pub mod nmea;
 pub mod precision;
 pub mod qemu;
 pub mod replay;
