@@ -50,13 +50,20 @@ pub const MAX_TRACKS: u16 = 64;
 /// Plots accepted per scan.
 pub const MAX_PLOTS_PER_SCAN: u16 = 256;
 
+/// Firmware name and board, reported in the handshake.
+#[cfg(not(feature = "stm32f4-discovery"))]
+pub const FIRMWARE: &str = concat!("tracker-firmware ", env!("CARGO_PKG_VERSION"), " (mps2-an386)");
+/// Firmware name and board, reported in the handshake.
+#[cfg(feature = "stm32f4-discovery")]
+pub const FIRMWARE: &str = concat!(
+    "tracker-firmware ",
+    env!("CARGO_PKG_VERSION"),
+    " (STM32F4DISCOVERY)"
+);
+
 /// Device configuration of this build (the boot id is filled in at start-up).
 pub const DEVICE_CONFIG: DeviceConfig = DeviceConfig {
-    firmware: concat!(
-        "tracker-firmware ",
-        env!("CARGO_PKG_VERSION"),
-        " (mps2-an386)"
-    ),
+    firmware: FIRMWARE,
     boot_id: 0,
     max_tracks: MAX_TRACKS,
     max_plots_per_scan: MAX_PLOTS_PER_SCAN,
@@ -142,8 +149,13 @@ fn boot_id() -> u32 {
     }
 }
 
+/// A fault ends the run: under QEMU with exit code 1 (a test fails loudly), on a board
+/// with a reset (the host sees a new boot id and re-acquires).
 #[exception]
 unsafe fn HardFault(frame: &ExceptionFrame) -> ! {
     defmt::error!("HardFault at pc={=u32:#010x}", frame.pc());
-    board::exit(1)
+    #[cfg(feature = "qemu")]
+    board::exit(1);
+    #[cfg(not(feature = "qemu"))]
+    cortex_m::peripheral::SCB::sys_reset()
 }
