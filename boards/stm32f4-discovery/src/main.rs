@@ -25,6 +25,7 @@ use heapless::Deque;
 use stm32f4xx_hal::gpio::{AnyPin, Output, PushPull};
 use stm32f4xx_hal::pac::{self, interrupt, USART2};
 use stm32f4xx_hal::prelude::*;
+#[cfg(not(feature = "qemu"))]
 use stm32f4xx_hal::rcc::Config;
 use stm32f4xx_hal::serial::{Rx, Tx};
 use stm32f4xx_hal::watchdog::IndependentWatchdog;
@@ -147,6 +148,11 @@ fn main() -> ! {
     let Some(dp) = pac::Peripherals::take() else {
         cortex_m::peripheral::SCB::sys_reset()
     };
+    // QEMU's netduinoplus2 models no clock controller: there the chip runs from its reset
+    // clock (HSI, 16 MHz), which needs no waiting for oscillators to settle.
+    #[cfg(feature = "qemu")]
+    let mut rcc = dp.RCC.constrain();
+    #[cfg(not(feature = "qemu"))]
     let mut rcc = dp.RCC.freeze(Config::hse(8.MHz()).sysclk(168.MHz()));
     let gpioa = dp.GPIOA.split(&mut rcc);
     let gpiod = dp.GPIOD.split(&mut rcc);
