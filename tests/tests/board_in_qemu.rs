@@ -49,9 +49,17 @@ fn start(elf: &PathBuf) -> (Board, Client) {
         .unwrap()
         .port();
     let child = Command::new("qemu-system-arm")
-        .args(["-machine", "netduinoplus2", "-nographic", "-monitor", "none"])
+        .args([
+            "-machine",
+            "netduinoplus2",
+            "-nographic",
+            "-monitor",
+            "none",
+        ])
         .args(["-serial", "null", "-serial"])
-        .arg(format!("tcp:127.0.0.1:{port},server=on,wait=off,nodelay=on"))
+        .arg(format!(
+            "tcp:127.0.0.1:{port},server=on,wait=off,nodelay=on"
+        ))
         .arg("-kernel")
         .arg(elf)
         .stdin(Stdio::null())
@@ -81,7 +89,11 @@ fn the_stm32_board_passes_the_link_check_and_tracks_like_inproc() {
     };
     let (_board, mut client) = start(&elf);
     let info = client.hello().unwrap();
-    assert!(info.firmware.contains("STM32F4DISCOVERY"), "{}", info.firmware);
+    assert!(
+        info.firmware.contains("STM32F4DISCOVERY"),
+        "{}",
+        info.firmware
+    );
     let report = link_check::run(
         &mut client,
         &LinkCheckOptions {
@@ -102,8 +114,7 @@ fn the_stm32_board_passes_the_link_check_and_tracks_like_inproc() {
         filter: DemoFilter::KalmanCv,
     };
     let mut on_board = Demo::new(client, options.clone()).unwrap();
-    let mut in_process =
-        Demo::new(Client::new(Box::new(InprocTransport::new())), options).unwrap();
+    let mut in_process = Demo::new(Client::new(Box::new(InprocTransport::new())), options).unwrap();
     for _ in 0..60 {
         let a = on_board.step().unwrap();
         let b = in_process.step().unwrap();

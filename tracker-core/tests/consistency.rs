@@ -35,6 +35,46 @@ fn sample<const N: usize>(rng: &mut Pcg32, cov: &SMatrix<f64, N, N>) -> SVector<
     l * normal::<N>(rng)
 }
 
+/// Bar-Shalom's test over the runs: per step, the run-summed NEES and NIS and the NIS's
+/// degrees of freedom.
+struct Tally {
+    /// 95 % band of the run-averaged NEES.
+    lo: f64,
+    hi: f64,
+    /// Steps with the run-averaged NEES inside its band.
+    nees_inside: usize,
+    /// Steps with the summed NIS inside its band, of the `measured` steps with any NIS.
+    nis_inside: usize,
+    measured: usize,
+    /// NEES averaged over runs and steps.
+    mean_nees: f64,
+}
+
+fn tally(states: usize, nees_sum: &[f64], nis_sum: &[f64], nis_dof: &[usize]) -> Tally {
+    let (lo, hi) = bounds((RUNS * states) as f64, RUNS as f64);
+    let nees_inside = nees_sum
+        .iter()
+        .filter(|&&s| (lo..=hi).contains(&(s / RUNS as f64)))
+        .count();
+    let measured = nis_dof.iter().filter(|&&d| d > 0).count();
+    let nis_inside = nis_sum
+        .iter()
+        .zip(nis_dof)
+        .filter(|&(&sum, &dof)| {
+            let (l, h) = bounds(dof as f64, 1.0);
+            dof > 0 && (l..=h).contains(&sum)
+        })
+        .count();
+    Tally {
+        lo,
+        hi,
+        nees_inside,
+        nis_inside,
+        measured,
+        mean_nees: nees_sum.iter().sum::<f64>() / (RUNS * nees_sum.len()) as f64,
+    }
+}
+
 /// (mean NEES, steps with the run-averaged NEES inside its band, steps with NIS inside,
 /// steps with any measurement).
 fn drkf_runs(nonlinear: bool) -> (f64, usize, usize, usize) {
@@ -94,19 +134,14 @@ fn drkf_runs(nonlinear: bool) -> (f64, usize, usize, usize) {
             nis_dof[k] += used;
         }
     }
-    let (lo, hi) = bounds((RUNS * STATES) as f64, RUNS as f64);
-    let nees_inside = nees_sum
-        .iter()
-        .filter(|&&s| (lo..=hi).contains(&(s / RUNS as f64)))
-        .count();
-    let measured = (0..STEPS).filter(|&k| nis_dof[k] > 0).count();
-    let nis_inside = (0..STEPS)
-        .filter(|&k| {
-            let (l, h) = bounds(nis_dof[k] as f64, 1.0);
-            nis_dof[k] > 0 && (l..=h).contains(&nis_sum[k])
-        })
-        .count();
-    let mean_nees = nees_sum.iter().sum::<f64>() / (RUNS * STEPS) as f64;
+    let Tally {
+        lo,
+        hi,
+        nees_inside,
+        nis_inside,
+        measured,
+        mean_nees,
+    } = tally(STATES, &nees_sum, &nis_sum, &nis_dof);
     println!(
         "DRKF ({}), {RUNS} runs × {STEPS} s: mean NEES {mean_nees:.2} (dof {STATES}, 95 % band of \
          a {RUNS}-run average {lo:.2}–{hi:.2}); NEES inside at {nees_inside}/{STEPS} steps, NIS at \
@@ -216,19 +251,14 @@ fn ttkf_runs() -> (f64, usize, usize, usize) {
             nees_sum[k] += (e.transpose() * p.solve(&e))[(0, 0)];
         }
     }
-    let (lo, hi) = bounds((RUNS * N) as f64, RUNS as f64);
-    let nees_inside = nees_sum
-        .iter()
-        .filter(|&&s| (lo..=hi).contains(&(s / RUNS as f64)))
-        .count();
-    let measured = (0..STEPS).filter(|&k| nis_dof[k] > 0).count();
-    let nis_inside = (0..STEPS)
-        .filter(|&k| {
-            let (l, h) = bounds(nis_dof[k] as f64, 1.0);
-            nis_dof[k] > 0 && (l..=h).contains(&nis_sum[k])
-        })
-        .count();
-    let mean_nees = nees_sum.iter().sum::<f64>() / (RUNS * STEPS) as f64;
+    let Tally {
+        lo,
+        hi,
+        nees_inside,
+        nis_inside,
+        measured,
+        mean_nees,
+    } = tally(N, &nees_sum, &nis_sum, &nis_dof);
     println!(
         "TTKF, {RUNS} runs × {STEPS} s: mean NEES {mean_nees:.2} (dof {N}, 95 % band of a \
          {RUNS}-run average {lo:.2}–{hi:.2}); NEES inside at {nees_inside}/{STEPS} steps, radar \

@@ -52,7 +52,11 @@ pub const MAX_PLOTS_PER_SCAN: u16 = 256;
 
 /// Firmware name and board, reported in the handshake.
 #[cfg(not(feature = "stm32f4-discovery"))]
-pub const FIRMWARE: &str = concat!("tracker-firmware ", env!("CARGO_PKG_VERSION"), " (mps2-an386)");
+pub const FIRMWARE: &str = concat!(
+    "tracker-firmware ",
+    env!("CARGO_PKG_VERSION"),
+    " (mps2-an386)"
+);
 /// Firmware name and board, reported in the handshake.
 #[cfg(feature = "stm32f4-discovery")]
 pub const FIRMWARE: &str = concat!(

@@ -27,18 +27,10 @@ use tracker_firmware::{board, icount};
 // Its own frame: inlined into `main`, every row's locals would share one huge frame.
 #[inline(never)]
 fn nav_rows<A: Algebra>(counter: &mut icount::InstructionCounter) {
-    let Some(config) = DrkfConfig::table_1(1) else {
+    let Some(mut drkf) = drkf::<A>() else {
         return;
     };
-    let Ok(mut drkf) = Drkf::<f32, A>::with_algebra(config, [0.0, 0.0], [5.0, 5.0], 10.0, 1.0)
-    else {
-        return;
-    };
-    let fix = NavFix {
-        speedlog_mps: Some(7.07),
-        gyro_rad: Some(0.785),
-        ..NavFix::default()
-    };
+    let fix = dead_reckoning_fix();
     let per = icount::per_call(counter, 50, || {
         let d = black_box(&mut drkf);
         let _ = d.predict(1.0);
@@ -58,11 +50,7 @@ fn nav_rows<A: Algebra>(counter: &mut icount::InstructionCounter) {
         black_box(black_box(&drkf).transition(black_box(1.0)));
     });
     row("drkf-van-loan", A::NAME, per, 0);
-    let own = OwnShip {
-        position_m: drkf.position_m(),
-        velocity_mps: drkf.velocity_over_ground_mps(),
-        covariance: drkf.own_ship_covariance(),
-    };
+    let own = handoff(&drkf);
     let Ok(mut ttkf) = Ttkf::<f32, A>::with_algebra(ttkf_config(), &own, 5000.0, 0.7) else {
         return;
     };
@@ -96,25 +84,13 @@ fn nav_rows<A: Algebra>(counter: &mut icount::InstructionCounter) {
 fn coupling_rows<A: Algebra, const N: usize, const M: usize>(
     counter: &mut icount::InstructionCounter,
 ) {
-    let Some(config) = DrkfConfig::table_1(1) else {
+    let Some(mut drkf) = drkf::<A>() else {
         return;
     };
-    let Ok(mut drkf) = Drkf::<f32, A>::with_algebra(config, [0.0, 0.0], [5.0, 5.0], 10.0, 1.0)
-    else {
-        return;
-    };
-    let fix = NavFix {
-        speedlog_mps: Some(7.07),
-        gyro_rad: Some(0.785),
-        ..NavFix::default()
-    };
+    let fix = dead_reckoning_fix();
     let plots: [(f32, f32); M] =
         core::array::from_fn(|t| (3000.0 + 500.0 * t as f32, 0.3 * t as f32));
-    let own = |d: &Drkf<f32, A>| OwnShip {
-        position_m: d.position_m(),
-        velocity_mps: d.velocity_over_ground_mps(),
-        covariance: d.own_ship_covariance(),
-    };
+    let own = handoff::<A>;
     let mut tracks: [Option<Ttkf<f32, A>>; M] = core::array::from_fn(|t| {
         let (r, b) = plots[t];
         Ttkf::with_algebra(ttkf_config(), &own(&drkf), f64::from(r), f64::from(b)).ok()
@@ -163,6 +139,30 @@ fn coupled_row<A: Algebra, const N: usize, const M: usize>(
         per,
         ram
     );
+}
+
+/// A DRKF of Table I test 1, at 5 m/s north-east.
+fn drkf<A: Algebra>() -> Option<Drkf<f32, A>> {
+    let config = DrkfConfig::table_1(1)?;
+    Drkf::with_algebra(config, [0.0, 0.0], [5.0, 5.0], 10.0, 1.0).ok()
+}
+
+/// One second of dead reckoning: the log and the gyro, no position fix.
+fn dead_reckoning_fix() -> NavFix {
+    NavFix {
+        speedlog_mps: Some(7.07),
+        gyro_rad: Some(0.785),
+        ..NavFix::default()
+    }
+}
+
+/// The DRKF's estimate as a TTKF's own-ship measurement (eq. 9a).
+fn handoff<A: Algebra>(d: &Drkf<f32, A>) -> OwnShip<f32> {
+    OwnShip {
+        position_m: d.position_m(),
+        velocity_mps: d.velocity_over_ground_mps(),
+        covariance: d.own_ship_covariance(),
+    }
 }
 
 /// The TTKF of the ARPA scenarios (IMO sensor model).
