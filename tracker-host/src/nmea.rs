@@ -857,6 +857,29 @@ mod tests {
             std::thread::sleep(std::time::Duration::from_millis(10));
         }
         assert_eq!(lines, own[..2].to_vec());
+        // TCP: we connect to a server (a multiplexer) and read what it sends, in pieces.
+        let server = TcpListener::bind("127.0.0.1:0").unwrap();
+        let spec = InSpec::Tcp(server.local_addr().unwrap().to_string());
+        let mut input = NmeaIn::open(&spec).unwrap();
+        let (mut peer, _) = server.accept().unwrap();
+        let text = own.concat();
+        let (a, b) = text.split_at(text.len() / 2 + 3);
+        peer.write_all(a.as_bytes()).unwrap();
+        let mut lines = Vec::new();
+        let mut rest = Some(b);
+        for _ in 0..100 {
+            lines.extend(input.lines_until(0.0));
+            // The rest once the first part's complete lines are through.
+            if let Some(b) = rest.filter(|_| !lines.is_empty()) {
+                peer.write_all(b.as_bytes()).unwrap();
+                rest = None;
+            }
+            if lines.len() == own.len() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        assert_eq!(lines, own);
         assert!("udp:nowhere".parse::<OutSpec>().is_err());
         assert!("serial:/dev/ttyUSB0@4800".parse::<InSpec>().is_ok());
     }
