@@ -481,33 +481,26 @@ pub(crate) fn sensor_rows<T: RealField + Copy, const N: usize>(
     let mut push = |residual: T, h: &[(usize, T)], r: T| {
         let _ = rows.push(Row::new(residual, r, h));
     };
+    // The linear rows of eq. 7a: each measures the sum of one or two states.
+    let mut sum_of = |z: f64, states: &[usize], r: T| {
+        let mut h = [(0, o); 2];
+        for (entry, &i) in h.iter_mut().zip(states) {
+            entry.0 = i;
+        }
+        let residual = states.iter().fold(c::<T>(z), |acc, &i| acc - x[i]);
+        push(residual, h.get(..states.len()).unwrap_or(&[]), r);
+    };
     if let Some([e, n]) = fix.gps_position_m {
-        push(c::<T>(e) - x[ix::X], &[(ix::X, o)], noise.gps_position);
-        push(c::<T>(n) - x[ix::Y], &[(ix::Y, o)], noise.gps_position);
+        sum_of(e, &[ix::X], noise.gps_position);
+        sum_of(n, &[ix::Y], noise.gps_position);
     }
     if let Some([e, n]) = fix.gps_velocity_mps {
-        push(
-            c::<T>(e) - x[ix::CX] - x[ix::VX],
-            &[(ix::CX, o), (ix::VX, o)],
-            noise.gps_velocity,
-        );
-        push(
-            c::<T>(n) - x[ix::CY] - x[ix::VY],
-            &[(ix::CY, o), (ix::VY, o)],
-            noise.gps_velocity,
-        );
+        sum_of(e, &[ix::CX, ix::VX], noise.gps_velocity);
+        sum_of(n, &[ix::CY, ix::VY], noise.gps_velocity);
     }
     if let Some([e, n]) = fix.loran_position_m {
-        push(
-            c::<T>(e) - x[ix::X] - x[ix::LX],
-            &[(ix::X, o), (ix::LX, o)],
-            noise.loran,
-        );
-        push(
-            c::<T>(n) - x[ix::Y] - x[ix::LY],
-            &[(ix::Y, o), (ix::LY, o)],
-            noise.loran,
-        );
+        sum_of(e, &[ix::X, ix::LX], noise.loran);
+        sum_of(n, &[ix::Y, ix::LY], noise.loran);
     }
     let (gx, gy) = (x[ix::CX] + x[ix::VX], x[ix::CY] + x[ix::VY]);
     let ground2 = gx * gx + gy * gy;

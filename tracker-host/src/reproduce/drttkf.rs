@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use std::path::Path;
 
 use tracker_core::nav::drkf::{ix, Drkf, DrkfConfig, NavFix, SpeedlogMode};
-use tracker_core::nav::ttkf::{OwnShip, Ttkf, TtkfConfig};
+use tracker_core::nav::ttkf::{self, OwnShip, Ttkf, TtkfConfig};
 use tracker_core::nav::GaussMarkov;
 
 use super::normal;
@@ -178,7 +178,7 @@ fn target_run(test: usize, seed: u64) -> anyhow::Result<(Vec<f64>, Vec<f64>)> {
                 }
             }
             if let Some(f) = f.as_ref() {
-                sd.push(f.covariance()[(6, 6)].sqrt());
+                sd.push(f.covariance()[(ttkf::ix::TX, ttkf::ix::TX)].sqrt());
                 e.push((f.target_position_m()[0] - tp[0]).abs());
             }
         }
@@ -221,15 +221,9 @@ pub(super) fn run(out: &Path) -> anyhow::Result<String> {
                 .collect(),
         ));
     }
-    plot::write(
-        &Chart {
-            title: "Paper 004, DRKF: x-position standard deviation (cf. its Fig. 2)",
-            x_label: "time, s",
-            y_label: "σ_x, m",
-            series,
-            equal_axes: false,
-            log_y: true,
-        },
+    sd_chart(
+        "Paper 004, DRKF: x-position standard deviation (cf. its Fig. 2)",
+        series,
         out,
         "drttkf-drkf-sd",
     )?;
@@ -259,15 +253,9 @@ pub(super) fn run(out: &Path) -> anyhow::Result<String> {
                 .collect(),
         ));
     }
-    plot::write(
-        &Chart {
-            title: "Paper 004, TTKF: target x-position standard deviation (cf. its Fig. 5)",
-            x_label: "time, s",
-            y_label: "σ_x, m",
-            series,
-            equal_axes: false,
-            log_y: true,
-        },
+    sd_chart(
+        "Paper 004, TTKF: target x-position standard deviation (cf. its Fig. 5)",
+        series,
         out,
         "drttkf-ttkf-sd",
     )?;
@@ -300,4 +288,20 @@ pub(super) fn run(out: &Path) -> anyhow::Result<String> {
         let _ = writeln!(s, "\n{m}.");
     }
     Ok(s)
+}
+
+/// A σ_x-against-time chart (log scale) as `out/name.svg` and `.png`.
+fn sd_chart(title: &str, series: Vec<Series>, out: &Path, name: &str) -> anyhow::Result<()> {
+    plot::write(
+        &Chart {
+            title,
+            x_label: "time, s",
+            y_label: "σ_x, m",
+            series,
+            equal_axes: false,
+            log_y: true,
+        },
+        out,
+        name,
+    )
 }
