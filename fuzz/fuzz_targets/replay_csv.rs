@@ -7,7 +7,8 @@ use tracker_core::filter::alpha_beta::AlphaBetaGains;
 use tracker_core::filter::alpha_beta_gamma::AbgGains;
 use tracker_core::filter::kalman::{KalmanConfig, QModel};
 use tracker_core::filter::sswt::SswtConfig;
-use tracker_host::replay::{parse_measurements, run, FilterSpec, ScalarKind};
+use tracker_core::filter::FilterConfig as FilterSpec;
+use tracker_host::lab::replay::{parse_measurements, run, ScalarKind};
 
 fuzz_target!(|data: &[u8]| {
     let Ok(input) = parse_measurements(data, "fuzz") else {

@@ -8,10 +8,11 @@ use std::path::PathBuf;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-use tracker_host::demo::{Demo, DemoFilter, DemoOptions};
+use tracker_core::filter::FilterKind;
+use tracker_host::app::demo::{self, DemoOptions};
+use tracker_host::link::check::{self as link_check, LinkCheckOptions};
+use tracker_host::link::qemu;
 use tracker_host::link::{Client, InprocTransport, TcpTransport};
-use tracker_host::link_check::{self, LinkCheckOptions};
-use tracker_host::qemu;
 
 struct Board(Child);
 
@@ -105,19 +106,19 @@ fn the_stm32_board_passes_the_link_check_and_tracks_like_inproc() {
     assert!(report.passed(), "{}", report.summary());
 
     // The main job: the same tracks as the core in-process, scan for scan.
-    let options = DemoOptions {
-        scenario: tracker_core::sim::ScenarioKind::OpenSea,
-        targets: 40,
-        seed: 1,
-        speedup: None,
-        duration_s: 150.0,
-        filter: DemoFilter::KalmanCv,
-    };
-    let mut on_board = Demo::new(client, options.clone()).unwrap();
-    let mut in_process = Demo::new(Client::new(Box::new(InprocTransport::new())), options).unwrap();
+    let options = DemoOptions::new(
+        tracker_core::sim::ScenarioKind::OpenSea,
+        40,
+        1,
+        150.0,
+        FilterKind::KalmanCv,
+    );
+    let mut on_board = demo::start(client, &options).unwrap();
+    let mut in_process =
+        demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
     for _ in 0..60 {
-        let a = on_board.step().unwrap();
-        let b = in_process.step().unwrap();
-        assert_eq!(a.tracks, b.tracks, "scan {}", a.sim.scan);
+        let a = on_board.step().unwrap().unwrap();
+        let b = in_process.step().unwrap().unwrap();
+        assert_eq!(a.tracks, b.tracks, "scan {}", a.scan);
     }
 }

@@ -5,7 +5,10 @@
 
 use std::process::ExitCode;
 
-use tracker_host::{bench_mcu, cli, qemu};
+use tracker_core::filter::FilterKind;
+use tracker_host::cli;
+use tracker_host::lab::bench_mcu;
+use tracker_host::link::qemu;
 
 fn qemu_or_skip(test: &str) -> bool {
     if qemu::qemu_available() {
@@ -165,35 +168,34 @@ fn filter_costs_are_within_budget() {
 /// and the scores within the bounds the README states.
 #[test]
 fn demo_on_the_firmware_tracks_like_inproc_and_meets_its_bounds() {
-    use tracker_host::demo::{Demo, DemoFilter, DemoOptions};
+    use tracker_host::app::demo::{self, DemoOptions};
     use tracker_host::link::{self, Client, LinkSpec};
     if !qemu_or_skip("demo_on_the_firmware_tracks_like_inproc_and_meets_its_bounds") {
         return;
     }
-    let options = DemoOptions {
-        scenario: tracker_core::sim::ScenarioKind::OpenSea,
-        targets: 40,
-        seed: 1,
-        speedup: None,
-        duration_s: 600.0,
-        filter: DemoFilter::KalmanCv,
-    };
+    let options = DemoOptions::new(
+        tracker_core::sim::ScenarioKind::OpenSea,
+        40,
+        1,
+        600.0,
+        FilterKind::KalmanCv,
+    );
     let open = |spec: LinkSpec| {
         let transport = link::open(&spec, &qemu::QemuOptions::default()).expect("link opens");
-        Demo::new(Client::new(transport), options.clone()).expect("demo starts")
+        demo::start(Client::new(transport), &options).expect("demo starts")
     };
     let mut on_mcu = open(LinkSpec::Qemu);
     let mut in_process = open(LinkSpec::Inproc);
     for _ in 0..240 {
-        let a = on_mcu.step().expect("scan on the firmware");
-        let b = in_process.step().expect("scan in process");
-        assert_eq!(a.tracks, b.tracks, "scan {}", a.sim.scan);
+        let a = on_mcu.step().expect("scan on the firmware").unwrap();
+        let b = in_process.step().expect("scan in process").unwrap();
+        assert_eq!(a.tracks, b.tracks, "scan {}", a.scan);
     }
-    let s = on_mcu.summary();
-    assert_eq!(s, in_process.summary());
+    let s = on_mcu.summary().unwrap();
+    assert_eq!(s, in_process.summary().unwrap());
     assert_eq!(s.targets_confirmed, 40, "{}", s.report());
-    assert_eq!(s.confirmed_within_5, 40, "{}", s.report());
-    assert_eq!(s.swaps, 0, "{}", s.report());
+    assert_eq!(s.confirmed_within_5_scans, 40, "{}", s.report());
+    assert_eq!(s.track_swaps, 0, "{}", s.report());
     assert_eq!(s.false_tracks, 0, "{}", s.report());
     assert!(s.cpa_error_p95_m < 1000.0, "{}", s.report());
     assert!(s.tcpa_error_p95_s < 600.0, "{}", s.report());
@@ -203,33 +205,97 @@ fn demo_on_the_firmware_tracks_like_inproc_and_meets_its_bounds() {
 /// tracks over QEMU are those of the clean in-process run, scan for scan.
 #[test]
 fn a_noisy_link_to_the_firmware_changes_no_track() {
-    use tracker_host::demo::{Demo, DemoFilter, DemoOptions};
-    use tracker_host::faults::{FaultRates, FaultyTransport};
+    use tracker_host::app::demo::{self, DemoOptions};
+    use tracker_host::link::faults::{FaultRates, FaultyTransport};
     use tracker_host::link::{self, Client, LinkSpec};
     if !qemu_or_skip("a_noisy_link_to_the_firmware_changes_no_track") {
         return;
     }
-    let options = DemoOptions {
-        scenario: tracker_core::sim::ScenarioKind::OpenSea,
-        targets: 40,
-        seed: 6,
-        speedup: None,
-        duration_s: 300.0,
-        filter: DemoFilter::KalmanCv,
-    };
+    let options = DemoOptions::new(
+        tracker_core::sim::ScenarioKind::OpenSea,
+        40,
+        6,
+        300.0,
+        FilterKind::KalmanCv,
+    );
     let qemu = link::open(&LinkSpec::Qemu, &qemu::QemuOptions::default()).expect("qemu");
     let noisy = FaultyTransport::new(qemu, FaultRates::byte_errors(1e-3), 5);
     let mut client = Client::new(Box::new(noisy));
     client.timeout = std::time::Duration::from_millis(300);
     client.retries = 50;
-    let mut on_mcu = Demo::new(client, options.clone()).expect("demo over a noisy link");
+    let mut on_mcu = demo::start(client, &options).expect("demo over a noisy link");
     let inproc = link::open(&LinkSpec::Inproc, &qemu::QemuOptions::default()).unwrap();
-    let mut clean = Demo::new(Client::new(inproc), options).unwrap();
+    let mut clean = demo::start(Client::new(inproc), &options).unwrap();
     for _ in 0..120 {
-        let a = on_mcu.step().expect("scan over the noisy link");
-        let b = clean.step().unwrap();
-        assert_eq!(a.tracks, b.tracks, "scan {}", a.sim.scan);
+        let a = on_mcu.step().expect("scan over the noisy link").unwrap();
+        let b = clean.step().unwrap().unwrap();
+        assert_eq!(a.tracks, b.tracks, "scan {}", a.scan);
     }
-    let s = on_mcu.client().stats();
+    let s = on_mcu.session().link_stats();
     assert!(s.frames_damaged > 0 && s.retries > 0, "{s:?}");
+}
+
+/// Recorded plots in, over the firmware: a demo run recorded in-process and tracked again
+/// from its plots file on the firmware in QEMU gives the same tracks, scan for scan, and the
+/// same scored summary.
+#[test]
+fn a_recorded_demo_tracks_the_same_on_the_firmware() {
+    if !qemu_or_skip("a_recorded_demo_tracks_the_same_on_the_firmware") {
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("tracker-e2e-track-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = |n: &str| dir.join(n).to_str().unwrap().to_string();
+    let run = |args: &[&str]| {
+        cli::run(std::iter::once("tracker-host").chain(args.iter().copied())).expect("runs")
+    };
+    let code = run(&[
+        "--link",
+        "inproc",
+        "demo",
+        "--plain",
+        "--targets",
+        "40",
+        "--seed",
+        "1",
+        "--duration",
+        "150",
+        "--record-plots",
+        &f("plots.csv"),
+        "--record-truth",
+        &f("truth.csv"),
+        "--record-tracks",
+        &f("demo-tracks.csv"),
+        "--summary-json",
+        &f("demo.json"),
+    ]);
+    assert_eq!(code, ExitCode::SUCCESS);
+    let code = run(&[
+        "--link",
+        "qemu",
+        "track",
+        "--plain",
+        "--plots",
+        &f("plots.csv"),
+        "--truth",
+        &f("truth.csv"),
+        "--record-tracks",
+        &f("qemu-tracks.csv"),
+        "--summary-json",
+        &f("qemu.json"),
+    ]);
+    assert_eq!(code, ExitCode::SUCCESS);
+    let read = |n: &str| std::fs::read_to_string(dir.join(n)).unwrap();
+    let (a, b) = (read("demo-tracks.csv"), read("qemu-tracks.csv"));
+    assert!(a.lines().count() > 60 * 30);
+    assert_eq!(a, b, "tracks differ");
+    let scores = |n: &str| {
+        let text = read(n);
+        text.lines()
+            .filter(|l| !l.contains("host_ms") && !l.contains("\"link"))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert_eq!(scores("demo.json"), scores("qemu.json"));
+    let _ = std::fs::remove_dir_all(&dir);
 }

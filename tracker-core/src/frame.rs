@@ -24,7 +24,7 @@ pub enum FrameError {
     Cobs,
     /// CRC mismatch, or too short to carry a CRC.
     Crc,
-    /// Longer than [`MAX_ENCODED_FRAME_BYTES`] before the delimiter.
+    /// Longer than [`MAX_ENCODED_FRAME_BYTES`](crate::icd::MAX_ENCODED_FRAME_BYTES) before the delimiter.
     Oversize,
     /// CRC fine, content did not decode.
     Malformed,
@@ -78,7 +78,10 @@ impl std::error::Error for FrameError {}
 /// Encodes `header` and `body` as one delimited frame into `out`; returns the bytes used.
 ///
 /// `scratch` holds the unencoded frame; [`MAX_FRAME_BYTES`] is always enough for the ICD's
-/// messages, and `out` needs [`MAX_ENCODED_FRAME_BYTES`].
+/// messages, and `out` needs [`MAX_ENCODED_FRAME_BYTES`](crate::icd::MAX_ENCODED_FRAME_BYTES).
+///
+/// # Errors
+/// [`FrameError::BufferTooSmall`] when `scratch` or `out` cannot hold the frame.
 pub fn encode<T: Serialize>(
     header: &Header,
     body: &T,
@@ -103,6 +106,9 @@ pub fn encode<T: Serialize>(
 ///
 /// The version is checked before the body is read, and a message index past the ones this
 /// version knows is reported as [`FrameError::UnknownMessage`] rather than as damage.
+///
+/// # Errors
+/// [`FrameError::Malformed`] when the header or body does not decode, [`FrameError::VersionMismatch`] for another protocol version, [`FrameError::UnknownMessage`] for a message index of `variants` or more.
 pub fn decode_payload<T: DeserializeOwned>(
     payload: &[u8],
     known_variants: u32,

@@ -17,8 +17,15 @@
 use heapless::{String, Vec};
 use serde::{Deserialize, Serialize};
 
+use crate::filter::kalman::{KalmanConfig, QModel};
+use crate::filter::FilterConfig;
+
 /// Bumped on every incompatible change to the types of this module.
-pub const PROTOCOL_VERSION: u16 = 2;
+///
+/// 3: the filter configuration is the core's [`FilterConfig`] (every filter, its full
+/// design); own ship is [`OwnShipPosition`] (the device uses the position alone); a track's
+/// `innovation_cov_m2` is named for what it holds.
+pub const PROTOCOL_VERSION: u16 = 3;
 
 /// Largest decoded frame: header + body + CRC, before COBS.
 pub const MAX_FRAME_BYTES: usize = 1024;
@@ -75,8 +82,8 @@ pub enum HostToDevice {
     Configure(TrackerConfig),
     /// Radar plots of one scan (possibly one part of several).
     Plots(PlotBatch),
-    /// Own-ship sensor data for the dead-reckoning filter.
-    OwnShip(NavSample),
+    /// Own ship's position for the plots that follow.
+    OwnShip(OwnShipPosition),
     /// The host's choice of plot for each gated track, closing a scan.
     Assign(AssignmentBatch),
     /// Operator commands: acquire or cancel targets.
@@ -213,58 +220,13 @@ impl LinkStats {
     }
 }
 
-/// Which filter every track runs, with its parameters.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub enum FilterChoice {
-    /// α-β with fixed gains.
-    AlphaBeta {
-        /// Position gain.
-        alpha: f32,
-        /// Velocity gain.
-        beta: f32,
-    },
-    /// Critically damped α-β-γ with all poles at `xi`.
-    AlphaBetaGamma {
-        /// Fading-memory parameter ξ in (0, 1).
-        xi: f32,
-    },
-    /// Constant-velocity Kalman filter (continuous white-noise acceleration).
-    KalmanCv {
-        /// Process noise intensity, m²/s³.
-        q: f32,
-        /// Measurement noise variance per axis, m².
-        r: f32,
-    },
-    /// Constant-acceleration Kalman filter (continuous white-noise jerk).
-    KalmanCa {
-        /// Process noise intensity, m²/s⁵.
-        q: f32,
-        /// Measurement noise variance per axis, m².
-        r: f32,
-    },
-    /// Switched slide-window tracker with a Benedict–Bordner α-β start.
-    Sswt {
-        /// Window size M, 2..8.
-        window: u8,
-        /// α of the start and of the window's measurement update.
-        alpha: f32,
-    },
-    /// GRNN neural filter with its manoeuvre detector (σ from the measured noise).
-    Grnn {
-        /// Manoeuvre filter's teaching sequence, scans.
-        short: u8,
-        /// Stable filter's teaching sequence, scans.
-        long: u8,
-    },
-}
-
 /// Tracker configuration sent with [`HostToDevice::Configure`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TrackerConfig {
-    /// The filter every new track runs.
-    pub filter: FilterChoice,
+    /// The filter every new track runs, with its parameters (designed once, on the device,
+    /// when the configuration arrives).
+    pub filter: FilterConfig,
     /// Rough gate half-width in standard deviations of the predicted position.
     pub gate_sigmas: f32,
     /// Smallest rough gate radius, metres.
@@ -280,9 +242,15 @@ pub struct TrackerConfig {
 }
 
 impl TrackerConfig {
-    /// CV Kalman, 4σ gates of 100 m to 2 km, 50 m plots, targets up to 20 m/s (39 kn).
+    /// CV Kalman (CWNA, q = 0.05 m²/s³, r = (50 m)², initial velocity variance (20 m/s)²),
+    /// 4σ gates of 100 m to 2 km, 50 m plots, targets up to 20 m/s (39 kn).
     pub const DEFAULT: TrackerConfig = TrackerConfig {
-        filter: FilterChoice::KalmanCv { q: 0.05, r: 2500.0 },
+        filter: FilterConfig::KalmanCv(KalmanConfig {
+            q: 0.05,
+            q_model: QModel::Continuous,
+            r: 2500.0,
+            p0_derivative: 400.0,
+        }),
         gate_sigmas: 4.0,
         min_gate_m: 100.0,
         max_gate_m: 2000.0,
@@ -316,22 +284,16 @@ pub struct PlotBatch {
     pub plots: Vec<Plot, MAX_PLOTS_PER_MESSAGE>,
 }
 
-/// Own-ship sensor readings at one instant; `None` where a sensor has nothing.
+/// Own ship's position for the next scan: the device turns the scan's plots (range and
+/// bearing from own ship) into local positions with it. Own-ship navigation (sensors,
+/// dead reckoning) runs on the host; the device needs nothing else.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct NavSample {
-    /// Milliseconds since the tracker started.
+pub struct OwnShipPosition {
+    /// Milliseconds since the tracker started (the scan's time).
     pub time_ms: u64,
-    /// GPS position east, north, metres in the local frame.
-    pub gps_position_m: Option<[f32; 2]>,
-    /// GPS velocity east, north, m/s.
-    pub gps_velocity_mps: Option<[f32; 2]>,
-    /// Loran-C position east, north, metres.
-    pub loran_position_m: Option<[f32; 2]>,
-    /// Speed log, m/s.
-    pub speedlog_mps: Option<f32>,
-    /// Gyro heading, radians from true north.
-    pub gyro_heading_rad: Option<f32>,
+    /// Position east, north, metres in the local frame.
+    pub position_m: [f32; 2],
 }
 
 /// The plots inside one track's rough gate.
@@ -430,8 +392,10 @@ pub struct TrackState {
     pub position_m: [f32; 2],
     /// Velocity east, north, m/s.
     pub velocity_mps: [f32; 2],
-    /// Position variances and covariance [p_xx, p_xy, p_yy], m².
-    pub position_cov_m2: [f32; 3],
+    /// Covariance [s_xx, s_xy, s_yy] (m²) of the innovation at the track's last prediction
+    /// (S = H·P⁻·Hᵀ + R for the Kalman filters, modelled for the others): what its gate
+    /// used.
+    pub innovation_cov_m2: [f32; 3],
     /// Scans since the track started.
     pub age_scans: u16,
     /// Hits in the last 10 scans, one bit a scan, newest lowest.
@@ -493,10 +457,9 @@ mod tests {
                 parts: 1,
                 plots,
             }),
-            HostToDevice::OwnShip(NavSample {
+            HostToDevice::OwnShip(OwnShipPosition {
                 time_ms: 1000,
-                gps_position_m: Some([1.0, 2.0]),
-                ..NavSample::default()
+                position_m: [1.0, 2.0],
             }),
             HostToDevice::Assign(AssignmentBatch {
                 scan: 7,
@@ -567,7 +530,7 @@ mod tests {
                     status: TrackStatus::Coasting,
                     position_m: [1e5; 2],
                     velocity_mps: [1.0; 2],
-                    position_cov_m2: [1.0; 3],
+                    innovation_cov_m2: [1.0; 3],
                     age_scans: u16::MAX,
                     hit_history: u16::MAX,
                 },

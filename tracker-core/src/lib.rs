@@ -22,10 +22,14 @@
 //! ## Features
 //!
 //! All opt-in. `std` adds `std::error::Error` impls for the host; `defmt` derives
-//! `defmt::Format` for the firmware's logs; `serde` adds serialisation to non-wire types.
+//! `defmt::Format` for the firmware's logs. Code the MCU never runs is gated: `sim` (the
+//! scenario simulator and its random numbers), `metrics` (the papers' accuracy measures),
+//! `reference` (the dense EKF algebra and the coupled filter, kept to check and measure the
+//! product's).
 #![cfg_attr(not(any(test, feature = "std")), no_std)]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
+#![warn(clippy::missing_errors_doc)]
 
 mod bounded;
 pub mod device;
@@ -33,9 +37,11 @@ pub mod filter;
 pub mod frame;
 pub mod geo;
 pub mod icd;
+#[cfg(feature = "metrics")]
 pub mod metrics;
 pub mod nav;
 pub mod scalar;
+#[cfg(feature = "sim")]
 pub mod sim;
 pub mod track;
 pub mod tracker;

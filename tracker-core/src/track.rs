@@ -22,18 +22,19 @@
 use heapless::Vec;
 
 use crate::bounded::take_up_to;
-use crate::filter::alpha_beta::{AlphaBeta, AlphaBetaGains};
-use crate::filter::alpha_beta_gamma::{AbgGains, AlphaBetaGamma};
-use crate::filter::grnn::{GrnnConfig, GrnnFilter};
+use crate::filter::alpha_beta::AlphaBeta;
+use crate::filter::alpha_beta_gamma::AlphaBetaGamma;
+use crate::filter::alpha_beta_gamma_eta::AlphaBetaGammaEta;
+use crate::filter::grnn::GrnnFilter;
 use crate::filter::kalman::ca::KalmanCa;
 use crate::filter::kalman::cv::KalmanCv;
-use crate::filter::kalman::{KalmanConfig, QModel};
-use crate::filter::sswt::{Sswt, SswtConfig};
-use crate::filter::{Estimate, Filter, FilterError, Interval, Measurement};
+use crate::filter::sswt::Sswt;
+use crate::filter::{
+    Estimate, Filter, FilterConfig, FilterError, FilterKind, Interval, Measurement,
+};
 use crate::geo::EastNorth;
 use crate::icd::{
-    Assignment, ErrorCode, FilterChoice, GatedPlots, TrackState, TrackStatus, TrackerConfig,
-    MAX_PLOTS_PER_GATE,
+    Assignment, ErrorCode, GatedPlots, TrackState, TrackStatus, TrackerConfig, MAX_PLOTS_PER_GATE,
 };
 
 /// Tracks the table holds.
@@ -48,7 +49,8 @@ pub const KEEP_M: u32 = 5;
 /// See [`KEEP_M`].
 pub const KEEP_N: u32 = 10;
 
-/// The filter a track runs, in `f32` (the MCU's number).
+/// The filter a track runs, in `f32` (the MCU's number): one variant per
+/// [`FilterKind`], each holding that filter's state.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[allow(clippy::large_enum_variant)] // fixed capacity: every slot holds the largest
 pub enum TrackFilter {
@@ -56,6 +58,8 @@ pub enum TrackFilter {
     AlphaBeta(AlphaBeta<f32>),
     /// α-β-γ.
     AlphaBetaGamma(AlphaBetaGamma<f32>),
+    /// α-β-γ-η.
+    AlphaBetaGammaEta(AlphaBetaGammaEta<f32>),
     /// SSWT.
     Sswt(Sswt<f32>),
     /// CV Kalman.
@@ -71,6 +75,7 @@ macro_rules! each_filter {
         match $self {
             TrackFilter::AlphaBeta($f) => $body,
             TrackFilter::AlphaBetaGamma($f) => $body,
+            TrackFilter::AlphaBetaGammaEta($f) => $body,
             TrackFilter::Sswt($f) => $body,
             TrackFilter::KalmanCv($f) => $body,
             TrackFilter::KalmanCa($f) => $body,
@@ -80,66 +85,46 @@ macro_rules! each_filter {
 }
 
 impl TrackFilter {
-    /// A fresh filter of the configured kind.
-    pub fn build(config: &TrackerConfig) -> Result<Self, FilterError> {
-        let kalman = |q: f32, r: f32| {
-            let mut k = KalmanConfig::new(f64::from(q), QModel::Continuous, f64::from(r));
-            // A new track's velocity is unknown up to the fastest target.
-            k.p0_derivative = f64::from(config.max_speed_mps * config.max_speed_mps);
-            k
-        };
-        Ok(match config.filter {
-            FilterChoice::AlphaBeta { alpha, beta } => TrackFilter::AlphaBeta(
-                AlphaBetaGains::Fixed {
-                    alpha: f64::from(alpha),
-                    beta: f64::from(beta),
-                }
-                .build()?,
-            ),
-            FilterChoice::AlphaBetaGamma { xi } => {
-                TrackFilter::AlphaBetaGamma(AbgGains::FadingMemory { xi: f64::from(xi) }.build()?)
-            }
-            FilterChoice::Sswt { window, alpha } => TrackFilter::Sswt(
-                SswtConfig {
-                    window: usize::from(window),
-                    start: AlphaBetaGains::BenedictBordner {
-                        alpha: f64::from(alpha),
-                    },
-                }
-                .build()?,
-            ),
-            FilterChoice::KalmanCv { q, r } => TrackFilter::KalmanCv(kalman(q, r).build_cv()?),
-            FilterChoice::KalmanCa { q, r } => TrackFilter::KalmanCa(kalman(q, r).build_ca()?),
-            FilterChoice::Grnn { short, long } => TrackFilter::Grnn(
-                GrnnConfig {
-                    short: usize::from(short),
-                    long: usize::from(long),
-                    ..GrnnConfig::default()
-                }
-                .build()?,
-            ),
+    /// A fresh filter of the configured kind (the gain design runs here, in f64).
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] when the configuration is out of range.
+    pub fn build(config: &FilterConfig) -> Result<Self, FilterError> {
+        Ok(match config {
+            FilterConfig::AlphaBeta(g) => TrackFilter::AlphaBeta(g.build()?),
+            FilterConfig::AlphaBetaGamma(g) => TrackFilter::AlphaBetaGamma(g.build()?),
+            FilterConfig::AlphaBetaGammaEta(g) => TrackFilter::AlphaBetaGammaEta(g.build()?),
+            FilterConfig::Sswt(c) => TrackFilter::Sswt(c.build()?),
+            FilterConfig::KalmanCv(c) => TrackFilter::KalmanCv(c.build_cv()?),
+            FilterConfig::KalmanCa(c) => TrackFilter::KalmanCa(c.build_ca()?),
+            FilterConfig::Grnn(c) => TrackFilter::Grnn(c.build()?),
         })
+    }
+
+    /// Which filter this is.
+    pub fn kind(&self) -> FilterKind {
+        match self {
+            TrackFilter::AlphaBeta(_) => FilterKind::AlphaBeta,
+            TrackFilter::AlphaBetaGamma(_) => FilterKind::AlphaBetaGamma,
+            TrackFilter::AlphaBetaGammaEta(_) => FilterKind::AlphaBetaGammaEta,
+            TrackFilter::Sswt(_) => FilterKind::Sswt,
+            TrackFilter::KalmanCv(_) => FilterKind::KalmanCv,
+            TrackFilter::KalmanCa(_) => FilterKind::KalmanCa,
+            TrackFilter::Grnn(_) => FilterKind::Grnn,
+        }
     }
 
     /// The innovation covariance of the current prediction, `[s_xx, s_xy, s_yy]` (m²).
     ///
-    /// The Kalman filters know it. The g-h filters and the SSWT do not: for them it is
-    /// modelled as twice the plot variance (prediction and plot errors of equal size),
-    /// grown with the square of the scans coasted.
+    /// The Kalman filters know it ([`Filter::innovation_covariance`]). The others do not:
+    /// for them it is modelled as twice the plot variance `plot_var` (prediction and plot
+    /// errors of equal size), grown with the square of the scans coasted.
     pub fn innovation_cov(&self, plot_var: f32, coasts: u8) -> [f32; 3] {
-        let s = match self {
-            TrackFilter::KalmanCv(k) => k.innovation_variance(),
-            TrackFilter::KalmanCa(k) => k.covariance()[(0, 0)] + k.measurement_variance(),
-            _ => {
-                let grow = 1.0 + f32::from(coasts);
-                2.0 * plot_var * grow * grow
-            }
-        };
-        [s, 0.0, s]
-    }
-
-    fn has_covariance(&self) -> bool {
-        matches!(self, TrackFilter::KalmanCv(_) | TrackFilter::KalmanCa(_))
+        self.innovation_covariance().unwrap_or_else(|| {
+            let grow = 1.0 + f32::from(coasts);
+            let s = 2.0 * plot_var * grow * grow;
+            [s, 0.0, s]
+        })
     }
 }
 
@@ -164,6 +149,9 @@ impl Filter<f32> for TrackFilter {
     }
     fn manoeuvring(&self) -> bool {
         each_filter!(self, f => f.manoeuvring())
+    }
+    fn innovation_covariance(&self) -> Option<[f32; 3]> {
+        each_filter!(self, f => f.innovation_covariance())
     }
 }
 
@@ -197,7 +185,7 @@ impl Track {
             status: self.status,
             position_m: e.position_m,
             velocity_mps: e.velocity_mps,
-            position_cov_m2: self.innovation_cov,
+            innovation_cov_m2: self.innovation_cov,
             age_scans: self.age_scans,
             hit_history: self.hits & ((1 << KEEP_N) - 1),
         }
@@ -258,6 +246,9 @@ impl TrackTable {
     }
 
     /// Sets the configuration for tracks started from now on; refuses values out of range.
+    ///
+    /// # Errors
+    /// [`ErrorCode::InvalidValue`] for a gate or plot value that is not finite and positive, crossed gate radii, or a filter configuration out of range (nothing changes).
     pub fn configure(&mut self, config: TrackerConfig) -> Result<(), ErrorCode> {
         let finite_positive = |v: f32| v.is_finite() && v > 0.0;
         let ok = finite_positive(config.gate_sigmas)
@@ -266,7 +257,7 @@ impl TrackTable {
             && config.min_gate_m <= config.max_gate_m
             && finite_positive(config.plot_sigma_m)
             && finite_positive(config.max_speed_mps);
-        let prototype = match TrackFilter::build(&config) {
+        let prototype = match TrackFilter::build(&config.filter) {
             Ok(f) if ok => f,
             _ => return Err(ErrorCode::InvalidValue),
         };
@@ -317,7 +308,7 @@ impl TrackTable {
             let mut radius = (cfg.gate_sigmas * sigma)
                 .max(cfg.min_gate_m)
                 .min(cfg.max_gate_m);
-            if t.age_scans <= 1 && !t.filter.has_covariance() {
+            if t.age_scans <= 1 && !t.filter.kind().has_covariance() {
                 radius = (radius + cfg.max_speed_mps * scan_s).min(cfg.max_gate_m);
             }
             let p = t.filter.prediction();
@@ -368,6 +359,9 @@ impl TrackTable {
     /// Closes a scan at `time_ms`: updates the assigned tracks, coasts the others, applies
     /// the life-cycle rules, then starts tentative tracks on the `initiate` plots.
     /// Assignments naming unknown tracks or plots are refused whole, before any change.
+    ///
+    /// # Errors
+    /// [`ErrorCode::InvalidValue`] when an assignment names a track or plot that does not exist, or an initiation a plot that does not.
     pub fn apply(
         &mut self,
         time_ms: u64,
@@ -431,6 +425,9 @@ impl TrackTable {
     }
 
     /// Starts a tentative track on a plot (also the operator's manual acquisition).
+    ///
+    /// # Errors
+    /// [`ErrorCode::CapacityExceeded`] when the table is full; [`ErrorCode::InvalidValue`] when the configured filter cannot be built.
     pub fn start_track(&mut self, time_ms: u64, z: Measurement<f32>) -> Result<u16, ErrorCode> {
         if self.tracks.is_full() {
             return Err(ErrorCode::CapacityExceeded);
@@ -438,7 +435,8 @@ impl TrackTable {
         let mut filter = match self.prototype {
             Some(f) => f,
             None => {
-                let f = TrackFilter::build(&self.config).map_err(|_| ErrorCode::InvalidValue)?;
+                let f =
+                    TrackFilter::build(&self.config.filter).map_err(|_| ErrorCode::InvalidValue)?;
                 self.prototype = Some(f);
                 f
             }
@@ -470,6 +468,9 @@ impl TrackTable {
     }
 
     /// Drops one track.
+    ///
+    /// # Errors
+    /// [`ErrorCode::InvalidValue`] when no track has that number.
     pub fn cancel(&mut self, id: u16) -> Result<(), ErrorCode> {
         let before = self.tracks.len();
         self.tracks.retain(|t| t.id != id);
@@ -634,24 +635,8 @@ mod tests {
     }
 
     #[test]
-    fn every_filter_choice_tracks() {
-        for filter in [
-            FilterChoice::AlphaBeta {
-                alpha: 0.5,
-                beta: 0.2,
-            },
-            FilterChoice::AlphaBetaGamma { xi: 0.7 },
-            FilterChoice::Sswt {
-                window: 3,
-                alpha: 0.6,
-            },
-            FilterChoice::KalmanCv { q: 0.05, r: 900.0 },
-            FilterChoice::KalmanCa { q: 0.001, r: 900.0 },
-            FilterChoice::Grnn {
-                short: 10,
-                long: 45,
-            },
-        ] {
+    fn every_filter_tracks() {
+        for filter in FilterKind::ALL.map(|k| FilterConfig::tracking(k, 30.0, 20.0)) {
             let mut t = TrackTable::new();
             t.configure(TrackerConfig {
                 filter,
@@ -668,10 +653,10 @@ mod tests {
         }
         let mut t = TrackTable::new();
         let bad = TrackerConfig {
-            filter: FilterChoice::Sswt {
+            filter: FilterConfig::Sswt(crate::filter::sswt::SswtConfig {
                 window: 1,
-                alpha: 0.5,
-            },
+                start: crate::filter::alpha_beta::AlphaBetaGains::BenedictBordner { alpha: 0.5 },
+            }),
             ..TrackerConfig::DEFAULT
         };
         assert_eq!(t.configure(bad), Err(ErrorCode::InvalidValue));

@@ -13,7 +13,7 @@ use crate::bounded::take_up_to;
 use crate::filter::Measurement;
 use crate::geo::{self, EastNorth};
 use crate::icd::{
-    Assignment, AssignmentBatch, ErrorCode, GatedBatch, NavSample, PlotBatch, TrackBatch,
+    Assignment, AssignmentBatch, ErrorCode, GatedBatch, OwnShipPosition, PlotBatch, TrackBatch,
     TrackCommand, TrackerConfig, MAX_GATES_PER_MESSAGE, MAX_TRACKS_PER_MESSAGE,
 };
 use crate::track::{ApplyReport, TrackTable, MAX_TRACKS};
@@ -88,23 +88,30 @@ impl Tracker {
     }
 
     /// Sets the configuration for new tracks.
+    ///
+    /// # Errors
+    /// [`ErrorCode::InvalidValue`] as [`TrackTable::configure`].
     pub fn configure(&mut self, config: TrackerConfig) -> Result<(), ErrorCode> {
         self.table.configure(config)
     }
 
-    /// Takes own ship's position (GPS) for converting the next plots to the local frame.
-    pub fn own_ship(&mut self, nav: &NavSample) -> Result<(), ErrorCode> {
-        if let Some(p) = nav.gps_position_m {
-            if !p.iter().all(|v| v.is_finite()) {
-                return Err(ErrorCode::InvalidValue);
-            }
-            self.own_position_m = p;
+    /// Takes own ship's position for converting the next plots to the local frame.
+    ///
+    /// # Errors
+    /// [`ErrorCode::InvalidValue`] for a position that is not finite (nothing changes).
+    pub fn own_ship(&mut self, own: &OwnShipPosition) -> Result<(), ErrorCode> {
+        if !own.position_m.iter().all(|v| v.is_finite()) {
+            return Err(ErrorCode::InvalidValue);
         }
+        self.own_position_m = own.position_m;
         Ok(())
     }
 
     /// Takes one part of a scan's plots. Returns the number of gate parts to send when the
     /// scan is complete, `None` while more parts are due.
+    ///
+    /// # Errors
+    /// [`ErrorCode::OutOfSequence`] for a part out of order or a scan not later than the last; [`ErrorCode::CapacityExceeded`] past [`MAX_PLOTS_PER_SCAN`]; [`ErrorCode::InvalidValue`] for a non-finite or negative plot (the scan is dropped).
     pub fn plots(&mut self, batch: &PlotBatch) -> Result<Option<u8>, ErrorCode> {
         let expected = match self.phase {
             Phase::Plots { scan, next, parts } if scan == batch.scan && parts == batch.parts => {
@@ -184,6 +191,9 @@ impl Tracker {
 
     /// Takes one part of the host's assignments. Returns the number of track parts to send
     /// when the scan is closed, `None` while more parts are due.
+    ///
+    /// # Errors
+    /// [`ErrorCode::OutOfSequence`] for no open scan or a part out of order; [`ErrorCode::CapacityExceeded`] for more assignments than tracks; the table's own refusals ([`TrackTable::apply`]).
     pub fn assign(&mut self, batch: &AssignmentBatch) -> Result<Option<u8>, ErrorCode> {
         let Phase::Assign { scan, next, parts } = self.phase else {
             return Err(ErrorCode::OutOfSequence);
@@ -246,6 +256,9 @@ impl Tracker {
     }
 
     /// Carries out an operator command.
+    ///
+    /// # Errors
+    /// [`ErrorCode::InvalidValue`] for a plot or track that does not exist; [`ErrorCode::CapacityExceeded`] for an acquisition into a full table.
     pub fn command(&mut self, command: TrackCommand) -> Result<(), ErrorCode> {
         match command {
             TrackCommand::Acquire { plot } => {

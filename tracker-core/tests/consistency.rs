@@ -191,7 +191,7 @@ fn drkf_with_every_sensor_is_nearly_consistent() {
 /// the own-ship estimate arriving every second with a correlated 4×4 error covariance (the
 /// DRKF's role), radar range and azimuth every 3 s.
 fn ttkf_runs() -> (f64, usize, usize, usize) {
-    use tracker_core::nav::ttkf::{self, OwnShip, Ttkf, TtkfConfig};
+    use tracker_core::nav::ttkf::{self, OwnShipEstimate, Ttkf, TtkfConfig};
     use tracker_core::nav::GaussMarkov;
     const N: usize = ttkf::STATES;
     let config = TtkfConfig {
@@ -215,7 +215,7 @@ fn ttkf_runs() -> (f64, usize, usize, usize) {
     let mut nis_dof = vec![0usize; STEPS];
     let mut rng = Pcg32::seed_from_u64(11);
     for _ in 0..RUNS {
-        let own0 = OwnShip {
+        let own0 = OwnShipEstimate {
             position_m: [0.0, 0.0],
             velocity_mps: [0.0, 6.0],
             covariance: r,
@@ -229,7 +229,7 @@ fn ttkf_runs() -> (f64, usize, usize, usize) {
             use ttkf::ix;
             let truth = SVector::<f64, 4>::new(x[ix::OX], x[ix::OY], x[ix::OVX], x[ix::OVY]);
             let z = truth + sample(&mut rng, &r);
-            f.update_own_ship(&OwnShip {
+            f.update_own_ship(&OwnShipEstimate {
                 position_m: [z[0], z[1]],
                 velocity_mps: [z[2], z[3]],
                 covariance: r,

@@ -5,25 +5,20 @@
 
 use std::time::Duration;
 
+use tracker_core::filter::FilterKind;
 use tracker_core::sim::ScenarioKind;
-use tracker_host::demo::{Demo, DemoFilter, DemoOptions};
-use tracker_host::faults::{FaultRates, FaultyTransport};
+use tracker_host::app::demo::{self, DemoOptions};
+use tracker_host::app::run::Run;
+use tracker_host::link::faults::{FaultRates, FaultyTransport};
 use tracker_host::link::{Client, InprocTransport, Transport};
 
-fn demo(transport: Box<dyn Transport>) -> Demo {
-    let options = DemoOptions {
-        scenario: ScenarioKind::OpenSea,
-        targets: 40,
-        seed: 4,
-        speedup: None,
-        duration_s: 1800.0,
-        filter: DemoFilter::KalmanCv,
-    };
+fn demo(transport: Box<dyn Transport>) -> Run {
+    let options = DemoOptions::new(ScenarioKind::OpenSea, 40, 4, 1800.0, FilterKind::KalmanCv);
     let mut client = Client::new(transport);
     // In-process the answer is there at once: a short wait is enough to call it lost.
     client.timeout = Duration::from_millis(20);
     client.retries = 50;
-    Demo::new(client, options).unwrap()
+    demo::start(client, &options).unwrap()
 }
 
 #[test]
@@ -36,11 +31,11 @@ fn a_noisy_link_changes_no_track() {
     );
     let mut noisy = demo(Box::new(noisy_link));
     for _ in 0..720 {
-        let a = clean.step().unwrap();
-        let b = noisy.step().unwrap();
-        assert_eq!(a.tracks, b.tracks, "scan {}", a.sim.scan);
+        let a = clean.step().unwrap().unwrap();
+        let b = noisy.step().unwrap().unwrap();
+        assert_eq!(a.tracks, b.tracks, "scan {}", a.scan);
     }
-    let s = noisy.client().stats();
+    let s = noisy.session().link_stats();
     assert!(s.frames_damaged > 10, "{s:?}");
     assert!(s.retries > 10, "{s:?}");
     assert_eq!(clean.summary(), noisy.summary());

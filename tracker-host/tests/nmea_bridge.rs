@@ -5,38 +5,35 @@
 
 use std::net::UdpSocket;
 
+use tracker_core::filter::FilterKind;
 use tracker_core::icd::TrackState;
 use tracker_core::sim::ScenarioKind;
-use tracker_host::demo::{Demo, DemoFilter, DemoOptions, NmeaOptions};
+use tracker_host::app::demo::{self, DemoOptions};
+use tracker_host::app::run::Run;
+use tracker_host::app::{Outputs, OwnShipOptions};
 use tracker_host::link::{Client, InprocTransport};
 use tracker_host::nmea::{InSpec, OutSpec};
 
 const SCANS: usize = 120;
 
-fn demo(nmea: &NmeaOptions) -> Demo {
+fn demo(own_ship: OwnShipOptions, outputs: Outputs) -> Run {
     let options = DemoOptions {
-        scenario: ScenarioKind::OpenSea,
-        targets: 20,
-        seed: 3,
-        speedup: None,
-        duration_s: 300.0,
-        filter: DemoFilter::KalmanCv,
+        own_ship,
+        outputs,
+        ..DemoOptions::new(ScenarioKind::OpenSea, 20, 3, 300.0, FilterKind::KalmanCv)
     };
-    Demo::new(Client::new(Box::new(InprocTransport::new())), options)
-        .unwrap()
-        .with_nmea(nmea)
-        .unwrap()
+    demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap()
 }
 
 fn run(
-    d: &mut Demo,
+    d: &mut Run,
     plotter: Option<&UdpSocket>,
     heard: &mut Vec<String>,
 ) -> Vec<(Vec<TrackState>, [f32; 2])> {
     let mut buf = [0u8; 512];
     (0..SCANS)
         .map(|_| {
-            let v = d.step().unwrap();
+            let v = d.step().unwrap().unwrap();
             // Read as a plotter would, scan by scan (a socket buffer holds a few hundred).
             while let Some(Ok(n)) = plotter.map(|p| p.recv(&mut buf)) {
                 heard.push(String::from_utf8_lossy(&buf[..n]).into_owned());
@@ -52,18 +49,22 @@ fn a_recorded_run_replays_scan_for_scan_and_targets_reach_the_plotter() {
     let recording = dir.path().join("own-ship.nmea");
     let plotter = UdpSocket::bind("127.0.0.1:0").unwrap();
     plotter.set_nonblocking(true).unwrap();
-    let live_options = NmeaOptions {
-        record: Some(recording.clone()),
-        out: Some(OutSpec::Udp(plotter.local_addr().unwrap().to_string())),
-        ..NmeaOptions::default()
-    };
-    let mut live = demo(&live_options);
+    let mut live = demo(
+        OwnShipOptions {
+            nmea_record: Some(recording.clone()),
+            ..OwnShipOptions::default()
+        },
+        Outputs {
+            nmea_out: Some(OutSpec::Udp(plotter.local_addr().unwrap().to_string())),
+            ..Outputs::default()
+        },
+    );
     let mut heard = Vec::new();
     let live_run = run(&mut live, Some(&plotter), &mut heard);
     let counts = live.nmea_counts().unwrap();
     assert_eq!(counts.accepted, 5 * SCANS as u64, "{counts}");
     assert_eq!(counts.rejected(), 0, "{counts}");
-    let s = live.summary();
+    let s = live.summary().unwrap();
     assert!(
         s.targets_confirmed >= 19 && s.false_tracks == 0,
         "{}",
@@ -90,11 +91,11 @@ fn a_recorded_run_replays_scan_for_scan_and_targets_reach_the_plotter() {
     assert!(ttm > 20 * 60 && ttm == tll, "TTM {ttm}, TLL {tll}");
 
     // Replaying the recording gives the same own ship and the same tracks, scan for scan.
-    let replay_options = NmeaOptions {
-        own_ship_in: Some(InSpec::File(recording.clone())),
-        ..NmeaOptions::default()
+    let replay_options = OwnShipOptions {
+        nmea_in: Some(InSpec::File(recording.clone())),
+        ..OwnShipOptions::default()
     };
-    let mut replay = demo(&replay_options);
+    let mut replay = demo(replay_options.clone(), Outputs::default());
     let replay_run = run(&mut replay, None, &mut Vec::new());
     for (k, (a, b)) in live_run.iter().zip(&replay_run).enumerate() {
         assert_eq!(a, b, "scan {k}");
@@ -114,7 +115,7 @@ fn a_recorded_run_replays_scan_for_scan_and_targets_reach_the_plotter() {
     lines.insert(300, lines[10].clone());
     lines.insert(400, "\u{1}garbage on the line".to_string());
     std::fs::write(&recording, lines.join("\r\n") + "\r\n").unwrap();
-    let mut damaged = demo(&replay_options);
+    let mut damaged = demo(replay_options, Outputs::default());
     let damaged_run = run(&mut damaged, None, &mut Vec::new());
     let c = damaged.nmea_counts().unwrap();
     assert_eq!(c.accepted, 5 * SCANS as u64 - 1, "{c}");
@@ -123,7 +124,7 @@ fn a_recorded_run_replays_scan_for_scan_and_targets_reach_the_plotter() {
         (1, 1, 1, 1),
         "{c}"
     );
-    let s = damaged.summary();
+    let s = damaged.summary().unwrap();
     assert!(
         s.targets_confirmed >= 19 && s.false_tracks == 0,
         "{}",

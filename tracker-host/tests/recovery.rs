@@ -3,39 +3,40 @@
 //! happened; a reset device is noticed (new boot id), reported, configured again, and its
 //! targets are re-acquired.
 
+use tracker_core::filter::FilterKind;
 use tracker_core::sim::ScenarioKind;
-use tracker_host::demo::{Demo, DemoFilter, DemoOptions};
+use tracker_host::app::demo::{self, DemoOptions};
+use tracker_host::app::run::Run;
 use tracker_host::link::{Client, InprocTransport};
+use tracker_host::session::ScanReport;
 
-fn options() -> DemoOptions {
-    DemoOptions {
-        scenario: ScenarioKind::OpenSea,
-        targets: 40,
-        seed: 8,
-        speedup: None,
-        duration_s: 600.0,
-        filter: DemoFilter::KalmanCv,
-    }
+fn start(client: Client) -> Run {
+    let options = DemoOptions::new(ScenarioKind::OpenSea, 40, 8, 600.0, FilterKind::KalmanCv);
+    demo::start(client, &options).unwrap()
+}
+
+fn step(run: &mut Run) -> ScanReport {
+    run.step().unwrap().expect("a scan")
 }
 
 #[test]
 fn a_restarted_host_reattaches_to_the_live_table() {
-    let mut steady = Demo::new(Client::new(Box::new(InprocTransport::new())), options()).unwrap();
-    let mut restarted =
-        Demo::new(Client::new(Box::new(InprocTransport::new())), options()).unwrap();
+    let mut steady = start(Client::new(Box::new(InprocTransport::new())));
+    let mut restarted = start(Client::new(Box::new(InprocTransport::new())));
     let mut last = Vec::new();
     for _ in 0..60 {
-        steady.step().unwrap();
-        last = restarted.step().unwrap().tracks;
+        step(&mut steady);
+        last = step(&mut restarted).tracks;
     }
-    let reported = restarted.restart_host().unwrap();
+    let reported = restarted.session_mut().restart_host().unwrap();
     assert_eq!(reported, last, "the full track report is the live table");
     for _ in 0..60 {
-        let a = steady.step().unwrap();
-        let b = restarted.step().unwrap();
-        assert_eq!(a.tracks, b.tracks, "scan {}", a.sim.scan);
+        let a = step(&mut steady);
+        let b = step(&mut restarted);
+        assert_eq!(a.tracks, b.tracks, "scan {}", a.scan);
     }
     assert!(restarted
+        .session()
         .events()
         .iter()
         .any(|e| e.contains("host restarted")));
@@ -45,21 +46,25 @@ fn a_restarted_host_reattaches_to_the_live_table() {
 fn a_reset_device_is_noticed_and_tracking_resumes() {
     let transport = InprocTransport::new();
     let power = transport.reset_handle();
-    let mut demo = Demo::new(Client::new(Box::new(transport)), options()).unwrap();
+    let mut demo = start(Client::new(Box::new(transport)));
     for _ in 0..60 {
-        demo.step().unwrap();
+        step(&mut demo);
     }
     power.reset();
-    let mut view = demo.step().expect("the scan after the reset goes through");
+    let mut view = demo
+        .step()
+        .expect("the scan after the reset goes through")
+        .unwrap();
     assert!(
-        demo.events()
+        demo.session()
+            .events()
             .iter()
             .any(|e| e.contains("firmware reset detected")),
         "{:?}",
-        demo.events()
+        demo.session().events()
     );
     for _ in 0..20 {
-        view = demo.step().unwrap();
+        view = step(&mut demo);
     }
     // Re-acquired: most targets in view are tracked again within 20 scans.
     let confirmed = view.targets.len();

@@ -7,7 +7,7 @@ use std::path::Path;
 #[test]
 fn committed_report_is_current() {
     let dir = std::env::temp_dir().join(format!("tracker-reproduce-{}", std::process::id()));
-    let fresh = tracker_host::reproduce::run(&[], &dir).unwrap();
+    let fresh = tracker_host::lab::reproduce::run(&[], &dir).unwrap();
     let committed_path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../docs/reproduce/report.md");
     let committed = std::fs::read_to_string(&committed_path).unwrap_or_default();
     let _ = std::fs::remove_dir_all(&dir);

@@ -20,7 +20,8 @@ use crate::scalar::Scalar;
 pub type AlphaBeta<S> = GhFilter<S, 2>;
 
 /// How the α-β gains are chosen.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum AlphaBetaGains {
     /// Fixed α and β.
     Fixed {
@@ -63,6 +64,9 @@ impl AlphaBetaGains {
 
     /// Checks the design is defined and the filter stable (Jury: 0 < α, 0 < β,
     /// 2α + β < 4; α = 1, β = 0 and ξ up to 1 are allowed as limits).
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] when a gain is not finite or the filter would be unstable.
     pub fn validate(&self) -> Result<(), FilterError> {
         let ok = match *self {
             AlphaBetaGains::LeastSquares => true,
@@ -81,6 +85,9 @@ impl AlphaBetaGains {
     }
 
     /// A filter with these gains in scalar `S`.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] as [`AlphaBetaGains::validate`].
     pub fn build<S: Scalar>(&self) -> Result<AlphaBeta<S>, FilterError> {
         self.validate()?;
         Ok(GhFilter::with_schedule(match (self, self.constant()) {

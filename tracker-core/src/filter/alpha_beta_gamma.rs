@@ -22,7 +22,8 @@ use crate::scalar::Scalar;
 pub type AlphaBetaGamma<S> = GhFilter<S, 3>;
 
 /// How the α-β-γ gains are chosen.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum AbgGains {
     /// Explicit Brookner gains g, h, k (the update adds 2k/T²·ε to the acceleration).
     Explicit {
@@ -82,6 +83,9 @@ impl AbgGains {
     }
 
     /// Checks parameters are finite and in range.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] when a gain or ξ is not finite or out of range.
     pub fn validate(&self) -> Result<(), FilterError> {
         let ok = match *self {
             AbgGains::Explicit { alpha, beta, gamma } => [alpha, beta, gamma]
@@ -95,6 +99,9 @@ impl AbgGains {
     }
 
     /// A filter with these gains in scalar `S`.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] as [`AbgGains::validate`].
     pub fn build<S: Scalar>(&self) -> Result<AlphaBetaGamma<S>, FilterError> {
         self.validate()?;
         Ok(GhFilter::with_schedule(Schedule::Constant(

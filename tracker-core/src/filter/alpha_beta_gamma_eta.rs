@@ -14,7 +14,8 @@ use crate::scalar::Scalar;
 pub type AlphaBetaGammaEta<S> = GhFilter<S, 4>;
 
 /// How the α-β-γ-η gains are chosen.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum AbgeGains {
     /// Explicit Brookner gains g, h, k, l.
     Explicit {
@@ -57,6 +58,9 @@ impl AbgeGains {
     }
 
     /// Checks parameters are finite and in range.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] when a gain or ξ is not finite or out of range.
     pub fn validate(&self) -> Result<(), FilterError> {
         let ok = match *self {
             AbgeGains::Explicit { .. } => self
@@ -69,6 +73,9 @@ impl AbgeGains {
     }
 
     /// A filter with these gains in scalar `S`.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] as [`AbgeGains::validate`].
     pub fn build<S: Scalar>(&self) -> Result<AlphaBetaGammaEta<S>, FilterError> {
         self.validate()?;
         Ok(GhFilter::with_schedule(Schedule::Constant(

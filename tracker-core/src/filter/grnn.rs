@@ -69,7 +69,8 @@ pub const MAX_MODELS: usize = 48;
 pub const MAX_SHORT: usize = 20;
 
 /// GRNN filter parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct GrnnConfig {
     /// Kernel width σ, m/s, for both filters; `None`: from the measured noise.
     pub sigma_mps: Option<f64>,
@@ -117,6 +118,9 @@ const AVERAGE: usize = 3;
 
 impl GrnnConfig {
     /// Checks the parameters.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] when σ is not positive, the teaching sequences are not 2 ≤ short ≤ long ≤ [`MAX_MODELS`], or the thresholds are not 0 < release ≤ onset.
     pub fn validate(&self) -> Result<(), FilterError> {
         let positive = |v: f64| v.is_finite() && v > 0.0;
         FilterError::check(
@@ -136,6 +140,9 @@ impl GrnnConfig {
     }
 
     /// A filter in `S`.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] as [`GrnnConfig::validate`].
     pub fn build<S: Real>(&self) -> Result<GrnnFilter<S>, FilterError> {
         self.validate()?;
         Ok(GrnnFilter {

@@ -16,6 +16,9 @@
 //! | [`kalman`] | Kalman, constant velocity and constant acceleration | thesis eq. 2-6 to 2-13 |
 //! | [`grnn`] | GRNN neural filter with a manoeuvre detector | `003` §3–4 |
 //!
+//! [`config`] holds the one list of them ([`FilterKind`]) and their configurations
+//! ([`FilterConfig`]), which the command line, the wire and the track table all use.
+//!
 //! Bad input never reaches a filter: measurements and intervals are validated once, where
 //! they enter, into [`Measurement`] and [`Interval`]; a NaN or a non-positive step is
 //! refused there with a [`FilterError`], and the filters' hot paths need no checks.
@@ -23,12 +26,15 @@
 pub mod alpha_beta;
 pub mod alpha_beta_gamma;
 pub mod alpha_beta_gamma_eta;
+pub mod config;
 pub mod gh;
 pub mod grnn;
 pub mod kalman;
 pub mod sswt;
 
 use crate::scalar::Scalar;
+
+pub use config::{FilterConfig, FilterKind};
 
 /// A position or velocity in the local plane: `[east, north]`.
 pub type Vec2<S> = [S; 2];
@@ -98,6 +104,9 @@ pub struct Measurement<S>(Vec2<S>);
 
 impl<S: Scalar> Measurement<S> {
     /// Accepts a finite position within [`MAX_POSITION_M`].
+    ///
+    /// # Errors
+    /// [`FilterError::NonFinite`] for NaN, an infinity or a coordinate beyond [`MAX_POSITION_M`].
     #[inline]
     pub fn new(position_m: Vec2<S>) -> Result<Self, FilterError> {
         let max = S::of(MAX_POSITION_M);
@@ -123,6 +132,9 @@ pub struct Interval<S>(S);
 
 impl<S: Scalar> Interval<S> {
     /// Accepts a step from 1 ms to a day.
+    ///
+    /// # Errors
+    /// [`FilterError::BadInterval`] for a step outside [`MIN_INTERVAL_S`, `MAX_INTERVAL_S`] (or NaN).
     #[inline]
     pub fn new(seconds: S) -> Result<Self, FilterError> {
         if seconds >= S::of(MIN_INTERVAL_S) && seconds <= S::of(MAX_INTERVAL_S) {
@@ -160,6 +172,13 @@ pub trait Filter<S: Scalar> {
     /// True while the filter has declared a manoeuvre (only filters with a detector do).
     fn manoeuvring(&self) -> bool {
         false
+    }
+    /// The covariance `[s_xx, s_xy, s_yy]` (m²) of the innovation the next update will see,
+    /// S = H·P⁻·Hᵀ + R after the last prediction (thesis eq. 2-9), for the filters that
+    /// carry a covariance; `None` for those that do not (the g-h family, the SSWT, the
+    /// GRNN), whose gates are sized from a model of their errors instead.
+    fn innovation_covariance(&self) -> Option<[S; 3]> {
+        None
     }
 }
 

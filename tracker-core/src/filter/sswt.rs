@@ -51,7 +51,8 @@ pub fn uniform_weights(m: usize, out: &mut [f64]) {
 }
 
 /// SSWT parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct SswtConfig {
     /// Window size M, 2..=[`MAX_WINDOW`].
     pub window: usize,
@@ -61,6 +62,9 @@ pub struct SswtConfig {
 
 impl SswtConfig {
     /// A tracker with this configuration in scalar `S`.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] for a window outside 2..=[`MAX_WINDOW`] or a start filter out of range.
     pub fn build<S: Scalar>(&self) -> Result<Sswt<S>, FilterError> {
         if !(2..=MAX_WINDOW).contains(&self.window) {
             return Err(FilterError::BadParameter);

@@ -118,6 +118,7 @@ pub trait Algebra: Clone + Copy + core::fmt::Debug + Default {
 pub struct Structured;
 
 /// Plain dense matrices: the reference.
+#[cfg(feature = "reference")]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Dense;
 
@@ -174,6 +175,7 @@ impl Algebra for Structured {
     }
 }
 
+#[cfg(feature = "reference")]
 impl Algebra for Dense {
     const NAME: &'static str = "dense";
 
@@ -306,6 +308,7 @@ mod tests {
     use nalgebra::{Matrix2, Matrix3, Vector2};
 
     #[test]
+    #[cfg(feature = "reference")]
     fn sequential_update_equals_the_batch_update() {
         let p0 = Matrix2::new(4.0, 1.0, 1.0, 3.0);
         let x0 = Vector2::new(1.0, -1.0);
@@ -333,6 +336,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "reference")]
     fn chain_operations_are_the_dense_product() {
         // A 5-state model: one 3-chain on states (4, 0, 2), identity elsewhere.
         let a = Matrix3::new(1.0, 0.5, 0.1, -0.2, 1.0, 0.3, 0.4, 0.0, 0.8);

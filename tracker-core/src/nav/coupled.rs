@@ -90,6 +90,9 @@ impl<T: RealField + Copy, const N: usize, A: Algebra> Coupled<T, N, A> {
     /// Starts from the dead-reckoning filter `own` (its state and covariance) with one target
     /// per (range m, bearing rad true) in `plots`; `N` must be 11 + 6·`plots.len()`. The
     /// target model and radar noise are the TTKF's (`target`; its own-ship fields unused).
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] when `N` does not match the plots or the configuration is out of range.
     pub fn new<B: Algebra>(
         own: &Drkf<T, B>,
         target: TtkfConfig,
@@ -132,6 +135,9 @@ impl<T: RealField + Copy, const N: usize, A: Algebra> Coupled<T, N, A> {
     }
 
     /// Propagates every state over `dt_s` (> 0, at most a day).
+    ///
+    /// # Errors
+    /// [`FilterError::BadInterval`] for a step outside (0, 1 day].
     pub fn predict(&mut self, dt_s: f64) -> Result<(), FilterError> {
         let (own, target) = (self.own, self.target);
         predict_cached::<T, N, A, _>(&mut self.x, &mut self.p, &mut self.cached, dt_s, |dt| {
@@ -143,6 +149,9 @@ impl<T: RealField + Copy, const N: usize, A: Algebra> Coupled<T, N, A> {
     }
 
     /// The own-ship sensors (eq. 7a–7d), as [`Drkf::update`]. Returns the rows used.
+    ///
+    /// # Errors
+    /// [`FilterError::NonFinite`] when a value of `fix` is not finite (nothing changes).
     pub fn update_nav(&mut self, fix: &NavFix) -> Result<usize, FilterError> {
         let mut rows = heapless::Vec::new();
         drkf::sensor_rows(&self.own, &self.noise, &self.x, fix, &mut rows)?;
@@ -150,6 +159,9 @@ impl<T: RealField + Copy, const N: usize, A: Algebra> Coupled<T, N, A> {
     }
 
     /// A radar plot of target `t` (eq. 9a z5–z6). Returns the NIS of the two.
+    ///
+    /// # Errors
+    /// [`FilterError::NonFinite`] for a non-finite plot, [`FilterError::BadParameter`] for a target index out of range.
     pub fn update_radar(
         &mut self,
         t: usize,
@@ -199,7 +211,7 @@ impl<T: RealField + Copy, const N: usize, A: Algebra> Coupled<T, N, A> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::nav::ttkf::{OwnShip, Ttkf};
+    use crate::nav::ttkf::{OwnShipEstimate, Ttkf};
     use crate::nav::{Dense, GaussMarkov};
 
     fn ttkf_config() -> TtkfConfig {
@@ -259,7 +271,7 @@ mod tests {
         let mut dense = Coupled::<f64, N, Dense>::new(&dr, ttkf_config(), &plots).unwrap();
         // The DRTTKF: the same DRKF feeding one TTKF per target.
         let mut own = dr.clone();
-        let handoff = |d: &Drkf<f64>| OwnShip {
+        let handoff = |d: &Drkf<f64>| OwnShipEstimate {
             position_m: d.position_m(),
             velocity_mps: d.velocity_over_ground_mps(),
             covariance: d.own_ship_covariance(),

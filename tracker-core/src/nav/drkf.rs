@@ -317,6 +317,9 @@ pub struct Drkf<T: RealField + Copy, A: Algebra = Structured> {
 impl<T: RealField + Copy> Drkf<T> {
     /// A filter at `position_m` with velocity `velocity_mps` (through the water, no current
     /// assumed), with standard deviations `position_sd_m` and `velocity_sd_mps`.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] for a configuration out of range or a non-finite start.
     pub fn new(
         config: DrkfConfig,
         position_m: [f64; 2],
@@ -336,6 +339,9 @@ impl<T: RealField + Copy> Drkf<T> {
 
 impl<T: RealField + Copy, A: Algebra> Drkf<T, A> {
     /// As [`Drkf::new`], with `A`'s covariance arithmetic.
+    ///
+    /// # Errors
+    /// As [`Drkf::new`].
     pub fn with_algebra(
         config: DrkfConfig,
         position_m: [f64; 2],
@@ -388,6 +394,9 @@ impl<T: RealField + Copy, A: Algebra> Drkf<T, A> {
     }
 
     /// Propagates the state and covariance over `dt_s` (> 0, at most a day).
+    ///
+    /// # Errors
+    /// [`FilterError::BadInterval`] for a step outside (0, 1 day].
     pub fn predict(&mut self, dt_s: f64) -> Result<(), FilterError> {
         let config = self.config;
         predict_cached::<T, STATES, A, _>(&mut self.x, &mut self.p, &mut self.cached, dt_s, |dt| {
@@ -397,6 +406,9 @@ impl<T: RealField + Copy, A: Algebra> Drkf<T, A> {
 
     /// Applies what of `fix` is there. Returns the number of scalar measurements used.
     /// Non-finite values are refused whole, before any change.
+    ///
+    /// # Errors
+    /// [`FilterError::NonFinite`] when a value of `fix` is not finite (nothing changes).
     pub fn update(&mut self, fix: &NavFix) -> Result<usize, FilterError> {
         let mut rows = heapless::Vec::new();
         sensor_rows(&self.config, &self.noise, &self.x, fix, &mut rows)?;
@@ -573,6 +585,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "reference")]
     fn structured_arithmetic_is_the_dense_filter() {
         // Every sensor, then dead reckoning, bottom lock, and an uneven interval.
         let cfg = DrkfConfig::table_1(2).unwrap();

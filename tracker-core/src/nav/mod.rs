@@ -23,12 +23,15 @@
 //! Covariances use the Joseph form. Angle residuals are wrapped to ±π.
 
 pub mod algebra;
+#[cfg(feature = "reference")]
 pub mod coupled;
 pub mod drkf;
 pub mod ttkf;
 
+#[cfg(feature = "reference")]
+pub use algebra::Dense;
 use algebra::Discretised;
-pub use algebra::{Algebra, Dense, Structured};
+pub use algebra::{Algebra, Structured};
 
 use nalgebra::{RealField, SMatrix, SVector};
 

@@ -85,6 +85,7 @@ impl<T: RealField + Copy> Blocks<T> {
     }
 
     /// The target's chain block (Φ, Q).
+    #[cfg(feature = "reference")]
     pub(crate) fn target(&self) -> &(Matrix3<T>, Matrix3<T>) {
         &self.target
     }
@@ -173,7 +174,7 @@ impl TtkfConfig {
 /// Own-ship estimate handed from the DRKF: position, velocity over ground and their 4×4
 /// covariance (x, y, v_x, v_y).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct OwnShip<T: RealField + Copy> {
+pub struct OwnShipEstimate<T: RealField + Copy> {
     /// Position (east, north), m.
     pub position_m: [T; 2],
     /// Velocity over ground, m/s.
@@ -199,9 +200,12 @@ pub struct Ttkf<T: RealField + Copy, A: Algebra = Structured> {
 
 impl<T: RealField + Copy> Ttkf<T> {
     /// Starts on a target at `range_m`, `bearing_rad` (true) from `own`.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] for a configuration out of range or a range that is not positive and finite.
     pub fn new(
         config: TtkfConfig,
-        own: &OwnShip<T>,
+        own: &OwnShipEstimate<T>,
         range_m: f64,
         bearing_rad: f64,
     ) -> Result<Self, FilterError> {
@@ -211,9 +215,12 @@ impl<T: RealField + Copy> Ttkf<T> {
 
 impl<T: RealField + Copy, A: Algebra> Ttkf<T, A> {
     /// As [`Ttkf::new`], with `A`'s covariance arithmetic.
+    ///
+    /// # Errors
+    /// As [`Ttkf::new`].
     pub fn with_algebra(
         config: TtkfConfig,
-        own: &OwnShip<T>,
+        own: &OwnShipEstimate<T>,
         range_m: f64,
         bearing_rad: f64,
     ) -> Result<Self, FilterError> {
@@ -263,6 +270,9 @@ impl<T: RealField + Copy, A: Algebra> Ttkf<T, A> {
     }
 
     /// Propagates over `dt_s` (> 0, at most a day).
+    ///
+    /// # Errors
+    /// [`FilterError::BadInterval`] for a step outside (0, 1 day].
     pub fn predict(&mut self, dt_s: f64) -> Result<(), FilterError> {
         let config = self.config;
         predict_cached::<T, STATES, A, _>(&mut self.x, &mut self.p, &mut self.cached, dt_s, |dt| {
@@ -272,7 +282,10 @@ impl<T: RealField + Copy, A: Algebra> Ttkf<T, A> {
 
     /// Eq. 9a z1–z4: the DRKF's estimate with its covariance as R. The errors are correlated,
     /// so they are whitened first (R = LLᵀ, z' = L⁻¹z, H' = L⁻¹H) and then applied one by one.
-    pub fn update_own_ship(&mut self, own: &OwnShip<T>) -> Result<(), FilterError> {
+    ///
+    /// # Errors
+    /// [`FilterError::NonFinite`] for a non-finite estimate, [`FilterError::BadParameter`] when its covariance is not positive definite (nothing changes).
+    pub fn update_own_ship(&mut self, own: &OwnShipEstimate<T>) -> Result<(), FilterError> {
         let z = Vector4::new(
             own.position_m[0],
             own.position_m[1],
@@ -299,6 +312,9 @@ impl<T: RealField + Copy, A: Algebra> Ttkf<T, A> {
 
     /// Eq. 9a z5–z6: radar range, m, and azimuth, radians true (residual wrapped), with the
     /// H of eq. 9b–9c at the predicted state. Returns the NIS of the two.
+    ///
+    /// # Errors
+    /// [`FilterError::NonFinite`] for a non-finite or non-positive range or bearing (nothing changes).
     pub fn update_radar(&mut self, range_m: f64, bearing_rad: f64) -> Result<T, FilterError> {
         let rows = radar_rows(
             &self.x,
@@ -483,11 +499,11 @@ mod tests {
         }
     }
 
-    fn own(t: f64) -> OwnShip<f64> {
+    fn own(t: f64) -> OwnShipEstimate<f64> {
         let mut cov = SMatrix::<f64, 4, 4>::identity() * 0.01;
         cov[(0, 0)] = 4.0;
         cov[(1, 1)] = 4.0;
-        OwnShip {
+        OwnShipEstimate {
             position_m: [0.0, 5.0 * t],
             velocity_mps: [0.0, 5.0],
             covariance: cov,
@@ -532,6 +548,7 @@ mod tests {
     }
 
     #[test]
+    #[cfg(feature = "reference")]
     fn structured_arithmetic_is_the_dense_filter() {
         let mut s = Ttkf::<f64>::new(config(), &own(0.0), 5000.0, 0.8).unwrap();
         let mut d =

@@ -15,7 +15,7 @@ use cortex_m_rt::entry;
 use semihosting::println;
 use tracker_core::nav::coupled::Coupled;
 use tracker_core::nav::drkf::{Drkf, DrkfConfig, NavFix};
-use tracker_core::nav::ttkf::{OwnShip, Ttkf, TtkfConfig};
+use tracker_core::nav::ttkf::{OwnShipEstimate, Ttkf, TtkfConfig};
 use tracker_core::nav::{Algebra, Dense, GaussMarkov, Structured};
 use tracker_firmware::icount::report as row;
 use tracker_firmware::{board, icount};
@@ -157,8 +157,8 @@ fn dead_reckoning_fix() -> NavFix {
 }
 
 /// The DRKF's estimate as a TTKF's own-ship measurement (eq. 9a).
-fn handoff<A: Algebra>(d: &Drkf<f32, A>) -> OwnShip<f32> {
-    OwnShip {
+fn handoff<A: Algebra>(d: &Drkf<f32, A>) -> OwnShipEstimate<f32> {
+    OwnShipEstimate {
         position_m: d.position_m(),
         velocity_mps: d.velocity_over_ground_mps(),
         covariance: d.own_ship_covariance(),

@@ -26,6 +26,9 @@ pub struct KalmanCa<S: Real> {
 
 impl KalmanConfig {
     /// A constant-acceleration filter in `S`.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] as [`KalmanConfig::validate`].
     pub fn build_ca<S: Real>(&self) -> Result<KalmanCa<S>, FilterError> {
         self.validate()?;
         let mut f = KalmanCa {
@@ -162,6 +165,11 @@ impl<S: Real> Filter<S> for KalmanCa<S> {
 
     fn innovation(&self) -> Vec2<S> {
         self.innovation
+    }
+
+    fn innovation_covariance(&self) -> Option<[S; 3]> {
+        let s = self.p[(0, 0)] + self.r;
+        Some([s, S::ZERO, s])
     }
 }
 

@@ -37,6 +37,9 @@ pub struct KalmanCv<S: Real> {
 
 impl KalmanConfig {
     /// A constant-velocity filter in `S`.
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] as [`KalmanConfig::validate`].
     pub fn build_cv<S: Real>(&self) -> Result<KalmanCv<S>, FilterError> {
         self.validate()?;
         let r = S::of(self.r);
@@ -180,6 +183,11 @@ impl<S: Real> Filter<S> for KalmanCv<S> {
 
     fn innovation(&self) -> Vec2<S> {
         self.innovation
+    }
+
+    fn innovation_covariance(&self) -> Option<[S; 3]> {
+        let s = self.innovation_variance();
+        Some([s, S::ZERO, s])
     }
 }
 

@@ -19,7 +19,8 @@ pub mod cv;
 use super::FilterError;
 
 /// The process noise model: how the unmodelled motion enters.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub enum QModel {
     /// Q = q·I per axis, as the thesis uses.
     Identity,
@@ -34,7 +35,8 @@ pub enum QModel {
 }
 
 /// Kalman filter parameters.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct KalmanConfig {
     /// Process noise intensity (units per the model: m²/s⁴·s² for `Discrete` CV, etc.).
     pub q: f64,
@@ -62,6 +64,9 @@ impl KalmanConfig {
     }
 
     /// Checks every parameter is finite and in range (q ≥ 0, r > 0, P0 > 0).
+    ///
+    /// # Errors
+    /// [`FilterError::BadParameter`] otherwise.
     pub fn validate(&self) -> Result<(), FilterError> {
         let ok = self.q.is_finite()
             && self.q >= 0.0

@@ -1,0 +1,84 @@
+//! The product's commands as wirings of sources, a session and sinks:
+//!
+//! - [`demo`]: the simulator (a plot source with truth) + session + scorer (+ display);
+//! - [`track`]: a recorded plots file (+ a truth file) + session (+ scorer, display).
+//!
+//! Own ship and the outputs are chosen the same way for both ([`OwnShipOptions`],
+//! [`Outputs`]); [`run::Run`] steps the wiring scan by scan.
+
+pub mod demo;
+pub mod run;
+pub mod track;
+
+use std::path::PathBuf;
+
+use crate::nmea::{InSpec, OutSpec};
+use crate::origin::Origin;
+use crate::own_ship::{FromPlotSource, NmeaOwnShip, OwnShipSource, SimulatedBridge};
+use crate::record::{PlotsRecorder, TracksRecorder, TruthRecorder};
+use crate::sink::ScanSink;
+
+/// Where own ship comes from.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OwnShipOptions {
+    /// Own ship from these NMEA sentences (through the dead-reckoning filter) instead of the
+    /// plot source's.
+    pub nmea_in: Option<InSpec>,
+    /// Own ship from the plot source's own ship sent as NMEA sentences through the
+    /// dead-reckoning filter, the sentences recorded to this file (`nmea_in: file:…`
+    /// replays them with the same result).
+    pub nmea_record: Option<PathBuf>,
+    /// The local frame's origin on the globe.
+    pub origin: Origin,
+}
+
+/// Where a run's results go besides the display.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Outputs {
+    /// Every confirmed target as `TTM` and `TLL` each scan, to chart plotters.
+    pub nmea_out: Option<OutSpec>,
+    /// The scans' plots, as a plots file.
+    pub record_plots: Option<PathBuf>,
+    /// The source's truth, as a truth file.
+    pub record_truth: Option<PathBuf>,
+    /// Every track every scan.
+    pub record_tracks: Option<PathBuf>,
+}
+
+/// The own-ship source `o` asks for.
+///
+/// # Errors
+/// Both NMEA in and a recording of the simulation asked for; the source does not open.
+pub fn own_ship_source(o: &OwnShipOptions) -> anyhow::Result<Box<dyn OwnShipSource>> {
+    Ok(match (&o.nmea_in, &o.nmea_record) {
+        (Some(_), Some(_)) => {
+            anyhow::bail!("own ship from NMEA input or a recording of the simulation, not both")
+        }
+        (Some(spec), None) => Box::new(NmeaOwnShip::open(spec, o.origin)?),
+        (None, Some(path)) => Box::new(SimulatedBridge::create(path, o.origin)?),
+        (None, None) => Box::new(FromPlotSource),
+    })
+}
+
+/// The sinks `o` asks for.
+///
+/// # Errors
+/// A file cannot be created or a socket not opened.
+pub fn sinks(o: &Outputs, origin: Origin) -> anyhow::Result<Vec<Box<dyn ScanSink>>> {
+    let mut sinks: Vec<Box<dyn ScanSink>> = Vec::new();
+    if let Some(spec) = &o.nmea_out {
+        sinks.push(Box::new(crate::nmea::targets::TargetsOut::open(
+            spec, origin,
+        )?));
+    }
+    if let Some(p) = &o.record_plots {
+        sinks.push(Box::new(PlotsRecorder::create(p)?));
+    }
+    if let Some(p) = &o.record_truth {
+        sinks.push(Box::new(TruthRecorder::create(p)?));
+    }
+    if let Some(p) = &o.record_tracks {
+        sinks.push(Box::new(TracksRecorder::create(p)?));
+    }
+    Ok(sinks)
+}

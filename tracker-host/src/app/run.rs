@@ -1,0 +1,257 @@
+//! A run: a plot source and an own-ship source feeding a [`Session`], its reports going to
+//! sinks, scan after scan until the source ends.
+
+use std::time::{Duration, Instant};
+
+use serde::Serialize;
+
+use crate::own_ship::nav::NavCounts;
+use crate::own_ship::OwnShipSource;
+use crate::score::{ScoreSink, Summary};
+use crate::session::{ScanReport, Session};
+use crate::sink::ScanSink;
+use crate::source::PlotSource;
+
+/// Sources, session and sinks, wired.
+pub struct Run {
+    plots: Box<dyn PlotSource>,
+    own_ship: Box<dyn OwnShipSource>,
+    session: Session,
+    sinks: Vec<Box<dyn ScanSink>>,
+    score: ScoreSink,
+    scans: u64,
+    finished: bool,
+}
+
+impl Run {
+    /// Wires a run; the scorer scores the scans whose source carries truth.
+    pub fn new(
+        plots: Box<dyn PlotSource>,
+        own_ship: Box<dyn OwnShipSource>,
+        session: Session,
+        sinks: Vec<Box<dyn ScanSink>>,
+    ) -> Self {
+        let scan_s = plots.scan_period_s().unwrap_or(2.5) as f32;
+        Run {
+            plots,
+            own_ship,
+            session,
+            sinks,
+            score: ScoreSink::new(scan_s),
+            scans: 0,
+            finished: false,
+        }
+    }
+
+    /// Adds a sink.
+    pub fn add_sink(&mut self, sink: Box<dyn ScanSink>) {
+        self.sinks.push(sink);
+    }
+
+    /// Tracks the next scan; `Ok(None)` once the source has ended (the sinks are then
+    /// finished).
+    ///
+    /// # Errors
+    /// A source, the session or a sink failed.
+    pub fn step(&mut self) -> anyhow::Result<Option<ScanReport>> {
+        if self.finished {
+            return Ok(None);
+        }
+        let Some(scan) = self.plots.next_scan()? else {
+            self.finish()?;
+            return Ok(None);
+        };
+        let own = self.own_ship.own_ship(&scan)?;
+        let report = self.session.scan(&scan.radar, &own)?;
+        for sink in &mut self.sinks {
+            sink.scan(&scan, &report)?;
+        }
+        self.score.scan(&scan, &report)?;
+        self.scans += 1;
+        Ok(Some(report))
+    }
+
+    /// Finishes every sink (flushes recordings); later steps return `None`.
+    ///
+    /// # Errors
+    /// A sink's final write failed.
+    pub fn finish(&mut self) -> anyhow::Result<()> {
+        if !self.finished {
+            self.finished = true;
+            for sink in &mut self.sinks {
+                sink.finish()?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Runs to the source's end, calling `show` after each scan. With `speedup`, scans are
+    /// paced at the source's clock divided by it (1: real time).
+    ///
+    /// # Errors
+    /// As [`Run::step`].
+    pub fn run_to_end(
+        &mut self,
+        speedup: Option<f64>,
+        mut show: impl FnMut(&ScanReport),
+    ) -> anyhow::Result<()> {
+        let start = Instant::now();
+        let mut first_time_s = None;
+        while let Some(report) = self.step()? {
+            show(&report);
+            if let Some(x) = speedup {
+                let t0 = *first_time_s.get_or_insert(report.time_s);
+                let due = start + Duration::from_secs_f64(((report.time_s - t0) / x).max(0.0));
+                if let Some(wait) = due.checked_duration_since(Instant::now()) {
+                    std::thread::sleep(wait);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// The session.
+    pub fn session(&self) -> &Session {
+        &self.session
+    }
+
+    /// The session, to send operator commands.
+    pub fn session_mut(&mut self) -> &mut Session {
+        &mut self.session
+    }
+
+    /// The scores so far; `None` when the source carries no truth.
+    pub fn summary(&self) -> Option<Summary> {
+        self.score.summary()
+    }
+
+    /// What became of the own-ship sentences, when own ship comes from NMEA.
+    pub fn nmea_counts(&self) -> Option<NavCounts> {
+        self.own_ship.nmea_counts()
+    }
+
+    /// The source's antenna period, s.
+    pub fn scan_period_s(&self) -> Option<f64> {
+        self.plots.scan_period_s()
+    }
+
+    /// Scans tracked so far.
+    pub fn scans(&self) -> u64 {
+        self.scans
+    }
+
+    /// Scans still to come, when the source knows.
+    pub fn scans_left(&self) -> Option<u64> {
+        self.plots.scans_left()
+    }
+
+    /// The end-of-run report.
+    pub fn report(&self, link: &str) -> RunReport {
+        let mut times: Vec<Duration> = self.session.host_times().to_vec();
+        times.sort();
+        let ms = |d: Duration| d.as_secs_f64() * 1e3;
+        let mean = times.iter().sum::<Duration>() / times.len().max(1) as u32;
+        let stats = self.session.link_stats();
+        RunReport {
+            link: link.to_string(),
+            filter: self
+                .session
+                .config()
+                .tracker
+                .filter
+                .kind()
+                .name()
+                .to_string(),
+            scans: self.scans,
+            scores: self.summary(),
+            host_ms_per_scan_mean: ms(mean),
+            host_ms_per_scan_max: ms(times.last().copied().unwrap_or_default()),
+            link_frames_sent: stats.frames_sent,
+            link_frames_received: stats.frames_received,
+            link_frames_damaged: stats.frames_damaged,
+            link_retries: stats.retries,
+            link_bytes_sent: stats.bytes_sent,
+            link_bytes_received: stats.bytes_received,
+            own_ship_nmea: self.nmea_counts(),
+            events: self.session.events().to_vec(),
+        }
+    }
+}
+
+/// The end of a run, for the operator and (`--summary-json`) for other tools: one JSON
+/// object with stable snake_case keys, units in the names. The scores' keys are present
+/// when the run had truth to score against.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct RunReport {
+    /// The link the device was reached over.
+    pub link: String,
+    /// The filter every track ran.
+    pub filter: String,
+    /// Scans tracked.
+    pub scans: u64,
+    /// Scores against the truth.
+    #[serde(flatten)]
+    pub scores: Option<Summary>,
+    /// Host time per scan, link included, mean, ms.
+    pub host_ms_per_scan_mean: f64,
+    /// … and the largest, ms.
+    pub host_ms_per_scan_max: f64,
+    /// Frames the host sent.
+    pub link_frames_sent: u64,
+    /// Frames the host received intact.
+    pub link_frames_received: u64,
+    /// Frames that arrived damaged.
+    pub link_frames_damaged: u64,
+    /// Requests sent again after a lost answer.
+    pub link_retries: u64,
+    /// Bytes the host sent.
+    pub link_bytes_sent: u64,
+    /// Bytes the host received.
+    pub link_bytes_received: u64,
+    /// What became of the own-ship sentences, when own ship came from NMEA.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub own_ship_nmea: Option<NavCounts>,
+    /// What happened on the link worth telling (resets, restarts).
+    pub events: Vec<String>,
+}
+
+impl RunReport {
+    /// The report as text.
+    pub fn text(&self) -> String {
+        let mut s = format!(
+            "== summary ({} link, filter {}) ==\n",
+            self.link, self.filter
+        );
+        match &self.scores {
+            Some(scores) => s += &scores.report(),
+            None => s += &format!("scans: {} (no truth to score against)", self.scans),
+        }
+        s.push('\n');
+        if let Some(c) = &self.own_ship_nmea {
+            s += &format!("own-ship NMEA: {c}\n");
+        }
+        for e in &self.events {
+            s += &format!("event: {e}\n");
+        }
+        s += &format!(
+            "host time per scan (link included): mean {:.2} ms, max {:.2} ms\n",
+            self.host_ms_per_scan_mean, self.host_ms_per_scan_max
+        );
+        s += &format!(
+            "link: {} frames sent, {} received, {} damaged, {} requests retried; {} bytes sent, {} received ({:.0} B per scan)\n",
+            self.link_frames_sent,
+            self.link_frames_received,
+            self.link_frames_damaged,
+            self.link_retries,
+            self.link_bytes_sent,
+            self.link_bytes_received,
+            (self.link_bytes_sent + self.link_bytes_received) as f64 / self.scans.max(1) as f64
+        );
+        s
+    }
+
+    /// The report as one JSON object.
+    pub fn json(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
+    }
+}

@@ -1,0 +1,98 @@
+//! Arguments shared by the commands that run the tracker (`demo`, `track`).
+
+use std::path::PathBuf;
+
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use clap::Args;
+use tracker_core::filter::FilterKind;
+
+use crate::app::{Outputs, OwnShipOptions};
+use crate::nmea::{InSpec, OutSpec};
+use crate::origin::Origin;
+
+/// `--filter NAME`: one of [`FilterKind::ALL`], by name.
+pub fn filter_parser() -> impl TypedValueParser<Value = FilterKind> {
+    PossibleValuesParser::new(FilterKind::ALL.map(FilterKind::name))
+        .try_map(|name| name.parse::<FilterKind>())
+}
+
+/// `--speedup X` or `--speedup max`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Speedup(pub Option<f64>);
+
+impl std::str::FromStr for Speedup {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        if s == "max" {
+            return Ok(Speedup(None));
+        }
+        match s.parse::<f64>() {
+            Ok(x) if x.is_finite() && x > 0.0 => Ok(Speedup(Some(x))),
+            _ => Err(format!("`{s}`: expected a positive number or `max`")),
+        }
+    }
+}
+
+/// How a tracking run is shown, where own ship comes from, where results go.
+#[derive(Clone, Debug, Args)]
+pub struct RunArgs {
+    /// The filter every track runs.
+    #[arg(long, value_parser = filter_parser(), default_value = "kalman-cv")]
+    pub filter: FilterKind,
+    /// Source seconds per real second, or `max`.
+    #[arg(long, default_value = "max")]
+    pub speedup: Speedup,
+    /// Print the target table every scan as plain text (without it: the radar display in a
+    /// terminal, progress lines otherwise).
+    #[arg(long)]
+    pub plain: bool,
+    /// Send every confirmed target to a chart plotter as NMEA 0183 `TTM` and `TLL`
+    /// sentences each scan: `udp:HOST:PORT` or `tcp:PORT` (a server plotters connect to).
+    #[arg(long, value_name = "udp:HOST:PORT|tcp:PORT")]
+    pub nmea_out: Option<OutSpec>,
+    /// Take own ship from NMEA 0183 (GGA/RMC, VTG, HDT, VHW) through the dead-reckoning
+    /// filter: `file:PATH` (a recording, replayed scan by scan), `udp:PORT`,
+    /// `tcp:HOST:PORT`, `serial:DEVICE@BAUD`.
+    #[arg(long, value_name = "SOURCE", conflicts_with = "nmea_record")]
+    pub nmea_in: Option<InSpec>,
+    /// Take own ship from the plot source's own ship sent as NMEA through the
+    /// dead-reckoning filter, and record the sentences to this file (`--nmea-in
+    /// file:PATH` replays it with the same result).
+    #[arg(long, value_name = "PATH")]
+    pub nmea_record: Option<PathBuf>,
+    /// Latitude and longitude of the local frame's origin, decimal degrees (for `TLL`
+    /// and own-ship positions), e.g. `--origin -33.9,151.2`.
+    #[arg(long, value_name = "LAT,LON", value_parser = Origin::parse, allow_hyphen_values = true)]
+    pub origin: Option<Origin>,
+    /// Write the scans' plots to this file (the plots file format `track` reads).
+    #[arg(long, value_name = "PATH")]
+    pub record_plots: Option<PathBuf>,
+    /// Write every track every scan to this file
+    /// (`scan,t_s,track,status,east_m,north_m,vx_mps,vy_mps`).
+    #[arg(long, value_name = "PATH")]
+    pub record_tracks: Option<PathBuf>,
+    /// Write the end-of-run summary to this file as one JSON object.
+    #[arg(long, value_name = "PATH")]
+    pub summary_json: Option<PathBuf>,
+}
+
+impl RunArgs {
+    /// Own ship as these arguments choose it.
+    pub fn own_ship(&self) -> OwnShipOptions {
+        OwnShipOptions {
+            nmea_in: self.nmea_in.clone(),
+            nmea_record: self.nmea_record.clone(),
+            origin: self.origin.unwrap_or_default(),
+        }
+    }
+
+    /// The outputs these arguments ask for (`record_truth` is the demo's own).
+    pub fn outputs(&self, record_truth: Option<PathBuf>) -> Outputs {
+        Outputs {
+            nmea_out: self.nmea_out.clone(),
+            record_plots: self.record_plots.clone(),
+            record_truth,
+            record_tracks: self.record_tracks.clone(),
+        }
+    }
+}

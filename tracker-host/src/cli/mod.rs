@@ -1,0 +1,478 @@
+//! The command line: `tracker-host [--link …] <command> …`, parsed with `clap` and
+//! dispatched: the product's commands to [`crate::app`], the lab's to [`crate::lab`].
+
+pub mod args;
+
+use std::ffi::OsString;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use anyhow::Context;
+use clap::builder::{PossibleValuesParser, TypedValueParser};
+use clap::{Parser, Subcommand};
+
+use crate::app::run::Run;
+use crate::app::{demo, track};
+use crate::display::plain::{Plain, PlainMode};
+use crate::lab::{arpa, bench_mcu, compare, precision, replay, replay_nav, reproduce};
+use crate::link::faults::{FaultRates, FaultyTransport};
+use crate::link::qemu::{self, QemuOptions};
+use crate::link::{self, check, Client, LinkSpec};
+use crate::source::simulator::SimulatorOptions;
+use args::RunArgs;
+
+/// ARPA-style marine radar target tracker: host side.
+#[derive(Debug, Parser)]
+#[command(name = "tracker-host", version, about)]
+pub struct Cli {
+    /// Where the tracker core runs: `qemu` (firmware in qemu-system-arm), `inproc` (in
+    /// this process), `tcp:HOST:PORT`, or `serial:PATH[@BAUD]` (a board). Default: qemu
+    /// when installed, else inproc.
+    #[arg(long, global = true, value_name = "LINK")]
+    pub link: Option<LinkSpec>,
+
+    /// Firmware ELF for `--link qemu` (default: the workspace's release build).
+    #[arg(long, global = true, value_name = "ELF")]
+    pub firmware: Option<PathBuf>,
+
+    /// Show the firmware's defmt log (QEMU; needs defmt-print).
+    #[arg(long, global = true)]
+    pub mcu_log: bool,
+
+    /// Damage the link on purpose: this probability per byte, both ways, of a flipped bit
+    /// (80 %), a lost byte (10 %) or a repeated one (10 %). For testing; the host retries.
+    #[arg(long, global = true, value_name = "RATE")]
+    pub byte_errors: Option<f64>,
+
+    /// The command.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The commands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// The main job: a simulated radar picture tracked by the device and this host, with
+    /// the target table; ends with a summary scored against the simulation's truth.
+    Demo {
+        /// Scenario.
+        #[arg(long, value_enum, default_value_t = ScenarioArg::OpenSea)]
+        scenario: ScenarioArg,
+        /// Number of targets (at most 64).
+        #[arg(long, default_value_t = 40)]
+        targets: usize,
+        /// Seed of the scenario.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Simulated duration, s.
+        #[arg(long, default_value_t = 600.0)]
+        duration: f64,
+        /// Write the simulation's truth to this file (the truth file format `track --truth`
+        /// reads: `t_s,target,east_m,north_m,vx_mps,vy_mps,detected`, own ship as target 0).
+        #[arg(long, value_name = "PATH")]
+        record_truth: Option<PathBuf>,
+        /// How the run is shown, own ship, outputs.
+        #[command(flatten)]
+        run: RunArgs,
+    },
+    /// The tracker on recorded plots (a plots file; see the README for its columns), with
+    /// the same display, table and outputs as `demo`; given the truth, the same scored
+    /// summary.
+    Track {
+        /// The plots file.
+        #[arg(long, value_name = "PATH")]
+        plots: PathBuf,
+        /// The truth file, to score the tracks against.
+        #[arg(long, value_name = "PATH")]
+        truth: Option<PathBuf>,
+        /// How the run is shown, own ship, outputs.
+        #[command(flatten)]
+        run: RunArgs,
+    },
+    /// Check the link: handshake, echo frames of every size, bad input rejected, counters.
+    LinkCheck {
+        /// Good frames to send.
+        #[arg(long, default_value_t = 1000)]
+        frames: usize,
+        /// Seed for frame sizes and contents.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Run one single-target filter over recorded measurements (CSV `t,x,y` in, CSV out).
+    Replay {
+        /// The filter.
+        #[arg(long, value_parser = replay_filter_parser())]
+        filter: replay::ReplayFilter,
+        /// Gain options (each filter takes the ones that apply to it).
+        #[command(flatten)]
+        gains: Box<replay::GainArgs>,
+        /// Measurements: CSV with a header holding t,x,y (s, m).
+        #[arg(long, value_name = "CSV")]
+        input: PathBuf,
+        /// Estimates: CSV t,x,y,vx,vy,px,py,ex,ey (GRNN adds manoeuvre).
+        #[arg(long, value_name = "CSV")]
+        output: PathBuf,
+        /// Number type.
+        #[arg(long, value_enum, default_value_t = replay::ScalarKind::F64)]
+        scalar: replay::ScalarKind,
+        /// Own-ship sensors for `--filter ttkf`: CSV t,gps_x,gps_y,gps_vx,gps_vy,loran_x,loran_y,speedlog,gyro (empty cell: not available).
+        #[arg(long, value_name = "CSV")]
+        nav: Option<PathBuf>,
+        /// Radar range σ for `--filter ttkf`, m.
+        #[arg(long, default_value_t = 20.0)]
+        range_sd: f64,
+        /// Radar bearing σ for `--filter ttkf`, degrees.
+        #[arg(long, default_value_t = 0.5)]
+        bearing_sd: f64,
+    },
+    /// GRNN against the CV Kalman and α-β filters on a manoeuvring target, and the GRNN
+    /// manoeuvre detector's false alarms and delay (Monte Carlo).
+    Compare {
+        /// Monte Carlo runs.
+        #[arg(long, default_value_t = 200)]
+        runs: u64,
+        /// Position noise per axis, m.
+        #[arg(long, default_value_t = 5.0)]
+        sigma: f64,
+    },
+    /// The IMO ARPA accuracy test (A.823 App. 2) by Monte Carlo: our EKFs and a least-squares plot.
+    Arpa {
+        /// Monte Carlo runs per scenario.
+        #[arg(long, default_value_t = 500)]
+        runs: u64,
+    },
+    /// Reruns the seed papers' experiments: DIR/report.md (paper figure beside ours) and plots.
+    Reproduce {
+        /// Experiments: all (default), abg-2drms, abge-sweep, thesis, grnn, drttkf.
+        #[arg(value_name = "NAME")]
+        names: Vec<String>,
+        /// Directory for report.md and the plots.
+        #[arg(long, value_name = "DIR", default_value = "reproduce")]
+        out: PathBuf,
+    },
+    /// How far f32 and fixed point drift from f64 on a long run, per filter.
+    Precision {
+        /// Scans in the run.
+        #[arg(long, default_value_t = 100_000)]
+        scans: usize,
+        /// Noise seed.
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+    },
+    /// Instruction counts on the emulated Cortex-M4F, as CSV.
+    BenchMcu {
+        /// Bench ELF (default: the workspace's release build of the `bench` binary).
+        #[arg(long, value_name = "ELF")]
+        elf: Option<PathBuf>,
+    },
+}
+
+fn replay_filter_parser() -> impl TypedValueParser<Value = replay::ReplayFilter> {
+    PossibleValuesParser::new(replay::ReplayFilter::names())
+        .try_map(|name| name.parse::<replay::ReplayFilter>())
+}
+
+/// Scenario names on the command line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum ScenarioArg {
+    /// Targets scattered around own ship, a quarter in crossing pairs.
+    OpenSea,
+    /// Every target in a crossing pair.
+    Crossing,
+}
+
+impl ScenarioArg {
+    fn kind(self) -> tracker_core::sim::ScenarioKind {
+        match self {
+            ScenarioArg::OpenSea => tracker_core::sim::ScenarioKind::OpenSea,
+            ScenarioArg::Crossing => tracker_core::sim::ScenarioKind::Crossing,
+        }
+    }
+}
+
+impl Cli {
+    fn qemu_options(&self) -> QemuOptions {
+        QemuOptions {
+            firmware: self.firmware.clone(),
+            mcu_log: self.mcu_log,
+        }
+    }
+
+    /// The link to use: as given, else QEMU when installed, else in-process.
+    fn resolve_link(&self) -> LinkSpec {
+        match &self.link {
+            Some(l) => l.clone(),
+            None if qemu::qemu_available() => LinkSpec::Qemu,
+            None => LinkSpec::Inproc,
+        }
+    }
+
+    fn connect(&self) -> anyhow::Result<Client> {
+        let spec = self.resolve_link();
+        let how = match (&self.link, &spec) {
+            (None, LinkSpec::Qemu) => " (QEMU found; --link inproc runs without it)",
+            (None, _) => " (qemu-system-arm not found; running the core in-process)",
+            _ => "",
+        };
+        eprintln!("link: {spec}{how}");
+        let mut transport = link::open(&spec, &self.qemu_options())?;
+        let mut client_timeout = None;
+        if let Some(rate) = self.byte_errors {
+            if !(0.0..=0.1).contains(&rate) {
+                anyhow::bail!("--byte-errors {rate}: expected a probability up to 0.1");
+            }
+            eprintln!("link: damaging {rate} of the bytes on purpose");
+            transport = Box::new(FaultyTransport::new(
+                transport,
+                FaultRates::byte_errors(rate),
+                1,
+            ));
+            // A lost answer is noticed by its timeout when no damaged frame announces it.
+            client_timeout = Some(std::time::Duration::from_millis(300));
+        }
+        let mut client = Client::new(transport);
+        if let Some(t) = client_timeout {
+            client.timeout = t;
+            client.retries = 50;
+        }
+        Ok(client)
+    }
+}
+
+/// Parses `args` and runs the command; what the binary's `main` does.
+///
+/// # Errors
+/// The command failed: the message says why (a file's line and column, a link that did
+/// not answer, …).
+pub fn run<I, T>(args: I) -> anyhow::Result<ExitCode>
+where
+    I: IntoIterator<Item = T>,
+    T: Into<OsString> + Clone,
+{
+    let cli = match Cli::try_parse_from(args) {
+        Ok(c) => c,
+        Err(e) => {
+            // --help and --version are successes; the rest are usage errors (exit 2).
+            let _ = e.print();
+            return Ok(ExitCode::from(e.exit_code() as u8));
+        }
+    };
+    match &cli.command {
+        Command::Demo {
+            scenario,
+            targets,
+            seed,
+            duration,
+            record_truth,
+            run,
+        } => {
+            if !(duration.is_finite() && *duration > 0.0) {
+                anyhow::bail!("--duration {duration}: must be a positive number of seconds");
+            }
+            if *targets > tracker_core::sim::MAX_TARGETS {
+                anyhow::bail!(
+                    "--targets {targets}: the simulator holds at most {}",
+                    tracker_core::sim::MAX_TARGETS
+                );
+            }
+            let options = demo::DemoOptions {
+                simulator: SimulatorOptions {
+                    scenario: scenario.kind(),
+                    targets: *targets,
+                    seed: *seed,
+                    duration_s: *duration,
+                },
+                filter: run.filter,
+                own_ship: run.own_ship(),
+                outputs: run.outputs(record_truth.clone()),
+            };
+            let tracking = demo::start(cli.connect()?, &options)?;
+            track_to_end(&cli, tracking, run)
+        }
+        Command::Track { plots, truth, run } => {
+            let options = track::TrackOptions {
+                plots: plots.clone(),
+                truth: truth.clone(),
+                filter: run.filter,
+                own_ship: run.own_ship(),
+                outputs: run.outputs(None),
+            };
+            let tracking = track::start(cli.connect()?, &options)?;
+            track_to_end(&cli, tracking, run)
+        }
+        Command::LinkCheck { frames, seed } => {
+            let mut client = cli.connect()?;
+            let report = check::run(
+                &mut client,
+                &check::LinkCheckOptions {
+                    frames: *frames,
+                    seed: *seed,
+                },
+            )?;
+            println!("{}", report.summary());
+            for f in &report.failures {
+                println!("failure: {f}");
+            }
+            Ok(exit(report.passed()))
+        }
+        Command::Replay {
+            filter,
+            gains,
+            input,
+            output,
+            scalar,
+            nav,
+            range_sd,
+            bearing_sd,
+        } => {
+            let kind = match filter {
+                replay::ReplayFilter::Ttkf => {
+                    let nav = nav
+                        .as_ref()
+                        .ok_or_else(|| anyhow::anyhow!("--filter ttkf needs --nav CSV"))?;
+                    if !(*range_sd > 0.0 && *bearing_sd > 0.0) {
+                        anyhow::bail!("options --range-sd and --bearing-sd must be positive");
+                    }
+                    let noise = replay_nav::RadarNoise {
+                        range_sd_m: *range_sd,
+                        bearing_sd_deg: *bearing_sd,
+                    };
+                    let n = replay_nav::replay(input, nav, output, noise)?;
+                    eprintln!(
+                        "replay: {n} radar fixes through the DRKF + TTKF -> {}",
+                        output.display()
+                    );
+                    return Ok(ExitCode::SUCCESS);
+                }
+                replay::ReplayFilter::Track(kind) => *kind,
+            };
+            if nav.is_some() {
+                anyhow::bail!("option --nav applies to --filter ttkf only");
+            }
+            let config = replay::config_from_args(kind, gains)?;
+            let measurements = replay::read_measurements(input)?;
+            let rows = replay::run(&config, *scalar, &measurements)?;
+            replay::write_estimates(
+                output,
+                &rows,
+                kind == tracker_core::filter::FilterKind::Grnn,
+            )?;
+            eprintln!(
+                "replay: {} measurements through {config:?} ({scalar:?}) -> {}",
+                rows.len(),
+                output.display()
+            );
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Compare { runs, sigma } => {
+            let (scores, detector) = compare::run(*runs, *sigma)?;
+            print!("{}", compare::report(*runs, *sigma, &scores, &detector));
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Arpa { runs } => {
+            let table = arpa::run(*runs)?;
+            print!("{}", arpa::report(*runs, &table));
+            let missed = arpa::missed(&table);
+            for m in &missed {
+                println!("{m}");
+            }
+            Ok(exit(missed.iter().all(|m| m.out_of_reach())))
+        }
+        Command::Reproduce { names, out } => {
+            let report = reproduce::run(names, out)?;
+            print!("{report}");
+            eprintln!("written: {}", out.join("report.md").display());
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::Precision { scans, seed } => {
+            println!(
+                "{scans} scans at 2.5 s, 70 to 99 km from the origin, 15 m noise, seed {seed}"
+            );
+            print!("{}", precision::table(&precision::run(*scans, *seed)?));
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::BenchMcu { elf } => {
+            let rows = bench_mcu::run(elf.as_deref().or(cli.firmware.as_deref()))?;
+            print!("{}", bench_mcu::to_csv(&rows));
+            Ok(ExitCode::SUCCESS)
+        }
+    }
+}
+
+fn exit(ok: bool) -> ExitCode {
+    if ok {
+        ExitCode::SUCCESS
+    } else {
+        ExitCode::FAILURE
+    }
+}
+
+/// Runs a wired tracking run to its end: the radar display in a terminal, else the plain
+/// table (`--plain`) or progress lines; then the summary, and the JSON summary if asked.
+fn track_to_end(cli: &Cli, mut tracking: Run, args: &RunArgs) -> anyhow::Result<ExitCode> {
+    let limits = tracking.session().config().alarms;
+    let link = cli.resolve_link().to_string();
+    let use_tui = !args.plain && std::io::IsTerminal::is_terminal(&std::io::stdout());
+    if use_tui {
+        let mut state = crate::display::DisplayState::new(link.clone());
+        state.limits = limits;
+        crate::display::run_tui(&mut tracking, &mut state, args.speedup.0)?;
+        tracking.finish()?;
+    } else {
+        let mode = if args.plain {
+            PlainMode::Table
+        } else {
+            PlainMode::Progress { every: 24 }
+        };
+        tracking.add_sink(Box::new(Plain::new(mode, limits)));
+        tracking.run_to_end(args.speedup.0, |_| {})?;
+    }
+    let report = tracking.report(&link);
+    // A closed standard output (`| head`) is not a failure of the run.
+    let _ = std::io::Write::write_all(
+        &mut std::io::stdout(),
+        format!("\n{}", report.text()).as_bytes(),
+    );
+    if let Some(path) = &args.summary_json {
+        std::fs::write(path, report.json() + "\n")
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The binary's entry point: errors are printed, not panicked.
+pub fn main() -> ExitCode {
+    match run(std::env::args_os()) {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn link_is_accepted_before_or_after_the_command() {
+        let a = Cli::try_parse_from(["t", "--link", "inproc", "link-check"]).unwrap();
+        let b = Cli::try_parse_from(["t", "link-check", "--link", "inproc"]).unwrap();
+        assert_eq!(a.link, Some(LinkSpec::Inproc));
+        assert_eq!(b.link, Some(LinkSpec::Inproc));
+        assert!(Cli::try_parse_from(["t", "link-check", "--link", "usb"]).is_err());
+    }
+
+    #[test]
+    fn a_southern_western_origin_parses_as_typed() {
+        let c = Cli::try_parse_from(["t", "demo", "--origin", "-33.9,151.2"]).unwrap();
+        let Command::Demo { run, .. } = c.command else {
+            panic!("{:?}", c.command)
+        };
+        assert_eq!(run.origin.map(|o| o.lat_deg), Some(-33.9));
+        let c = Cli::try_parse_from(["t", "track", "--plots", "p.csv", "--filter", "sswt"]);
+        assert!(c.is_ok());
+        assert!(Cli::try_parse_from(["t", "demo", "--filter", "kalman"]).is_err());
+    }
+}

@@ -1,0 +1,601 @@
+//! The radar display: a PPI (plan position indicator) with own ship at the centre, range
+//! rings, raw plots, track symbols with vectors and past positions, beside the target table
+//! and the alarms, in a terminal (ratatui).
+//!
+//! Keys: `+`/`-` range scale, `v` relative/true vectors, `[`/`]` vector length, `↑`/`↓`
+//! select a target, `a` acquire the nearest untracked plot, `c` cancel the selected target,
+//! `C` cancel all, `p` pause, `q` quit.
+//!
+//! [`render`] draws one frame from plain data, so tests drive it headless with ratatui's
+//! `TestBackend` and read the screen back. [`plain`] prints the target table as text
+//! instead, scan by scan or as progress lines.
+
+pub mod plain;
+
+use std::collections::{BTreeMap, VecDeque};
+
+use ratatui::layout::{Constraint, Direction, Layout, Rect};
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::symbols::Marker;
+use ratatui::text::{Line, Span};
+use ratatui::widgets::canvas::{Canvas, Circle, Line as CanvasLine, Points};
+use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table};
+use ratatui::Frame;
+use tracker_core::geo::{EastNorth, METRES_PER_NM, MPS_PER_KNOT};
+use tracker_core::icd::TrackStatus;
+use tracker_core::track::MAX_TRACKS;
+
+use crate::app::run::Run;
+use crate::session::target::{status_name, AlarmLimits, TargetData};
+use crate::session::ScanReport;
+
+/// Range scales, NM.
+pub const RANGE_SCALES_NM: [f32; 6] = [0.75, 1.5, 3.0, 6.0, 12.0, 24.0];
+
+/// Vector lengths, minutes.
+pub const VECTOR_MINUTES: [f32; 4] = [3.0, 6.0, 12.0, 30.0];
+
+/// Past positions kept per track.
+const HISTORY: usize = 12;
+
+/// Relative or true vectors.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VectorMode {
+    /// Motion relative to own ship: where a collision shows as a vector through the centre.
+    Relative,
+    /// Motion over ground.
+    True,
+}
+
+/// What a key asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Action {
+    /// Nothing for the link.
+    None,
+    /// Leave.
+    Quit,
+    /// Start a track on this plot of the last scan.
+    Acquire(u16),
+    /// Drop this track.
+    Cancel(u16),
+    /// Drop every track.
+    CancelAll,
+}
+
+/// The display's own state: scales, modes, selection, trails.
+#[derive(Clone, Debug)]
+pub struct DisplayState {
+    /// Index into [`RANGE_SCALES_NM`].
+    pub range_scale: usize,
+    /// Vector mode.
+    pub vectors: VectorMode,
+    /// Index into [`VECTOR_MINUTES`].
+    pub vector_length: usize,
+    /// Selected track number.
+    pub selected: Option<u16>,
+    /// Paused: scans stop until unpaused.
+    pub paused: bool,
+    /// CPA/TCPA alarm limits.
+    pub limits: AlarmLimits,
+    /// Link name for the title.
+    pub link: String,
+    trails: BTreeMap<u16, VecDeque<EastNorth>>,
+    lost: Vec<u16>,
+}
+
+impl DisplayState {
+    /// 6 NM scale, relative 6-minute vectors.
+    pub fn new(link: String) -> Self {
+        DisplayState {
+            range_scale: 3,
+            vectors: VectorMode::Relative,
+            vector_length: 1,
+            selected: None,
+            paused: false,
+            limits: AlarmLimits::default(),
+            link,
+            trails: BTreeMap::new(),
+            lost: Vec::new(),
+        }
+    }
+
+    /// Takes a new scan: extends the trails, notes lost tracks, keeps the selection valid.
+    pub fn observe(&mut self, view: &ScanReport) {
+        self.lost = view
+            .tracks
+            .iter()
+            .filter(|t| t.status == TrackStatus::Lost)
+            .map(|t| t.track)
+            .collect();
+        for t in &view.targets {
+            let trail = self.trails.entry(t.track).or_default();
+            trail.push_back(t.position_m);
+            if trail.len() > HISTORY {
+                trail.pop_front();
+            }
+        }
+        self.trails
+            .retain(|id, _| view.targets.iter().any(|t| t.track == *id));
+        if self
+            .selected
+            .is_some_and(|id| !view.targets.iter().any(|t| t.track == id))
+        {
+            self.selected = None;
+        }
+    }
+
+    /// Applies a key; returns what the link must do.
+    pub fn key(&mut self, key: char, view: Option<&ScanReport>) -> Action {
+        match key {
+            'q' => return Action::Quit,
+            '+' => self.range_scale = (self.range_scale + 1).min(RANGE_SCALES_NM.len() - 1),
+            '-' => self.range_scale = self.range_scale.saturating_sub(1),
+            'v' => {
+                self.vectors = match self.vectors {
+                    VectorMode::Relative => VectorMode::True,
+                    VectorMode::True => VectorMode::Relative,
+                }
+            }
+            ']' => self.vector_length = (self.vector_length + 1).min(VECTOR_MINUTES.len() - 1),
+            '[' => self.vector_length = self.vector_length.saturating_sub(1),
+            'p' => self.paused = !self.paused,
+            'C' => return Action::CancelAll,
+            'c' => {
+                if let Some(id) = self.selected {
+                    return Action::Cancel(id);
+                }
+            }
+            'a' => {
+                if let Some(p) = view.and_then(nearest_untracked_plot) {
+                    return Action::Acquire(p);
+                }
+            }
+            '↓' | '↑' => {
+                if let Some(v) = view {
+                    self.select_step(v, if key == '↓' { 1 } else { -1 });
+                }
+            }
+            _ => {}
+        }
+        Action::None
+    }
+
+    fn select_step(&mut self, view: &ScanReport, step: isize) {
+        let ids: Vec<u16> = view.targets.iter().map(|t| t.track).collect();
+        if ids.is_empty() {
+            self.selected = None;
+            return;
+        }
+        let at = self
+            .selected
+            .and_then(|id| ids.iter().position(|&x| x == id))
+            .map_or(0, |i| {
+                (i as isize + step).rem_euclid(ids.len() as isize) as usize
+            });
+        self.selected = ids.get(at).copied();
+    }
+}
+
+/// The plot nearest own ship that no confirmed or tentative track is close to (500 m).
+pub fn nearest_untracked_plot(view: &ScanReport) -> Option<u16> {
+    view.plots_m
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| {
+            !view
+                .tracks
+                .iter()
+                .any(|t| libm::hypotf(t.position_m[0] - p[0], t.position_m[1] - p[1]) < 500.0)
+        })
+        .min_by(|a, b| {
+            let d = |p: &EastNorth| {
+                libm::hypotf(p[0] - view.own.position_m[0], p[1] - view.own.position_m[1])
+            };
+            d(a.1).total_cmp(&d(b.1))
+        })
+        .and_then(|(i, _)| u16::try_from(i).ok())
+}
+
+/// Draws one frame: PPI on the left, header, table and alarms on the right.
+pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
+    let area = frame.area();
+    let columns = Layout::default()
+        .direction(Direction::Horizontal)
+        .constraints([Constraint::Percentage(45), Constraint::Percentage(55)])
+        .split(area);
+    render_ppi(frame, columns[0], state, view);
+    let right = Layout::default()
+        .direction(Direction::Vertical)
+        .constraints([
+            Constraint::Length(4),
+            Constraint::Min(5),
+            Constraint::Length(7),
+        ])
+        .split(columns[1]);
+    render_header(frame, right[0], state, view);
+    render_table(frame, right[1], state, view);
+    render_alarms(frame, right[2], state, view);
+}
+
+fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
+    let tentative = view
+        .tracks
+        .iter()
+        .filter(|t| t.status == TrackStatus::Tentative)
+        .count();
+    let text = vec![
+        Line::from(vec![
+            Span::styled("ARPA ", Style::default().add_modifier(Modifier::BOLD)),
+            Span::raw(format!(
+                "scan {}  t {:.0} s  link {}  plots {}  targets {}  acquiring {}",
+                view.scan,
+                view.time_s,
+                state.link,
+                view.plots.len(),
+                view.targets.len(),
+                tentative,
+            )),
+        ]),
+        Line::raw(format!(
+            "{} NM  {} vectors {} min{}",
+            RANGE_SCALES_NM[state.range_scale],
+            match state.vectors {
+                VectorMode::Relative => "relative",
+                VectorMode::True => "true",
+            },
+            VECTOR_MINUTES[state.vector_length],
+            if state.paused { "  PAUSED" } else { "" },
+        )),
+    ];
+    frame.render_widget(
+        Paragraph::new(text).block(Block::default().borders(Borders::ALL)),
+        area,
+    );
+}
+
+fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
+    let scale = f64::from(RANGE_SCALES_NM[state.range_scale]);
+    let own = view.own.position_m;
+    // Everything in NM relative to own ship; east right, north up.
+    let rel = |p: EastNorth| {
+        (
+            f64::from(p[0] - own[0]) / f64::from(METRES_PER_NM),
+            f64::from(p[1] - own[1]) / f64::from(METRES_PER_NM),
+        )
+    };
+    let plots: Vec<(f64, f64)> = view.plots_m.iter().map(|p| rel(*p)).collect();
+    let trails: Vec<(f64, f64)> = state
+        .trails
+        .values()
+        .flat_map(|t| t.iter().map(|p| rel(*p)))
+        .collect();
+    let minutes = f64::from(VECTOR_MINUTES[state.vector_length]) * 60.0;
+    let canvas = Canvas::default()
+        .block(
+            Block::default()
+                .borders(Borders::ALL)
+                .title(format!(" PPI {scale} NM, rings {} NM ", scale / 2.0)),
+        )
+        .marker(Marker::Braille)
+        .x_bounds([-scale, scale])
+        .y_bounds([-scale, scale])
+        .paint(|ctx| {
+            for ring in [scale / 2.0, scale] {
+                ctx.draw(&Circle::new(0.0, 0.0, ring, Color::DarkGray));
+            }
+            ctx.draw(&Points::new(&plots, Color::Yellow));
+            ctx.layer();
+            ctx.draw(&Points::new(&trails, Color::Gray));
+            for t in &view.targets {
+                let (x, y) = rel(t.position_m);
+                let v = match state.vectors {
+                    VectorMode::Relative => [
+                        t.velocity_mps[0] - view.own.velocity_mps[0],
+                        t.velocity_mps[1] - view.own.velocity_mps[1],
+                    ],
+                    VectorMode::True => t.velocity_mps,
+                };
+                let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
+                let colour = if t.dangerous(&state.limits) {
+                    Color::Red
+                } else if state.selected == Some(t.track) {
+                    Color::Cyan
+                } else {
+                    Color::Green
+                };
+                ctx.draw(&CanvasLine::new(x, y, x + to(v[0]), y + to(v[1]), colour));
+                ctx.draw(&Circle::new(x, y, scale / 60.0, colour));
+            }
+            // Own ship and its heading line.
+            let hv = view.own.velocity_mps;
+            let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
+            ctx.draw(&CanvasLine::new(
+                0.0,
+                0.0,
+                to(hv[0]),
+                to(hv[1]),
+                Color::White,
+            ));
+            ctx.print(
+                0.0,
+                0.0,
+                Span::styled("+", Style::default().fg(Color::White)),
+            );
+        });
+    frame.render_widget(canvas, area);
+}
+
+fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
+    let header = Row::new(
+        [
+            "TRK", "STATUS", "RNG NM", "BRG °T", "CRS °T", "SPD kn", "CPA NM", "TCPA min",
+        ]
+        .map(|h| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD))),
+    );
+    let rows = view.targets.iter().map(|t: &TargetData| {
+        let style = if t.dangerous(&state.limits) {
+            Style::default().fg(Color::Red)
+        } else if state.selected == Some(t.track) {
+            Style::default().fg(Color::Black).bg(Color::Cyan)
+        } else {
+            Style::default()
+        };
+        Row::new(vec![
+            format!("{}", t.track),
+            status_name(t.status).to_string(),
+            format!("{:.2}", t.range_m / METRES_PER_NM),
+            format!("{:.1}", t.bearing_rad.to_degrees()),
+            format!("{:.1}", t.course_rad.to_degrees()),
+            format!("{:.1}", t.speed_mps / MPS_PER_KNOT),
+            format!("{:.2}", t.cpa_m / METRES_PER_NM),
+            format!("{:.1}", t.tcpa_s / 60.0),
+        ])
+        .style(style)
+    });
+    let widths = [5, 10, 7, 7, 7, 7, 7, 9].map(Constraint::Length);
+    let table = Table::new(rows, widths).header(header).block(
+        Block::default()
+            .borders(Borders::ALL)
+            .title(" targets, nearest first "),
+    );
+    frame.render_widget(table, area);
+}
+
+fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
+    let mut lines: Vec<Line> = Vec::new();
+    for t in view.targets.iter().filter(|t| t.dangerous(&state.limits)) {
+        lines.push(Line::styled(
+            format!(
+                "CPA/TCPA ALARM: target {} CPA {:.2} NM in {:.1} min",
+                t.track,
+                t.cpa_m / METRES_PER_NM,
+                t.tcpa_s / 60.0
+            ),
+            Style::default().fg(Color::Red).add_modifier(Modifier::BOLD),
+        ));
+    }
+    for id in &state.lost {
+        lines.push(Line::styled(
+            format!("LOST TARGET {id}"),
+            Style::default().fg(Color::Magenta),
+        ));
+    }
+    if view.tracks.len() + 4 >= MAX_TRACKS {
+        lines.push(Line::styled(
+            format!(
+                "CAPACITY: {} of {} tracks in use",
+                view.tracks.len(),
+                MAX_TRACKS
+            ),
+            Style::default().fg(Color::Yellow),
+        ));
+    }
+    if lines.is_empty() {
+        lines.push(Line::raw("no alarms"));
+    }
+    for help in [
+        "+/- range, v vectors, [/] vector length, ↑↓ select",
+        "a acquire, c cancel, C cancel all, p pause, q quit",
+    ] {
+        lines.push(Line::styled(help, Style::default().fg(Color::DarkGray)));
+    }
+    frame.render_widget(
+        Paragraph::new(lines).block(Block::default().borders(Borders::ALL).title(" alarms ")),
+        area,
+    );
+}
+
+/// Runs `run` in the terminal until its source ends or the user quits; returns the scans
+/// run. With `speedup`, scans are paced at the source's antenna period divided by it. The
+/// terminal is restored whatever happens.
+///
+/// # Errors
+/// The run failed, or the terminal could not be drawn or read.
+pub fn run_tui(
+    run: &mut Run,
+    state: &mut DisplayState,
+    speedup: Option<f64>,
+) -> anyhow::Result<u64> {
+    use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind};
+    use std::time::{Duration, Instant};
+    use tracker_core::icd::TrackCommand;
+
+    let period = run.scan_period_s().unwrap_or(2.5);
+    let interval = speedup.map_or(Duration::ZERO, |x| Duration::from_secs_f64(period / x));
+    let mut terminal = ratatui::init();
+    let result = (|| -> anyhow::Result<u64> {
+        let Some(mut view) = run.step()? else {
+            return Ok(0);
+        };
+        state.observe(&view);
+        let mut done = 1u64;
+        let mut next_due = Instant::now() + interval;
+        loop {
+            terminal.draw(|f| render(f, state, &view))?;
+            let wait = next_due.saturating_duration_since(Instant::now());
+            if event::poll(wait.max(Duration::from_millis(1)))? {
+                if let Event::Key(k) = event::read()? {
+                    if k.kind != KeyEventKind::Press {
+                        continue;
+                    }
+                    let c = match k.code {
+                        KeyCode::Char(c) => c,
+                        KeyCode::Up => '↑',
+                        KeyCode::Down => '↓',
+                        KeyCode::Esc => 'q',
+                        _ => continue,
+                    };
+                    let command = match state.key(c, Some(&view)) {
+                        Action::None => None,
+                        Action::Quit => return Ok(done),
+                        Action::Acquire(plot) => Some(TrackCommand::Acquire { plot }),
+                        Action::Cancel(track) => Some(TrackCommand::Cancel { track }),
+                        Action::CancelAll => Some(TrackCommand::CancelAll),
+                    };
+                    if let Some(c) = command {
+                        run.session_mut().command(c)?;
+                    }
+                    continue;
+                }
+            }
+            if state.paused || Instant::now() < next_due {
+                continue;
+            }
+            let Some(next) = run.step()? else {
+                return Ok(done);
+            };
+            view = next;
+            state.observe(&view);
+            done += 1;
+            next_due += interval;
+        }
+    })();
+    ratatui::restore();
+    result
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::demo::{self, DemoOptions};
+    use crate::link::{Client, InprocTransport};
+    use ratatui::backend::TestBackend;
+    use ratatui::Terminal;
+    use tracker_core::filter::FilterKind;
+
+    fn demo() -> Run {
+        let options = DemoOptions::new(
+            tracker_core::sim::ScenarioKind::OpenSea,
+            12,
+            3,
+            60.0,
+            FilterKind::KalmanCv,
+        );
+        demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap()
+    }
+
+    /// The next scan (the demo runs 24).
+    fn step(d: &mut Run) -> ScanReport {
+        d.step().unwrap().unwrap()
+    }
+
+    fn screen(state: &DisplayState, view: &ScanReport) -> String {
+        let mut terminal = Terminal::new(TestBackend::new(160, 40)).unwrap();
+        terminal.draw(|f| render(f, state, view)).unwrap();
+        let buffer = terminal.backend().buffer().clone();
+        let mut text = String::new();
+        for y in 0..buffer.area.height {
+            for x in 0..buffer.area.width {
+                text.push_str(buffer[(x, y)].symbol());
+            }
+            text.push('\n');
+        }
+        text
+    }
+
+    #[test]
+    fn the_screen_shows_the_picture_table_and_keys() {
+        let mut d = demo();
+        let mut state = DisplayState::new("inproc".into());
+        let mut view = step(&mut d);
+        for _ in 0..20 {
+            view = step(&mut d);
+            state.observe(&view);
+        }
+        assert!(!view.targets.is_empty());
+        let text = screen(&state, &view);
+        assert!(text.contains("PPI 6 NM"), "{text}");
+        assert!(
+            text.contains("TRK") && text.contains("CPA NM") && text.contains("TCPA min"),
+            "{text}"
+        );
+        assert!(text.contains("relative vectors 6 min"), "{text}");
+        let first = view.targets[0].track.to_string();
+        assert!(text.contains(&first), "{text}");
+        assert!(text.contains("q quit"), "{text}");
+
+        // Keys change what is drawn.
+        state.key('+', Some(&view));
+        state.key('v', Some(&view));
+        state.key(']', Some(&view));
+        state.key('↓', Some(&view));
+        let text = screen(&state, &view);
+        assert!(
+            text.contains("PPI 12 NM") && text.contains("true vectors 12 min"),
+            "{text}"
+        );
+        assert_eq!(state.selected, Some(view.targets[0].track));
+        assert_eq!(
+            state.key('c', Some(&view)),
+            Action::Cancel(view.targets[0].track)
+        );
+        assert_eq!(state.key('C', Some(&view)), Action::CancelAll);
+        assert_eq!(state.key('q', Some(&view)), Action::Quit);
+    }
+
+    #[test]
+    fn acquire_and_cancel_reach_the_device() {
+        let mut d = demo();
+        let mut view = step(&mut d);
+        for _ in 0..6 {
+            view = step(&mut d);
+        }
+        let before = view.tracks.len();
+        let plot = nearest_untracked_plot(&view);
+        if let Some(p) = plot {
+            d.session_mut()
+                .command(tracker_core::icd::TrackCommand::Acquire { plot: p })
+                .unwrap();
+        }
+        d.session_mut()
+            .command(tracker_core::icd::TrackCommand::CancelAll)
+            .unwrap();
+        let view = step(&mut d);
+        assert!(
+            view.tracks
+                .iter()
+                .all(|t| t.status == TrackStatus::Tentative),
+            "cancel all empties the table; only this scan's new plots start tracks"
+        );
+        assert!(before > 0);
+    }
+
+    #[test]
+    fn alarms_and_lost_targets_are_shown() {
+        let mut d = demo();
+        let mut state = DisplayState::new("inproc".into());
+        state.limits = AlarmLimits {
+            cpa_m: 1e9,
+            tcpa_s: 1e9,
+        };
+        let mut view = step(&mut d);
+        for _ in 0..10 {
+            view = step(&mut d);
+            state.observe(&view);
+        }
+        if view.targets.iter().any(|t| t.tcpa_s >= 0.0) {
+            let text = screen(&state, &view);
+            assert!(text.contains("CPA/TCPA ALARM"), "{text}");
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! The target table as plain text, for a terminal that is not one (a pipe, a log) or when
+//! `--plain` asks for it: every scan's table, or a progress line a minute.
+
+use std::io::Write;
+
+use crate::session::target::{table, AlarmLimits};
+use crate::session::ScanReport;
+use crate::sink::ScanSink;
+use crate::source::SourceScan;
+
+/// What the plain display prints.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlainMode {
+    /// A header and the target table every scan.
+    Table,
+    /// A header line every `every` scans.
+    Progress {
+        /// Scans between lines.
+        every: u32,
+    },
+}
+
+/// Prints scans to standard output. A closed pipe (`| head`) ends the printing quietly,
+/// not the run.
+pub struct Plain {
+    mode: PlainMode,
+    limits: AlarmLimits,
+    closed: bool,
+}
+
+impl Plain {
+    /// Prints in `mode` with alarms at `limits`.
+    pub fn new(mode: PlainMode, limits: AlarmLimits) -> Self {
+        Plain {
+            mode,
+            limits,
+            closed: false,
+        }
+    }
+}
+
+/// The one-line scan header.
+pub fn header(r: &ScanReport) -> String {
+    format!(
+        "scan {:>4}  t {:>6.1} s  plots {:>3}  targets tracked {:>3}  acquiring {:>3}",
+        r.scan,
+        r.time_s,
+        r.plots.len(),
+        r.targets.len(),
+        r.acquiring()
+    )
+}
+
+impl ScanSink for Plain {
+    fn scan(&mut self, _: &SourceScan, r: &ScanReport) -> anyhow::Result<()> {
+        if self.closed {
+            return Ok(());
+        }
+        let text = match self.mode {
+            PlainMode::Table => format!("{}\n{}", header(r), table(&r.targets, &self.limits)),
+            PlainMode::Progress { every } if r.scan % every.max(1) == 0 => {
+                format!("{}\n", header(r))
+            }
+            PlainMode::Progress { .. } => return Ok(()),
+        };
+        let mut out = std::io::stdout().lock();
+        if out
+            .write_all(text.as_bytes())
+            .and_then(|()| out.flush())
+            .is_err()
+        {
+            self.closed = true;
+        }
+        Ok(())
+    }
+}

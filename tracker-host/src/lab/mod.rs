@@ -1,0 +1,23 @@
+//! The lab: research and engineering tools beside the product. They use the core and the
+//! session, but nothing in the product's command path uses them.
+//!
+//! | module | command | what |
+//! |---|---|---|
+//! | [`replay`], [`replay_nav`] | `replay` | one filter over recorded measurements, CSV in and out |
+//! | [`compare`] | `compare` | GRNN against the Kalman and α-β filters on a manoeuvre |
+//! | [`precision`] | `precision` | f32 and fixed point against f64 |
+//! | [`arpa`] | `arpa` | the IMO ARPA accuracy test by Monte Carlo (paper 004's EKFs) |
+//! | [`reproduce`] | `reproduce` | the seed papers' experiments, report and plots |
+//! | [`bench_mcu`] | `bench-mcu` | instruction counts on the emulated Cortex-M4F |
+//!
+//! [`noise`] and [`kinematics`] are the experiments' shared noise and f64 geometry.
+
+pub mod arpa;
+pub mod bench_mcu;
+pub mod compare;
+pub mod kinematics;
+pub mod noise;
+pub mod precision;
+pub mod replay;
+pub mod replay_nav;
+pub mod reproduce;

@@ -1,0 +1,291 @@
+//! The device's half of a scan, driven over the link (thesis §2.4): own ship and plots
+//! out, rough gates back; assignments out, track states back. And what keeps that going
+//! when either side restarts: a reset device is noticed (a refused request, or every track
+//! gone at once, then a new boot id in the handshake), configured again and its targets
+//! re-acquired; a restarted host re-attaches to the live track table.
+
+use anyhow::{bail, Context};
+use tracker_core::geo::EastNorth;
+use tracker_core::icd::{
+    AssignmentBatch, DeviceInfo, DeviceToHost, GatedPlots, HostToDevice, OwnShipPosition, Plot,
+    PlotBatch, TrackCommand, TrackState, TrackStatus, TrackerConfig, MAX_ASSIGNMENTS_PER_MESSAGE,
+    MAX_PLOTS_PER_MESSAGE,
+};
+
+use super::associate::Association;
+use crate::link::{Client, InprocTransport};
+
+/// The tracker device at the other end of the link.
+pub struct DeviceLink {
+    client: Client,
+    config: TrackerConfig,
+    boot_id: u32,
+    /// Track numbers in the device's last report (to notice them all gone at once).
+    last_tracks: Vec<u16>,
+    events: Vec<String>,
+}
+
+/// Every track the device had a scan ago is gone from its gates.
+#[derive(Debug)]
+struct TracksGone;
+
+impl std::fmt::Display for TracksGone {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("the device's tracks are all gone")
+    }
+}
+
+impl std::error::Error for TracksGone {}
+
+impl DeviceLink {
+    /// Handshakes, configures the device's tracker with `config` and empties its table (a
+    /// board may still hold an earlier run's tracks).
+    ///
+    /// # Errors
+    /// The handshake fails (no answer, another protocol version) or the device refuses the
+    /// configuration.
+    pub fn attach(mut client: Client, config: TrackerConfig) -> anyhow::Result<Self> {
+        let info = client.hello().context("handshake")?;
+        let mut device = DeviceLink {
+            client,
+            config,
+            boot_id: info.boot_id,
+            last_tracks: Vec::new(),
+            events: Vec::new(),
+        };
+        device.configure()?;
+        device.command(TrackCommand::CancelAll)?;
+        Ok(device)
+    }
+
+    fn configure(&mut self) -> anyhow::Result<()> {
+        expect_ack(
+            self.client.request(&HostToDevice::Configure(self.config))?,
+            "configure",
+        )
+    }
+
+    /// The link client.
+    pub fn client(&self) -> &Client {
+        &self.client
+    }
+
+    /// The configuration the device runs.
+    pub fn config(&self) -> &TrackerConfig {
+        &self.config
+    }
+
+    /// What happened on the link worth telling the operator (a firmware reset, a host
+    /// restart), oldest first.
+    pub fn events(&self) -> &[String] {
+        &self.events
+    }
+
+    /// Sends an operator command (acquire, cancel) to the device.
+    ///
+    /// # Errors
+    /// The link failed, or the device refused the command (an unknown track, a full
+    /// table).
+    pub fn command(&mut self, command: TrackCommand) -> anyhow::Result<()> {
+        expect_ack(
+            self.client.request(&HostToDevice::Command(command))?,
+            "command",
+        )?;
+        // Tracks the operator dropped are not missing ones.
+        match command {
+            TrackCommand::CancelAll => self.last_tracks.clear(),
+            TrackCommand::Cancel { track } => self.last_tracks.retain(|&t| t != track),
+            TrackCommand::Acquire { .. } => {}
+        }
+        Ok(())
+    }
+
+    /// One scan through the device: own ship, the plots (`plots_m` are the same plots in the
+    /// local frame, converted as the device converts them), the rough gates, `associate`'s
+    /// choice, the track states. A device that was reset meanwhile is configured again and
+    /// the scan redone.
+    ///
+    /// # Errors
+    /// The link failed, or the device refused a request for a reason other than a reset.
+    pub fn scan(
+        &mut self,
+        scan: u32,
+        time_ms: u64,
+        own_position_m: EastNorth,
+        plots: &[Plot],
+        associate: impl Fn(&[GatedPlots]) -> Association,
+    ) -> anyhow::Result<(Association, Vec<TrackState>)> {
+        let own = OwnShipPosition {
+            time_ms,
+            position_m: own_position_m,
+        };
+        match self.scan_once(scan, own, plots, &associate) {
+            Ok(done) => Ok(done),
+            Err(refused) => {
+                let reset = self.recover_from_reset(scan)?;
+                // All tracks can also go at once for good reasons (every tentative track
+                // failing on the same scan): then the scan is simply redone.
+                let vanished = refused.downcast_ref::<TracksGone>().is_some();
+                if !reset && !vanished {
+                    return Err(refused);
+                }
+                self.last_tracks.clear();
+                self.scan_once(scan, own, plots, &associate)
+            }
+        }
+    }
+
+    /// Fails when the device refuses a request or has lost every track.
+    fn scan_once(
+        &mut self,
+        scan: u32,
+        own: OwnShipPosition,
+        plots: &[Plot],
+        associate: &impl Fn(&[GatedPlots]) -> Association,
+    ) -> anyhow::Result<(Association, Vec<TrackState>)> {
+        expect_ack(
+            self.client.request(&HostToDevice::OwnShip(own))?,
+            "own ship",
+        )?;
+        // Plots, in parts; the last part's answer is the rough gates.
+        let chunks: Vec<&[Plot]> = if plots.is_empty() {
+            vec![&[]]
+        } else {
+            plots.chunks(MAX_PLOTS_PER_MESSAGE).collect()
+        };
+        let parts = u8::try_from(chunks.len()).context("too many plot parts")?;
+        let mut gates: Vec<GatedPlots> = Vec::new();
+        for (i, chunk) in chunks.iter().enumerate() {
+            let batch = PlotBatch {
+                scan,
+                time_ms: own.time_ms,
+                part: i as u8,
+                parts,
+                plots: chunk.iter().copied().collect(),
+            };
+            for reply in self.client.request_all(&HostToDevice::Plots(batch))? {
+                match reply {
+                    DeviceToHost::Ack => {}
+                    DeviceToHost::Gated(g) => gates.extend(g.gates),
+                    other => bail!("plots of scan {scan} answered {other:?}"),
+                }
+            }
+        }
+        // Every track gone at once: the device was probably reset (or its table cleared).
+        let known = |id: &u16| gates.iter().any(|g| g.track == *id);
+        if !self.last_tracks.is_empty() && !self.last_tracks.iter().any(known) {
+            return Err(TracksGone.into());
+        }
+        let association = associate(&gates);
+        let tracks = self.send_assignments(scan, &association)?;
+        self.last_tracks = tracks
+            .iter()
+            .filter(|t| t.status != TrackStatus::Lost)
+            .map(|t| t.track)
+            .collect();
+        Ok((association, tracks))
+    }
+
+    fn send_assignments(&mut self, scan: u32, a: &Association) -> anyhow::Result<Vec<TrackState>> {
+        let per = MAX_ASSIGNMENTS_PER_MESSAGE;
+        let parts = a
+            .assignments
+            .len()
+            .div_ceil(per)
+            .max(a.initiate.len().div_ceil(per))
+            .max(1);
+        let parts_u8 = u8::try_from(parts).context("too many assignment parts")?;
+        let mut tracks = Vec::new();
+        for part in 0..parts {
+            let batch = AssignmentBatch {
+                scan,
+                part: part as u8,
+                parts: parts_u8,
+                assignments: a
+                    .assignments
+                    .iter()
+                    .skip(part * per)
+                    .take(per)
+                    .copied()
+                    .collect(),
+                initiate: a
+                    .initiate
+                    .iter()
+                    .skip(part * per)
+                    .take(per)
+                    .copied()
+                    .collect(),
+            };
+            for reply in self.client.request_all(&HostToDevice::Assign(batch))? {
+                match reply {
+                    DeviceToHost::Ack => {}
+                    DeviceToHost::Tracks(t) => tracks.extend(t.tracks),
+                    other => bail!("assignments of scan {scan} answered {other:?}"),
+                }
+            }
+        }
+        Ok(tracks)
+    }
+
+    /// After a refused request: handshakes again, and if the device has a new boot id it
+    /// was reset. Then it is configured again and the caller redoes the scan; the tracks
+    /// come back through initiation. Returns whether it was a reset.
+    fn recover_from_reset(&mut self, scan: u32) -> anyhow::Result<bool> {
+        let info = self
+            .client
+            .hello()
+            .context("handshake after a refused request")?;
+        if info.boot_id == self.boot_id {
+            return Ok(false);
+        }
+        self.events.push(format!(
+            "scan {scan}: firmware reset detected (boot id {:#010x} -> {:#010x}); configured again, re-acquiring",
+            self.boot_id, info.boot_id
+        ));
+        self.boot_id = info.boot_id;
+        self.last_tracks.clear();
+        self.configure()?;
+        Ok(true)
+    }
+
+    /// Restarts the host side as a host program restart would: a new client (new decoder,
+    /// request ids from 1) on the same link, a handshake, and the device's full, live track
+    /// table, which is returned. The device keeps tracking throughout.
+    ///
+    /// # Errors
+    /// The handshake or the track report fails.
+    pub fn restart_host(&mut self) -> anyhow::Result<Vec<TrackState>> {
+        let placeholder = Client::new(Box::new(InprocTransport::new()));
+        let old = std::mem::replace(&mut self.client, placeholder);
+        let (timeout, retries) = (old.timeout, old.retries);
+        let mut client = Client::new(old.into_transport());
+        client.timeout = timeout;
+        client.retries = retries;
+        let info: DeviceInfo = client.hello().context("handshake after the host restart")?;
+        self.events.push(format!(
+            "host restarted: re-attached to {} (boot id {:#010x})",
+            info.firmware, info.boot_id
+        ));
+        if info.boot_id != self.boot_id {
+            self.events
+                .push("the firmware was reset meanwhile".to_string());
+            self.boot_id = info.boot_id;
+        }
+        let mut tracks = Vec::new();
+        for reply in client.request_all(&HostToDevice::GetTracks)? {
+            match reply {
+                DeviceToHost::Tracks(t) => tracks.extend(t.tracks),
+                other => bail!("track report answered {other:?}"),
+            }
+        }
+        self.client = client;
+        Ok(tracks)
+    }
+}
+
+fn expect_ack(reply: DeviceToHost, what: &str) -> anyhow::Result<()> {
+    match reply {
+        DeviceToHost::Ack => Ok(()),
+        other => bail!("{what}: the device answered {other:?}"),
+    }
+}

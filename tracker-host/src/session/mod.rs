@@ -1,0 +1,225 @@
+//! The tracking session: the host half of a scan and nothing else.
+//!
+//! A [`Session`] takes own ship and one scan of plots (from any source), drives the device
+//! over any link (own ship, plots, rough gates back), applies the refined gate and
+//! associates (global nearest neighbour), sends the assignments and the plots that start
+//! tracks, and turns the device's track states into target data and alarms: a
+//! [`ScanReport`] that sinks (the display, the table, NMEA out, recordings, the scorer)
+//! consume. It knows nothing of the simulator, of scoring, of terminals or of NMEA.
+//!
+//! Stone Soup's parts, on the host: [`associate`] is the hypothesiser (refined gate) and the
+//! associator (GNN); the initiator's choice (plots in no gate) is made there too; the
+//! predictor, updater and deleter run on the device.
+//!
+//! | module | what |
+//! |---|---|
+//! | [`device`] | the device's half of the scan over the link, reset recovery, host restart |
+//! | [`associate`] | refined gate (Mahalanobis, χ²) and GNN (Kuhn–Munkres) |
+//! | [`target`] | range, bearing, course, speed, CPA, TCPA, alarms |
+
+pub mod associate;
+pub mod device;
+pub mod target;
+
+use std::time::{Duration, Instant};
+
+use anyhow::bail;
+use tracker_core::filter::{FilterConfig, FilterKind};
+use tracker_core::geo::{self, EastNorth};
+use tracker_core::icd::{Plot, TrackCommand, TrackState, TrackStatus, TrackerConfig};
+
+use crate::link::{Client, ClientStats};
+use crate::own_ship::OwnShip;
+use crate::source::RadarScan;
+use associate::{Association, CHI2_2DOF_99};
+use device::DeviceLink;
+use target::{AlarmLimits, TargetData};
+
+/// A plot's position error at mid range under the IMO sensor model, m: the tracking
+/// filters' measurement noise.
+pub const PLOT_SIGMA_M: f32 = 40.0;
+
+/// How the session tracks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SessionConfig {
+    /// The device's tracker: the filter every track runs, its gates.
+    pub tracker: TrackerConfig,
+    /// Refined gate: largest Mahalanobis distance² of a plot a track may take.
+    pub refined_gate_d2: f64,
+    /// CPA/TCPA alarm limits.
+    pub alarms: AlarmLimits,
+}
+
+impl SessionConfig {
+    /// Tracks with `filter` in [`FilterConfig::tracking`]'s configuration for plots of
+    /// [`PLOT_SIGMA_M`], the device's default gates, the χ² 99 % refined gate and the
+    /// default alarm limits.
+    pub fn tracking(filter: FilterKind) -> Self {
+        let tracker = TrackerConfig {
+            plot_sigma_m: PLOT_SIGMA_M,
+            ..TrackerConfig::DEFAULT
+        };
+        SessionConfig {
+            tracker: TrackerConfig {
+                filter: FilterConfig::tracking(filter, PLOT_SIGMA_M, tracker.max_speed_mps),
+                ..tracker
+            },
+            refined_gate_d2: CHI2_2DOF_99,
+            alarms: AlarmLimits::default(),
+        }
+    }
+}
+
+/// What one scan came to.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScanReport {
+    /// Scan number (the source's).
+    pub scan: u32,
+    /// The scan's time on the source's clock, s.
+    pub time_s: f64,
+    /// Own ship the scan was tracked from.
+    pub own: OwnShip,
+    /// The scan's plots, as received.
+    pub plots: Vec<Plot>,
+    /// The same plots in the local frame, m (converted as the device converts them).
+    pub plots_m: Vec<EastNorth>,
+    /// Every track the device reported, in its order.
+    pub tracks: Vec<TrackState>,
+    /// Target data of confirmed and coasting tracks, nearest first.
+    pub targets: Vec<TargetData>,
+    /// What association did.
+    pub association: Association,
+    /// Host wall time for the scan, link included.
+    pub host_time: Duration,
+}
+
+impl ScanReport {
+    /// Tracks still being acquired (tentative).
+    pub fn acquiring(&self) -> usize {
+        self.tracks
+            .iter()
+            .filter(|t| t.status == TrackStatus::Tentative)
+            .count()
+    }
+}
+
+/// The host half of the tracker.
+pub struct Session {
+    device: DeviceLink,
+    config: SessionConfig,
+    /// The first scan's time, s: the device's clock counts milliseconds from it.
+    epoch_s: Option<f64>,
+    last_time_ms: Option<u64>,
+    host_times: Vec<Duration>,
+}
+
+impl Session {
+    /// Attaches to the device behind `client` and configures it.
+    ///
+    /// # Errors
+    /// The handshake fails or the device refuses the configuration.
+    pub fn start(client: Client, config: SessionConfig) -> anyhow::Result<Self> {
+        Ok(Session {
+            device: DeviceLink::attach(client, config.tracker)?,
+            config,
+            epoch_s: None,
+            last_time_ms: None,
+            host_times: Vec::new(),
+        })
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> &SessionConfig {
+        &self.config
+    }
+
+    /// Tracks one scan seen from `own`.
+    ///
+    /// # Errors
+    /// A scan not later than the one before (by at least a millisecond), the link failing,
+    /// or the device refusing the scan for a reason other than a reset.
+    pub fn scan(&mut self, radar: &RadarScan, own: &OwnShip) -> anyhow::Result<ScanReport> {
+        let started = Instant::now();
+        let epoch = *self.epoch_s.get_or_insert(radar.time_s);
+        let since = radar.time_s - epoch;
+        if !(since.is_finite() && since >= 0.0) {
+            bail!(
+                "scan {}: time {} s is before the first scan's",
+                radar.scan,
+                radar.time_s
+            );
+        }
+        let time_ms = (since * 1000.0).round() as u64;
+        if self.last_time_ms.is_some_and(|last| time_ms <= last) {
+            bail!(
+                "scan {}: time {} s is not after the scan before",
+                radar.scan,
+                radar.time_s
+            );
+        }
+        // The same conversion as the device's, in the same f32 arithmetic.
+        let plots_m: Vec<EastNorth> = radar
+            .plots
+            .iter()
+            .map(|p| geo::polar_to_local(own.position_m, p.range_m, p.bearing_rad))
+            .collect();
+        let gate = self.config.refined_gate_d2;
+        let (association, tracks) =
+            self.device
+                .scan(radar.scan, time_ms, own.position_m, &radar.plots, |gates| {
+                    associate::associate(gates, &plots_m, gate)
+                })?;
+        self.last_time_ms = Some(time_ms);
+        let mut targets: Vec<TargetData> = tracks
+            .iter()
+            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
+            .map(|t| TargetData::new(own, t))
+            .collect();
+        targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+        let host_time = started.elapsed();
+        self.host_times.push(host_time);
+        Ok(ScanReport {
+            scan: radar.scan,
+            time_s: radar.time_s,
+            own: *own,
+            plots: radar.plots.clone(),
+            plots_m,
+            tracks,
+            targets,
+            association,
+            host_time,
+        })
+    }
+
+    /// Sends an operator command (acquire, cancel) to the device.
+    ///
+    /// # Errors
+    /// The link failed, or the device refused it (an unknown track, a full table).
+    pub fn command(&mut self, command: TrackCommand) -> anyhow::Result<()> {
+        self.device.command(command)
+    }
+
+    /// Restarts the host side on the same link (see [`DeviceLink::restart_host`]); returns
+    /// the device's live track table.
+    ///
+    /// # Errors
+    /// The handshake or the track report fails.
+    pub fn restart_host(&mut self) -> anyhow::Result<Vec<TrackState>> {
+        self.device.restart_host()
+    }
+
+    /// What happened on the link worth telling the operator, oldest first.
+    pub fn events(&self) -> &[String] {
+        self.device.events()
+    }
+
+    /// The link's counters.
+    pub fn link_stats(&self) -> ClientStats {
+        self.device.client().stats()
+    }
+
+    /// Host time of every scan so far, link included.
+    pub fn host_times(&self) -> &[Duration] {
+        &self.host_times
+    }
+}

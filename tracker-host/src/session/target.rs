@@ -1,0 +1,186 @@
+//! What a navigator reads about each tracked target: range and bearing, CPA and TCPA, true
+//! and relative course and speed, and the alarms.
+
+use tracker_core::geo::{self, EastNorth, METRES_PER_NM, MPS_PER_KNOT};
+use tracker_core::icd::{TrackState, TrackStatus};
+
+use crate::own_ship::OwnShip;
+
+/// One target's data, as the display shows it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TargetData {
+    /// Track number.
+    pub track: u16,
+    /// Life-cycle state.
+    pub status: TrackStatus,
+    /// Range from own ship, m.
+    pub range_m: f32,
+    /// True bearing from own ship, rad.
+    pub bearing_rad: f32,
+    /// True course over ground, rad.
+    pub course_rad: f32,
+    /// Speed over ground, m/s.
+    pub speed_mps: f32,
+    /// Course relative to own ship, rad.
+    pub rel_course_rad: f32,
+    /// Speed relative to own ship, m/s.
+    pub rel_speed_mps: f32,
+    /// Closest point of approach, m.
+    pub cpa_m: f32,
+    /// Time to CPA, s (negative: passed).
+    pub tcpa_s: f32,
+    /// Scans since the track started.
+    pub age_scans: u16,
+    /// Position, local frame, m.
+    pub position_m: EastNorth,
+    /// Velocity, m/s.
+    pub velocity_mps: EastNorth,
+}
+
+impl TargetData {
+    /// Computes the target data of a track seen from own ship.
+    pub fn new(own: &OwnShip, t: &TrackState) -> Self {
+        let (range_m, bearing_rad) = geo::range_bearing(own.position_m, t.position_m);
+        let (course_rad, speed_mps) = geo::course_speed(t.velocity_mps);
+        let rel = [
+            t.velocity_mps[0] - own.velocity_mps[0],
+            t.velocity_mps[1] - own.velocity_mps[1],
+        ];
+        let (rel_course_rad, rel_speed_mps) = geo::course_speed(rel);
+        let c = geo::cpa(
+            own.position_m,
+            own.velocity_mps,
+            t.position_m,
+            t.velocity_mps,
+        );
+        TargetData {
+            track: t.track,
+            status: t.status,
+            range_m,
+            bearing_rad,
+            course_rad,
+            speed_mps,
+            rel_course_rad,
+            rel_speed_mps,
+            cpa_m: c.cpa_m,
+            tcpa_s: c.tcpa_s,
+            age_scans: t.age_scans,
+            position_m: t.position_m,
+            velocity_mps: t.velocity_mps,
+        }
+    }
+
+    /// True when the target will pass closer than `cpa_limit_m` within `tcpa_limit_s`.
+    pub fn dangerous(&self, limits: &AlarmLimits) -> bool {
+        self.cpa_m < limits.cpa_m && self.tcpa_s >= 0.0 && self.tcpa_s < limits.tcpa_s
+    }
+}
+
+/// CPA/TCPA alarm limits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlarmLimits {
+    /// CPA below this alarms, m.
+    pub cpa_m: f32,
+    /// … when TCPA is below this, s.
+    pub tcpa_s: f32,
+}
+
+impl Default for AlarmLimits {
+    /// 1 NM within 12 minutes: a common bridge setting.
+    fn default() -> Self {
+        AlarmLimits {
+            cpa_m: METRES_PER_NM,
+            tcpa_s: 12.0 * 60.0,
+        }
+    }
+}
+
+/// The target table as text, one line per target, in navigator's units (NM, kn, degrees
+/// true, minutes).
+pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
+    let deg = |r: f32| r.to_degrees();
+    let mut s = String::from(
+        " TRK STATUS     RNG NM  BRG °T  CRS °T   SPD kn  CPA NM  TCPA min  RCRS °T  RSPD kn  AGE\n",
+    );
+    for t in targets {
+        s +=
+            &format!(
+            "{:>4} {:<9} {:>7.2} {:>7.1} {:>7.1} {:>8.1} {:>7.2} {:>9.1} {:>8.1} {:>8.1} {:>4}{}\n",
+            t.track,
+            status_name(t.status),
+            t.range_m / METRES_PER_NM,
+            deg(t.bearing_rad),
+            deg(t.course_rad),
+            t.speed_mps / MPS_PER_KNOT,
+            t.cpa_m / METRES_PER_NM,
+            t.tcpa_s / 60.0,
+            deg(t.rel_course_rad),
+            t.rel_speed_mps / MPS_PER_KNOT,
+            t.age_scans,
+            if t.dangerous(limits) { "  ALARM CPA/TCPA" } else { "" },
+        );
+    }
+    s
+}
+
+/// The status as a navigator reads it.
+pub fn status_name(s: TrackStatus) -> &'static str {
+    match s {
+        TrackStatus::Tentative => "acquiring",
+        TrackStatus::Confirmed => "tracked",
+        TrackStatus::Coasting => "coasting",
+        TrackStatus::Lost => "LOST",
+    }
+}
+
+/// A confirmed target 5 km off (3 km east, 4 km north) heading west at 5 m/s, own ship
+/// north at 6 m/s: for tests of what is made of target data.
+#[cfg(test)]
+pub(crate) fn example() -> TargetData {
+    let own = OwnShip {
+        position_m: [0.0, 0.0],
+        velocity_mps: [0.0, 6.0],
+    };
+    let track = TrackState {
+        track: 7,
+        status: TrackStatus::Confirmed,
+        position_m: [3000.0, 4000.0],
+        velocity_mps: [-5.0, 0.0],
+        innovation_cov_m2: [100.0, 0.0, 100.0],
+        age_scans: 12,
+        hit_history: 0xFFF,
+    };
+    TargetData::new(&own, &track)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_head_on_target_alarms() {
+        let own = OwnShip {
+            position_m: [0.0, 0.0],
+            velocity_mps: [0.0, 5.0],
+        };
+        let t = TrackState {
+            track: 3,
+            status: TrackStatus::Confirmed,
+            position_m: [0.0, 4000.0],
+            velocity_mps: [0.0, -5.0],
+            innovation_cov_m2: [0.0; 3],
+            age_scans: 40,
+            hit_history: 0x3ff,
+        };
+        let d = TargetData::new(&own, &t);
+        assert!((d.range_m - 4000.0).abs() < 1e-3);
+        assert!(d.bearing_rad.abs() < 1e-6);
+        assert!((d.tcpa_s - 400.0).abs() < 1e-3 && d.cpa_m < 1.0);
+        assert!((d.rel_speed_mps - 10.0).abs() < 1e-5);
+        assert!((d.rel_course_rad.to_degrees() - 180.0).abs() < 1e-3);
+        assert!(d.dangerous(&AlarmLimits::default()));
+        let text = table(&[d], &AlarmLimits::default());
+        assert!(text.contains("ALARM"), "{text}");
+        assert!(text.contains("   3 tracked"), "{text}");
+    }
+}

@@ -1,0 +1,61 @@
+//! Where a scan's plots come from: a [`PlotSource`] hands the session one antenna
+//! revolution at a time.
+//!
+//! | source | module |
+//! |---|---|
+//! | the scenario simulator (IMO sensor model, clutter) | [`simulator`] |
+//! | a recorded plots file (CSV, documented in the README) | [`plots_file`] |
+//!
+//! and [`truth_file`] reads the truth beside a plots file, for scoring.
+//!
+//! A source may also know own ship at the scan (the simulator's truth, a plots file's own-ship
+//! columns) and the ground truth (the simulator; a truth file beside a plots file): the
+//! session ignores both; own-ship sources and the scorer use them.
+
+pub mod plots_file;
+pub mod simulator;
+pub mod truth_file;
+
+use tracker_core::icd::Plot;
+
+use crate::own_ship::OwnShip;
+use crate::score::ScanTruth;
+
+/// One antenna revolution's plots, as the tracker receives them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RadarScan {
+    /// Scan number, non-decreasing (the source's own numbering).
+    pub scan: u32,
+    /// The scan's time on the source's clock, s. Later scans have later times.
+    pub time_s: f64,
+    /// The plots: range (m) and true bearing (rad) from own ship.
+    pub plots: Vec<Plot>,
+}
+
+/// What a plot source yields for one scan.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SourceScan {
+    /// The plots.
+    pub radar: RadarScan,
+    /// Own ship at the scan, when the source knows it (the simulator's truth; a plots
+    /// file's `own_*` columns).
+    pub own_ship: Option<OwnShip>,
+    /// Ground truth for scoring, when the source has it.
+    pub truth: Option<ScanTruth>,
+}
+
+/// A source of radar scans.
+pub trait PlotSource {
+    /// The next scan; `Ok(None)` once the source has no more.
+    ///
+    /// # Errors
+    /// The source failed (a file that cannot be read, a device that went away); a source
+    /// that reads recorded data validates it when it is opened, so a bad file fails there.
+    fn next_scan(&mut self) -> anyhow::Result<Option<SourceScan>>;
+
+    /// The antenna period, s, when the source knows it (for pacing a run in real time).
+    fn scan_period_s(&self) -> Option<f64>;
+
+    /// Scans still to come, when the source knows (for progress and the display).
+    fn scans_left(&self) -> Option<u64>;
+}

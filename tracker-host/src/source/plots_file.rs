@@ -1,0 +1,318 @@
+//! A recorded plots file as a plot source.
+//!
+//! The format (CSV with a header; other tools write it, so it is exactly this):
+//!
+//! | column | unit | |
+//! |---|---|---|
+//! | `scan` | integer | non-decreasing; the rows of a scan are together |
+//! | `t_s` | s | the scan's time, the same on all its rows; later scans later |
+//! | `range_m` | m | plot range from own ship; empty on a scan's only row when it has no plot |
+//! | `bearing_deg` | degrees true | 0 ≤ b < 360; empty with `range_m` |
+//! | `own_east_m`, `own_north_m` | m | own ship in the local frame of `--origin` |
+//! | `own_vx_mps`, `own_vy_mps` | m/s | optional, both or neither: own ship's velocity over ground (without them: from successive positions) |
+//! | `heading_deg` | degrees true | optional: own ship's heading |
+//!
+//! The file is read twice: once whole to check it (a bad file is refused before anything
+//! is tracked or written, with its line and column), then scan by scan, so memory does not
+//! grow with its length.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::bail;
+use tracker_core::icd::Plot;
+
+use super::{PlotSource, RadarScan, SourceScan};
+use crate::csv_input::{self, Header};
+use crate::own_ship::OwnShip;
+use crate::source::truth_file::TruthFile;
+
+/// Columns every plots file has.
+pub const REQUIRED: [&str; 6] = [
+    "scan",
+    "t_s",
+    "range_m",
+    "bearing_deg",
+    "own_east_m",
+    "own_north_m",
+];
+
+/// Columns a plots file may have.
+pub const OPTIONAL: [&str; 3] = ["own_vx_mps", "own_vy_mps", "heading_deg"];
+
+/// Longest plot range accepted, m (200 km: beyond any marine radar).
+pub const MAX_RANGE_M: f64 = 200_000.0;
+
+/// Plots one scan may hold: the device's limit.
+pub const MAX_PLOTS_PER_SCAN: usize = tracker_core::tracker::MAX_PLOTS_PER_SCAN;
+
+/// One scan as read from the file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FileScan {
+    /// Its plots and time.
+    pub radar: RadarScan,
+    /// Own ship's position, m.
+    pub own_position_m: [f32; 2],
+    /// Own ship's velocity from the file's columns, m/s.
+    pub own_velocity_mps: Option<[f32; 2]>,
+    /// Own ship's heading, degrees true.
+    pub heading_deg: Option<f64>,
+}
+
+/// Reads scans one at a time.
+struct ScanReader {
+    reader: csv::Reader<std::fs::File>,
+    header: Header,
+    /// The first row of the next scan, read ahead.
+    ahead: Option<csv::StringRecord>,
+    last: Option<(u32, f64)>,
+    has_velocity: bool,
+}
+
+impl ScanReader {
+    fn open(path: &Path) -> anyhow::Result<Self> {
+        let (reader, header) = csv_input::open(path, &REQUIRED, &OPTIONAL)?;
+        let (vx, vy) = (header.has("own_vx_mps"), header.has("own_vy_mps"));
+        if vx != vy {
+            bail!(
+                "{}: line 1: own_vx_mps and own_vy_mps go together (one is missing)",
+                header.file()
+            );
+        }
+        Ok(ScanReader {
+            reader,
+            header,
+            ahead: None,
+            last: None,
+            has_velocity: vx,
+        })
+    }
+
+    fn next_record(&mut self) -> anyhow::Result<Option<csv::StringRecord>> {
+        if let Some(r) = self.ahead.take() {
+            return Ok(Some(r));
+        }
+        let mut r = csv::StringRecord::new();
+        Ok(csv_input::read(&mut self.reader, &self.header, &mut r)?.then_some(r))
+    }
+
+    /// The next scan, checked; `None` at the end of the file.
+    fn next_scan(&mut self) -> anyhow::Result<Option<FileScan>> {
+        let Some(first) = self.next_record()? else {
+            return Ok(None);
+        };
+        let row = self.header.row(&first);
+        let scan = row.required_u32("scan")?;
+        let t_s = row.required_number("t_s")?;
+        if let Some((last_scan, last_t)) = self.last {
+            if scan < last_scan {
+                return Err(row.error(
+                    "scan",
+                    &format!("scan {scan} after scan {last_scan}: scans must not decrease"),
+                ));
+            }
+            if scan == last_scan {
+                return Err(row.error(
+                    "scan",
+                    &format!("scan {scan} again after other rows: a scan's rows go together"),
+                ));
+            }
+            if t_s <= last_t {
+                return Err(row.error(
+                    "t_s",
+                    &format!("{t_s} s is not after the scan before ({last_t} s)"),
+                ));
+            }
+        }
+        let own = [
+            row.required_f32("own_east_m")?,
+            row.required_f32("own_north_m")?,
+        ];
+        let velocity = if self.has_velocity {
+            Some([
+                row.required_f32("own_vx_mps")?,
+                row.required_f32("own_vy_mps")?,
+            ])
+        } else {
+            None
+        };
+        let heading_deg = row.number("heading_deg")?;
+        if let Some(h) = heading_deg {
+            if !(0.0..360.0).contains(&h) {
+                return Err(row.error("heading_deg", &format!("{h}: must be 0 ≤ h < 360")));
+            }
+        }
+        let mut plots = Vec::new();
+        let mut record = Some(first);
+        while let Some(r) = record.take() {
+            let row = self.header.row(&r);
+            if row.required_u32("scan")? != scan {
+                self.ahead = Some(r);
+                break;
+            }
+            if row.required_number("t_s")? != t_s {
+                return Err(row.error(
+                    "t_s",
+                    &format!("every row of scan {scan} must have the same time ({t_s} s)"),
+                ));
+            }
+            match (row.number_f32("range_m")?, row.number("bearing_deg")?) {
+                (None, None) => {}
+                (Some(range), Some(bearing)) => {
+                    if !(0.0..=MAX_RANGE_M).contains(&f64::from(range)) {
+                        return Err(
+                            row.error("range_m", &format!("{range}: must be 0 to {MAX_RANGE_M} m"))
+                        );
+                    }
+                    if !(0.0..360.0).contains(&bearing) {
+                        return Err(
+                            row.error("bearing_deg", &format!("{bearing}: must be 0 ≤ b < 360"))
+                        );
+                    }
+                    if plots.len() == MAX_PLOTS_PER_SCAN {
+                        return Err(row.error(
+                            "range_m",
+                            &format!("scan {scan} has more than {MAX_PLOTS_PER_SCAN} plots, the device's limit"),
+                        ));
+                    }
+                    plots.push(Plot {
+                        range_m: range,
+                        bearing_rad: bearing.to_radians() as f32,
+                    });
+                }
+                (None, Some(_)) => return Err(row.error("range_m", "empty beside a bearing")),
+                (Some(_), None) => return Err(row.error("bearing_deg", "empty beside a range")),
+            }
+            record = self.next_record()?;
+        }
+        self.last = Some((scan, t_s));
+        Ok(Some(FileScan {
+            radar: RadarScan {
+                scan,
+                time_s: t_s,
+                plots,
+            },
+            own_position_m: own,
+            own_velocity_mps: velocity,
+            heading_deg,
+        }))
+    }
+}
+
+/// A plots file, checked, read scan by scan.
+pub struct PlotsFileSource {
+    path: PathBuf,
+    reader: ScanReader,
+    scans: u64,
+    read: u64,
+    /// The scan after the current one (own ship's velocity from positions needs it for the
+    /// first scan).
+    ahead: Option<FileScan>,
+    previous: Option<FileScan>,
+    truth: Option<TruthFile>,
+    period_s: Option<f64>,
+}
+
+impl PlotsFileSource {
+    /// Opens and checks `path`.
+    ///
+    /// # Errors
+    /// The file does not open, or any line breaks the format: the error names the line and
+    /// the column.
+    pub fn open(path: &Path) -> anyhow::Result<Self> {
+        let mut check = ScanReader::open(path)?;
+        let mut scans = 0u64;
+        let (mut first_t, mut last_t) = (None, None);
+        while let Some(s) = check.next_scan()? {
+            scans += 1;
+            first_t.get_or_insert(s.radar.time_s);
+            last_t = Some(s.radar.time_s);
+        }
+        if scans == 0 {
+            bail!("{}: no scans", path.display());
+        }
+        let period_s = match (first_t, last_t) {
+            (Some(a), Some(b)) if scans > 1 => Some((b - a) / (scans - 1) as f64),
+            _ => None,
+        };
+        Ok(PlotsFileSource {
+            path: path.to_path_buf(),
+            reader: ScanReader::open(path)?,
+            scans,
+            read: 0,
+            ahead: None,
+            previous: None,
+            truth: None,
+            period_s,
+        })
+    }
+
+    /// Attaches the truth of a truth file to the scans, for scoring.
+    pub fn with_truth(mut self, truth: TruthFile) -> Self {
+        self.truth = Some(truth);
+        self
+    }
+
+    /// Scans in the file.
+    pub fn scans(&self) -> u64 {
+        self.scans
+    }
+
+    fn read(&mut self) -> anyhow::Result<Option<FileScan>> {
+        match self.ahead.take() {
+            Some(s) => Ok(Some(s)),
+            None => self.reader.next_scan(),
+        }
+    }
+}
+
+impl PlotSource for PlotsFileSource {
+    fn next_scan(&mut self) -> anyhow::Result<Option<SourceScan>> {
+        let Some(scan) = self.read()? else {
+            return Ok(None);
+        };
+        self.read += 1;
+        // Own ship's velocity: the file's, else from the position before (the first scan
+        // takes the one after).
+        let velocity = match (scan.own_velocity_mps, &self.previous) {
+            (Some(v), _) => v,
+            (None, Some(p)) => finite_difference(p, &scan),
+            (None, None) => {
+                self.ahead = self.reader.next_scan()?;
+                self.ahead
+                    .as_ref()
+                    .map_or([0.0, 0.0], |next| finite_difference(&scan, next))
+            }
+        };
+        let own = OwnShip {
+            position_m: scan.own_position_m,
+            velocity_mps: velocity,
+        };
+        let truth = match self.truth.as_mut() {
+            Some(t) => Some(t.at(scan.radar.time_s, own, &self.path)?),
+            None => None,
+        };
+        let out = SourceScan {
+            radar: scan.radar.clone(),
+            own_ship: Some(own),
+            truth,
+        };
+        self.previous = Some(scan);
+        Ok(Some(out))
+    }
+
+    fn scan_period_s(&self) -> Option<f64> {
+        self.period_s
+    }
+
+    fn scans_left(&self) -> Option<u64> {
+        Some(self.scans - self.read)
+    }
+}
+
+fn finite_difference(a: &FileScan, b: &FileScan) -> [f32; 2] {
+    let dt = (b.radar.time_s - a.radar.time_s) as f32;
+    [
+        (b.own_position_m[0] - a.own_position_m[0]) / dt,
+        (b.own_position_m[1] - a.own_position_m[1]) / dt,
+    ]
+}

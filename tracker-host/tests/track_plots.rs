@@ -1,0 +1,239 @@
+//! Recorded plots in, tracked targets out: a demo run recorded (plots, truth, tracks,
+//! summary) and tracked again from its recording with `track` gives the same tracks and the
+//! same summary, scan for scan; `track` runs on a plots file that other code wrote; bad
+//! files are refused with their line and column, and nothing is written.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use tracker_host::cli;
+
+fn run(args: &[&str]) -> ExitCode {
+    cli::run(std::iter::once("tracker-host").chain(args.iter().copied())).expect("runs")
+}
+
+fn path(dir: &Path, name: &str) -> PathBuf {
+    dir.join(name)
+}
+
+/// The summary without what depends on the machine (host times) or the link's framing.
+fn scores(json: &Path) -> serde_json::Value {
+    let text = std::fs::read_to_string(json).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let o = v.as_object_mut().unwrap();
+    o.retain(|k, _| !k.starts_with("host_ms") && !k.starts_with("link"));
+    v
+}
+
+#[test]
+fn a_recorded_demo_tracks_the_same_through_track() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = |n| path(dir.path(), n);
+    let s = |p: &PathBuf| p.to_str().unwrap().to_string();
+    let (plots, truth) = (d("plots.csv"), d("truth.csv"));
+    let (demo_tracks, track_tracks) = (d("demo-tracks.csv"), d("track-tracks.csv"));
+    let (demo_json, track_json) = (d("demo.json"), d("track.json"));
+    let code = run(&[
+        "--link",
+        "inproc",
+        "demo",
+        "--plain",
+        "--targets",
+        "20",
+        "--seed",
+        "5",
+        "--duration",
+        "300",
+        "--record-plots",
+        &s(&plots),
+        "--record-truth",
+        &s(&truth),
+        "--record-tracks",
+        &s(&demo_tracks),
+        "--summary-json",
+        &s(&demo_json),
+    ]);
+    assert_eq!(code, ExitCode::SUCCESS);
+    let code = run(&[
+        "--link",
+        "inproc",
+        "track",
+        "--plain",
+        "--plots",
+        &s(&plots),
+        "--truth",
+        &s(&truth),
+        "--record-tracks",
+        &s(&track_tracks),
+        "--summary-json",
+        &s(&track_json),
+    ]);
+    assert_eq!(code, ExitCode::SUCCESS);
+    let a = std::fs::read_to_string(&demo_tracks).unwrap();
+    let b = std::fs::read_to_string(&track_tracks).unwrap();
+    assert!(
+        a.lines().count() > 120 * 20,
+        "{} track rows",
+        a.lines().count()
+    );
+    for (k, (x, y)) in a.lines().zip(b.lines()).enumerate() {
+        assert_eq!(x, y, "tracks line {}", k + 1);
+    }
+    assert_eq!(a.lines().count(), b.lines().count());
+    let (sa, sb) = (scores(&demo_json), scores(&track_json));
+    assert_eq!(sa, sb);
+    assert_eq!(sa["scans"], 120);
+    assert!(sa["targets_confirmed"].as_u64().unwrap() >= 19, "{sa}");
+    assert_eq!(sa["false_tracks"], 0, "{sa}");
+}
+
+#[test]
+fn track_runs_on_a_plots_file_written_by_other_code() {
+    // Two ships written by hand: one crossing ahead west to east, one closing from the
+    // north; own ship steaming north at 5 m/s; 60 scans at 2.4–2.6 s (uneven), a scan with
+    // no plot, a clutter plot now and then. No product code writes this file.
+    let dir = tempfile::tempdir().unwrap();
+    let plots = dir.path().join("other.csv");
+    let mut text = String::from("scan,t_s,range_m,bearing_deg,own_east_m,own_north_m\n");
+    let mut t = 1000.0f64;
+    for k in 0..60u32 {
+        t += if k % 2 == 0 { 2.4 } else { 2.6 };
+        let own = [0.0, 5.0 * (t - 1000.0)];
+        let ships = [
+            [-3000.0 + 6.0 * (t - 1000.0), 4000.0],
+            [1500.0, 9000.0 - 4.0 * (t - 1000.0)],
+        ];
+        let mut rows = Vec::new();
+        for (i, p) in ships.iter().enumerate() {
+            if (k + i as u32) % 7 == 3 {
+                continue; // missed
+            }
+            let (de, dn) = (p[0] - own[0], p[1] - own[1]);
+            let range = de.hypot(dn) + if k % 3 == 0 { 15.0 } else { -10.0 };
+            let bearing = de.atan2(dn).to_degrees().rem_euclid(360.0);
+            rows.push(format!(
+                "{k},{t:.3},{range:.1},{bearing:.3},{:.1},{:.1}",
+                own[0], own[1]
+            ));
+        }
+        if k % 5 == 0 {
+            rows.push(format!(
+                "{k},{t:.3},{:.1},{:.2},{:.1},{:.1}",
+                2000.0 + 97.0 * f64::from(k),
+                (37.0 * f64::from(k)) % 360.0,
+                own[0],
+                own[1]
+            ));
+        }
+        if k == 30 {
+            rows = vec![format!("{k},{t:.3},,,{:.1},{:.1}", own[0], own[1])];
+        }
+        for r in rows {
+            text += &r;
+            text.push('\n');
+        }
+    }
+    std::fs::write(&plots, text).unwrap();
+    let tracks = dir.path().join("tracks.csv");
+    let code = run(&[
+        "--link",
+        "inproc",
+        "track",
+        "--plain",
+        "--plots",
+        plots.to_str().unwrap(),
+        "--record-tracks",
+        tracks.to_str().unwrap(),
+    ]);
+    assert_eq!(code, ExitCode::SUCCESS);
+    // Both ships confirmed at the end, near where they are, moving as they move.
+    let out = std::fs::read_to_string(&tracks).unwrap();
+    let last: Vec<Vec<&str>> = out
+        .lines()
+        .filter(|l| l.starts_with("59,"))
+        .map(|l| l.split(',').collect())
+        .collect();
+    let t_end = t - 1000.0;
+    let truth = [
+        ([-3000.0 + 6.0 * t_end, 4000.0], [6.0, 0.0]),
+        ([1500.0, 9000.0 - 4.0 * t_end], [0.0, -4.0]),
+    ];
+    for (p, v) in truth {
+        let found = last.iter().any(|f| {
+            let n = |i: usize| f[i].parse::<f64>().unwrap();
+            matches!(f[3], "confirmed" | "coasting")
+                && (n(4) - p[0]).hypot(n(5) - p[1]) < 100.0
+                && (n(6) - v[0]).hypot(n(7) - v[1]) < 1.5
+        });
+        assert!(found, "no confirmed track near {p:?} {v:?} in\n{last:?}");
+    }
+}
+
+#[test]
+fn bad_plots_files_are_refused_with_their_line_and_column() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m\n0,0,1000,10,0,0\n";
+    let cases = [
+        (
+            "scan,t_s,range_m,bearing_deg,own_east_m\n0,0,1,1,0\n",
+            "missing column `own_north_m`",
+        ),
+        (
+            "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m,range_m\n0,0,1,1,0,0,1\n",
+            "column 7: column `range_m` appears twice",
+        ),
+        (
+            "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m,speed\n0,0,1,1,0,0,1\n",
+            "unknown column `speed`",
+        ),
+        (
+            &format!("{good}1,2.5,1000,360,0,0\n"),
+            "line 3, column 4 (bearing_deg)",
+        ),
+        (
+            &format!("{good}1,2.5,x,10,0,0\n"),
+            "line 3, column 3 (range_m): `x`",
+        ),
+        (
+            &format!("{good}1,0,1000,10,0,0\n"),
+            "line 3, column 2 (t_s)",
+        ),
+        (
+            &format!("{good}1,2.5,1000,10,0,0\n0,5,1000,10,0,0\n"),
+            "line 4, column 1 (scan)",
+        ),
+        (
+            &format!("{good}1,2.5,1000,,0,0\n"),
+            "line 3, column 4 (bearing_deg): empty beside a range",
+        ),
+        (&format!("{good}1,2.5,1000,10,0\n"), "line 3"),
+        (
+            &format!("{good}1,2.5,1000,10,NaN,0\n"),
+            "line 3, column 5 (own_east_m)",
+        ),
+    ];
+    for (i, (text, expected)) in cases.iter().enumerate() {
+        let plots = dir.path().join(format!("bad{i}.csv"));
+        let tracks = dir.path().join(format!("tracks{i}.csv"));
+        std::fs::write(&plots, text).unwrap();
+        let err = cli::run([
+            "tracker-host",
+            "--link",
+            "inproc",
+            "track",
+            "--plain",
+            "--plots",
+            plots.to_str().unwrap(),
+            "--record-tracks",
+            tracks.to_str().unwrap(),
+        ])
+        .expect_err("a bad file fails");
+        let msg = format!("{err:#}");
+        assert!(
+            msg.contains(expected),
+            "case {i}: `{msg}` lacks `{expected}`"
+        );
+        assert!(msg.contains(&format!("bad{i}.csv")), "{msg}");
+        assert!(!tracks.exists(), "case {i}: output written");
+    }
+}
