@@ -286,6 +286,17 @@ impl Scenario {
         &self.own
     }
 
+    /// Puts own ship at `position_m` moving at `velocity_mps` (a recorded track the picture
+    /// moves with); it goes on from there at that velocity unless set again.
+    pub fn set_own_ship(&mut self, position_m: EastNorth, velocity_mps: EastNorth) {
+        let (course, speed) = geo::course_speed(velocity_mps);
+        self.own.position_m = position_m;
+        self.own.course_rad = course;
+        self.own.speed_mps = speed;
+        self.own.turn_rate_rad_s = 0.0;
+        self.own.accel_mps2 = 0.0;
+    }
+
     /// The targets.
     pub fn targets(&self) -> &[Ship] {
         &self.targets

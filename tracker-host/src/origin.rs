@@ -43,12 +43,13 @@ impl Origin {
         Ok(o)
     }
 
-    /// Latitude and longitude of a local position, degrees.
+    /// Latitude and longitude of a local position, degrees; the longitude in
+    /// [−180°, 180°) (across the antimeridian it wraps).
     pub fn to_lat_lon(&self, p: [f64; 2]) -> (f64, f64) {
         let lat = self.lat_deg + p[1] / METRES_PER_DEGREE_LATITUDE;
         let lon =
             self.lon_deg + p[0] / (METRES_PER_DEGREE_LATITUDE * self.lat_deg.to_radians().cos());
-        (lat, lon)
+        (lat, (lon + 180.0).rem_euclid(360.0) - 180.0)
     }
 
     /// Local position (east, north), m, of a latitude and longitude in degrees.

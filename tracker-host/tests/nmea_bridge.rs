@@ -62,7 +62,7 @@ fn a_recorded_run_replays_scan_for_scan_and_targets_reach_the_plotter() {
     let mut heard = Vec::new();
     let live_run = run(&mut live, Some(&plotter), &mut heard);
     let counts = live.nmea_counts().unwrap();
-    assert_eq!(counts.accepted, 5 * SCANS as u64, "{counts}");
+    assert_eq!(counts.used, 5 * SCANS as u64, "{counts}");
     assert_eq!(counts.rejected(), 0, "{counts}");
     let s = live.summary().unwrap();
     assert!(
@@ -71,7 +71,7 @@ fn a_recorded_run_replays_scan_for_scan_and_targets_reach_the_plotter() {
         s.report()
     );
 
-    // The plotter got a TTM and a TLL per confirmed target per scan, all well formed.
+    // The plotter got a TTM and a TLL per target per scan, all well formed.
     let (mut ttm, mut tll) = (0, 0);
     for line in &heard {
         let line = line.trim();
@@ -91,14 +91,26 @@ fn a_recorded_run_replays_scan_for_scan_and_targets_reach_the_plotter() {
     assert!(ttm > 20 * 60 && ttm == tll, "TTM {ttm}, TLL {tll}");
 
     // Replaying the recording gives the same own ship and the same tracks, scan for scan.
+    // The frame the recording was made in (by default a recording's first fix would be the
+    // origin: the same place to 10⁻⁵ minute).
     let replay_options = OwnShipOptions {
         nmea_in: Some(InSpec::File(recording.clone())),
+        origin: Some(tracker_host::origin::Origin::default()),
         ..OwnShipOptions::default()
     };
     let mut replay = demo(replay_options.clone(), Outputs::default());
     let replay_run = run(&mut replay, None, &mut Vec::new());
+    // Own ship, from the same sentences through the same filter, is the same; the picture
+    // moves with the recording's fixes (latitude and longitude to 10⁻⁵ minute, 2 cm), so
+    // the tracks are the same tracks within centimetres.
     for (k, (a, b)) in live_run.iter().zip(&replay_run).enumerate() {
-        assert_eq!(a, b, "scan {k}");
+        assert_eq!(a.1, b.1, "own ship, scan {k}");
+        assert_eq!(a.0.len(), b.0.len(), "scan {k}");
+        for (x, y) in a.0.iter().zip(&b.0) {
+            assert_eq!((x.track, x.status), (y.track, y.status), "scan {k}");
+            let d = (x.position_m[0] - y.position_m[0]).hypot(x.position_m[1] - y.position_m[1]);
+            assert!(d < 0.5, "scan {k}: track {} {d} m apart", x.track);
+        }
     }
     assert_eq!(replay.nmea_counts(), Some(counts));
 
@@ -118,7 +130,7 @@ fn a_recorded_run_replays_scan_for_scan_and_targets_reach_the_plotter() {
     let mut damaged = demo(replay_options, Outputs::default());
     let damaged_run = run(&mut damaged, None, &mut Vec::new());
     let c = damaged.nmea_counts().unwrap();
-    assert_eq!(c.accepted, 5 * SCANS as u64 - 1, "{c}");
+    assert_eq!(c.used, 5 * SCANS as u64 - 1, "{c}");
     assert_eq!(
         (c.bad_checksum, c.void, c.stale, c.malformed),
         (1, 1, 1, 1),
@@ -131,4 +143,77 @@ fn a_recorded_run_replays_scan_for_scan_and_targets_reach_the_plotter() {
         s.report()
     );
     assert_eq!(damaged_run.len(), SCANS);
+}
+
+/// A recording that crosses midnight, steps back in time once, has a corrupt time field and
+/// loses its GPS for a minute: own ship follows the recorded ship through all of it, the
+/// step back and the corrupt line are counted and skipped, and the outage is dead reckoned
+/// with its alarm, which clears when the fixes return.
+#[test]
+fn midnight_a_step_back_a_corrupt_time_and_an_outage() {
+    use tracker_host::nmea::bridge::own_ship_sentences;
+    use tracker_host::origin::Origin;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("night.nmea");
+    let origin = Origin::default();
+    // 2026-01-01 23:58:00 UTC, north at 5 m/s, a sentence set a second for 5 minutes.
+    let t0 = 1_767_225_600.0 + 86_400.0 - 120.0;
+    let truth = |k: f64| [0.0, 5.0 * k];
+    let mut text = String::new();
+    for k in 0..300 {
+        let k = f64::from(k);
+        if (180.0..240.0).contains(&k) {
+            continue; // no GPS for a minute (00:01:00–00:02:00)
+        }
+        let lines = own_ship_sentences(truth(k), [0.0, 5.0], &origin, t0 + k);
+        for (i, l) in lines.iter().enumerate() {
+            if k == 60.0 && i == 0 {
+                // A corrupt time field, the old checksum kept.
+                text += &l.replacen("GPGGA,2359", "GPGGA,2X59", 1);
+                continue;
+            }
+            text += l;
+        }
+        if k == 150.0 {
+            // A step back: the sentence of 10 s ago again.
+            text += &own_ship_sentences(truth(k - 10.0), [0.0, 5.0], &origin, t0 + k - 10.0)[0];
+        }
+    }
+    std::fs::write(&path, text).unwrap();
+    let options = DemoOptions {
+        own_ship: OwnShipOptions {
+            nmea_in: Some(InSpec::File(path)),
+            origin: Some(origin),
+            ..OwnShipOptions::default()
+        },
+        duration_from_recording: true,
+        ..DemoOptions::new(ScenarioKind::OpenSea, 10, 4, 300.0, FilterKind::KalmanCv)
+    };
+    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+    let (mut dr_alarms, mut scans) = (0, 0);
+    while let Some(r) = run.step().unwrap() {
+        scans += 1;
+        let k = r.time_s - t0;
+        let want = truth(k);
+        let err = (f64::from(r.own.position_m[0]) - want[0])
+            .hypot(f64::from(r.own.position_m[1]) - want[1]);
+        assert!(err < 5.0, "t {k:.1} s: own ship {err:.1} m off");
+        let alarms = r.own.alarms();
+        if (192.0..240.0).contains(&k) {
+            // More than 10 s without a fix: dead reckoning, with its age.
+            assert!(
+                alarms.iter().any(|a| a.contains("dead reckoning")),
+                "t {k}: {alarms:?}"
+            );
+            dr_alarms += 1;
+        }
+        if !(180.0..242.5).contains(&k) {
+            assert!(alarms.is_empty(), "t {k}: {alarms:?}");
+        }
+    }
+    assert!(scans >= 119, "the run goes on past midnight: {scans} scans");
+    assert!(dr_alarms >= 18);
+    let c = run.nmea_counts().unwrap();
+    assert_eq!((c.bad_checksum, c.stale), (1, 1), "{c}");
+    assert_eq!(c.malformed, 0, "{c}");
 }

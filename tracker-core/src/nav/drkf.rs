@@ -184,10 +184,12 @@ impl<T: RealField + Copy> Discretised<T, STATES> for Blocks<T> {
 /// What the speedlog measures (eq. 7c, 7d).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SpeedlogMode {
-    /// Speed over ground, current included (eq. 7c).
-    GroundLock,
-    /// Speed through the water (eq. 7d).
-    BottomLock,
+    /// Speed over ground, current included (eq. 7c; the paper's "ground-lock": measured
+    /// against the sea floor, a Doppler log's bottom track).
+    OverGround,
+    /// Speed through the water (eq. 7d; the paper's "bottom-lock": measured against a
+    /// layer of water, as a ship's or yacht's log, `VHW`, reads).
+    ThroughWater,
 }
 
 /// DRKF parameters: the models of Table I and the sensors' noise.
@@ -239,7 +241,7 @@ impl DrkfConfig {
             loran_var: 25.0,
             speedlog_var: 0.01,
             gyro_var: (1.0f64).to_radians() * (1.0f64).to_radians(),
-            speedlog_mode: SpeedlogMode::GroundLock,
+            speedlog_mode: SpeedlogMode::OverGround,
         })
     }
 
@@ -519,7 +521,7 @@ pub(crate) fn sensor_rows<T: RealField + Copy, const N: usize>(
     let min2: T = c(MIN_SPEED_MPS * MIN_SPEED_MPS);
     if let Some(s) = fix.speedlog_mps {
         match cfg.speedlog_mode {
-            SpeedlogMode::GroundLock if ground2 > min2 => {
+            SpeedlogMode::OverGround if ground2 > min2 => {
                 let r = ground2.sqrt();
                 // Eq. 7c: H72 on x2 and x3, H76 on x6 and x7.
                 let (hx, hy) = (gx / r, gy / r);
@@ -532,7 +534,7 @@ pub(crate) fn sensor_rows<T: RealField + Copy, const N: usize>(
                 ];
                 push(c::<T>(s) - r - x[ix::SL], &h, noise.speedlog);
             }
-            SpeedlogMode::BottomLock => {
+            SpeedlogMode::ThroughWater => {
                 let (vx, vy) = (x[ix::VX], x[ix::VY]);
                 let r2 = vx * vx + vy * vy;
                 if r2 > min2 {
@@ -541,7 +543,7 @@ pub(crate) fn sensor_rows<T: RealField + Copy, const N: usize>(
                     push(c::<T>(s) - r - x[ix::SL], &h, noise.speedlog);
                 }
             }
-            SpeedlogMode::GroundLock => {}
+            SpeedlogMode::OverGround => {}
         }
     }
     if let Some(b) = fix.gyro_rad {
@@ -604,8 +606,8 @@ mod tests {
                 gyro_rad: Some(0.6),
             };
             if k == 80 {
-                s.set_speedlog_mode(SpeedlogMode::BottomLock);
-                d.set_speedlog_mode(SpeedlogMode::BottomLock);
+                s.set_speedlog_mode(SpeedlogMode::ThroughWater);
+                d.set_speedlog_mode(SpeedlogMode::ThroughWater);
             }
             let dt = if k % 7 == 3 { 1.7 } else { 1.0 };
             s.predict(dt).unwrap();

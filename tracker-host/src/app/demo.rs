@@ -2,21 +2,37 @@
 //! scan by scan, split as the thesis split it: the device (firmware on QEMU or a board, or
 //! the same code in-process) predicts and rough-gates; this host refines the gates,
 //! associates, and shows the targets; the scorer holds the tracks to the simulation's truth.
+//!
+//! With own ship from an NMEA recording (`--nmea-in file:PATH`), the run plays on the
+//! recording's clock (it starts at the first fix's date and time) and the simulated picture
+//! moves with the recorded ship: the simulator's own ship follows the recording's fixes, so
+//! the targets' plots are relative to where the recording says we are. The local frame's
+//! origin is the first fix unless `--origin` says otherwise, and the run lasts the
+//! recording unless `--duration` says otherwise. With a live NMEA source the picture
+//! follows own ship as the source estimates it.
 
 use tracker_core::filter::FilterKind;
 use tracker_core::sim::ScenarioKind;
 
 use super::run::Run;
-use super::{own_ship_source, sinks, Outputs, OwnShipOptions};
+use super::{own_ship_source, sinks, today, Outputs, OwnShipOptions};
 use crate::link::Client;
+use crate::nmea::InSpec;
+use crate::own_ship::recording::RecordedTrack;
 use crate::session::{Session, SessionConfig};
-use crate::source::simulator::{SimulatorOptions, SimulatorSource};
+use crate::source::simulator::{OwnShipTruth, SimulatorOptions, SimulatorSource};
+
+/// The demo's default start: 2026-01-01 00:00:00 UTC (s since 1970).
+pub const DEFAULT_EPOCH_S: f64 = 1_767_225_600.0;
 
 /// What the demo runs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct DemoOptions {
     /// The simulated picture.
     pub simulator: SimulatorOptions,
+    /// With own ship from an NMEA recording, run for the recording's length instead of
+    /// `simulator.duration_s`.
+    pub duration_from_recording: bool,
     /// The filter every track runs.
     pub filter: FilterKind,
     /// Where own ship comes from (by default the simulation's truth).
@@ -27,7 +43,7 @@ pub struct DemoOptions {
 
 impl DemoOptions {
     /// `targets` targets of `scenario` from `seed` for `duration_s`, tracked with `filter`,
-    /// own ship from the simulation, no outputs.
+    /// starting at [`DEFAULT_EPOCH_S`], own ship from the simulation, no outputs.
     pub fn new(
         scenario: ScenarioKind,
         targets: usize,
@@ -41,7 +57,9 @@ impl DemoOptions {
                 targets,
                 seed,
                 duration_s,
+                epoch_s: DEFAULT_EPOCH_S,
             },
+            duration_from_recording: false,
             filter,
             own_ship: OwnShipOptions::default(),
             outputs: Outputs::default(),
@@ -52,15 +70,37 @@ impl DemoOptions {
 /// Wires the demo: the simulator, the session over `client`, the outputs.
 ///
 /// # Errors
-/// The device does not attach, or an own-ship source or output does not open.
+/// The device does not attach, a recording holds no fix, or an own-ship source or output
+/// does not open.
 pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
-    let source = SimulatorSource::new(&o.simulator);
-    let own_ship = own_ship_source(&o.own_ship)?;
+    let mut simulator = o.simulator;
+    let mut own_ship = o.own_ship.clone();
+    let truth = match &o.own_ship.nmea_in {
+        Some(InSpec::File(path)) => {
+            let track = RecordedTrack::read(path, &o.own_ship.nmea)?;
+            let origin = o.own_ship.origin.unwrap_or(track.first_position());
+            own_ship.origin = Some(origin);
+            own_ship.nmea.provisional_day = (track.start_s() / 86_400.0).floor() as i64;
+            simulator.epoch_s = track.start_s();
+            if o.duration_from_recording {
+                simulator.duration_s = track.span_s().max(1.0);
+            }
+            OwnShipTruth::Recorded(track, origin)
+        }
+        Some(_) => {
+            own_ship.nmea.provisional_day = today();
+            OwnShipTruth::Estimated
+        }
+        None => OwnShipTruth::Scenario,
+    };
+    let origin = own_ship.origin();
+    let source = SimulatorSource::with_own_ship(&simulator, truth);
+    let own = own_ship_source(&own_ship, origin)?;
     let session = Session::start(client, SessionConfig::tracking(o.filter))?;
     Ok(Run::new(
         Box::new(source),
-        own_ship,
+        own,
         session,
-        sinks(&o.outputs, o.own_ship.origin)?,
+        sinks(&o.outputs, origin)?,
     ))
 }

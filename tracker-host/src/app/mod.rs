@@ -14,7 +14,7 @@ use std::path::PathBuf;
 
 use crate::nmea::{InSpec, OutSpec};
 use crate::origin::Origin;
-use crate::own_ship::{FromPlotSource, NmeaOwnShip, OwnShipSource, SimulatedBridge};
+use crate::own_ship::{FromPlotSource, NmeaOptions, NmeaOwnShip, OwnShipSource, SimulatedBridge};
 use crate::record::{PlotsRecorder, TracksRecorder, TruthRecorder};
 use crate::sink::ScanSink;
 
@@ -28,15 +28,27 @@ pub struct OwnShipOptions {
     /// dead-reckoning filter, the sentences recorded to this file (`nmea_in: file:…`
     /// replays them with the same result).
     pub nmea_record: Option<PathBuf>,
-    /// The local frame's origin on the globe.
-    pub origin: Origin,
+    /// The local frame's origin on the globe; by default an NMEA recording's first fix, else
+    /// 50°40′N 001°00′W.
+    pub origin: Option<Origin>,
+    /// How NMEA is read (talker priority, magnetic variation).
+    pub nmea: NmeaOptions,
+}
+
+impl OwnShipOptions {
+    /// The origin, as given or the default.
+    pub fn origin(&self) -> Origin {
+        self.origin.unwrap_or_default()
+    }
 }
 
 /// Where a run's results go besides the display.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Outputs {
-    /// Every confirmed target as `TTM` and `TLL` each scan, to chart plotters.
+    /// Every target as `TTM` and `TLL` each scan, to chart plotters.
     pub nmea_out: Option<OutSpec>,
+    /// With `nmea_out`, own ship too (`RMC`, `HDT`, `OSD`), for a plotter without GNSS.
+    pub nmea_out_own_ship: bool,
     /// The scans' plots, as a plots file.
     pub record_plots: Option<PathBuf>,
     /// The source's truth, as a truth file.
@@ -45,19 +57,30 @@ pub struct Outputs {
     pub record_tracks: Option<PathBuf>,
 }
 
-/// The own-ship source `o` asks for.
+/// The own-ship source `o` asks for, in the frame of `origin`.
 ///
 /// # Errors
 /// Both NMEA in and a recording of the simulation asked for; the source does not open.
-pub fn own_ship_source(o: &OwnShipOptions) -> anyhow::Result<Box<dyn OwnShipSource>> {
+pub fn own_ship_source(
+    o: &OwnShipOptions,
+    origin: Origin,
+) -> anyhow::Result<Box<dyn OwnShipSource>> {
     Ok(match (&o.nmea_in, &o.nmea_record) {
         (Some(_), Some(_)) => {
             anyhow::bail!("own ship from NMEA input or a recording of the simulation, not both")
         }
-        (Some(spec), None) => Box::new(NmeaOwnShip::open(spec, o.origin)?),
-        (None, Some(path)) => Box::new(SimulatedBridge::create(path, o.origin)?),
+        (Some(spec), None) => Box::new(NmeaOwnShip::open(spec, origin, &o.nmea)?),
+        (None, Some(path)) => Box::new(SimulatedBridge::create(path, origin)?),
         (None, None) => Box::new(FromPlotSource),
     })
+}
+
+/// Today, as days since 1970 (a live source's sentences before their first date).
+pub fn today() -> i64 {
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    (now / 86_400) as i64
 }
 
 /// The sinks `o` asks for.
@@ -68,7 +91,9 @@ pub fn sinks(o: &Outputs, origin: Origin) -> anyhow::Result<Vec<Box<dyn ScanSink
     let mut sinks: Vec<Box<dyn ScanSink>> = Vec::new();
     if let Some(spec) = &o.nmea_out {
         sinks.push(Box::new(crate::nmea::targets::TargetsOut::open(
-            spec, origin,
+            spec,
+            origin,
+            o.nmea_out_own_ship,
         )?));
     }
     if let Some(p) = &o.record_plots {

@@ -62,6 +62,7 @@ impl Run {
             return Ok(None);
         };
         let own = self.own_ship.own_ship(&scan)?;
+        self.plots.own_ship_estimate(&own);
         let report = self.session.scan(&scan.radar, &own)?;
         for sink in &mut self.sinks {
             sink.scan(&scan, &report)?;

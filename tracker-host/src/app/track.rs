@@ -38,12 +38,13 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     if let Some(truth) = &o.truth {
         source = source.with_truth(TruthFile::open(truth)?);
     }
-    let own_ship = own_ship_source(&o.own_ship)?;
+    let origin = o.own_ship.origin();
+    let own_ship = own_ship_source(&o.own_ship, origin)?;
     let session = Session::start(client, SessionConfig::tracking(o.filter))?;
     Ok(Run::new(
         Box::new(source),
         own_ship,
         session,
-        sinks(&o.outputs, o.own_ship.origin)?,
+        sinks(&o.outputs, origin)?,
     ))
 }

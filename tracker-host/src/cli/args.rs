@@ -9,6 +9,8 @@ use tracker_core::filter::FilterKind;
 use crate::app::{Outputs, OwnShipOptions};
 use crate::nmea::{InSpec, OutSpec};
 use crate::origin::Origin;
+use crate::own_ship::sentences::Quantity;
+use crate::own_ship::NmeaOptions;
 
 /// `--filter NAME`: one of [`FilterKind::ALL`], by name.
 pub fn filter_parser() -> impl TypedValueParser<Value = FilterKind> {
@@ -39,17 +41,31 @@ pub struct RunArgs {
     /// The filter every track runs.
     #[arg(long, value_parser = filter_parser(), default_value = "kalman-cv")]
     pub filter: FilterKind,
-    /// Source seconds per real second, or `max`.
-    #[arg(long, default_value = "max")]
-    pub speedup: Speedup,
+    /// Source seconds per real second, or `max` (the default; 1, real time, with a live
+    /// NMEA source).
+    #[arg(long)]
+    pub speedup: Option<Speedup>,
     /// Print the target table every scan as plain text (without it: the radar display in a
     /// terminal, progress lines otherwise).
     #[arg(long)]
     pub plain: bool,
-    /// Send every confirmed target to a chart plotter as NMEA 0183 `TTM` and `TLL`
-    /// sentences each scan: `udp:HOST:PORT` or `tcp:PORT` (a server plotters connect to).
+    /// Send every target to a chart plotter as NMEA 0183 `TTM` and `TLL` sentences each
+    /// scan: `udp:HOST:PORT` or `tcp:PORT` (a server plotters connect to).
     #[arg(long, value_name = "udp:HOST:PORT|tcp:PORT")]
     pub nmea_out: Option<OutSpec>,
+    /// With --nmea-out, send own ship too (`RMC`, `HDT`, `OSD`), for a plotter that has no
+    /// GNSS of its own.
+    #[arg(long, requires = "nmea_out")]
+    pub nmea_out_own_ship: bool,
+    /// The talkers to take a quantity from, in order of preference, e.g.
+    /// `--nmea-source heading=HE,GP` (quantities: position, velocity, heading,
+    /// water-speed). Without it the first talker heard is used.
+    #[arg(long, value_name = "QUANTITY=TALKER,…", value_parser = parse_source)]
+    pub nmea_source: Vec<(Quantity, Vec<String>)>,
+    /// Magnetic variation, degrees east (west negative), for magnetic headings (`HDM`,
+    /// `HDG`) when neither the sentence nor an `RMC` gives one.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub magnetic_variation: Option<f64>,
     /// Take own ship from NMEA 0183 (GGA/RMC, VTG, HDT, VHW) through the dead-reckoning
     /// filter: `file:PATH` (a recording, replayed scan by scan), `udp:PORT`,
     /// `tcp:HOST:PORT`, `serial:DEVICE@BAUD`.
@@ -76,13 +92,52 @@ pub struct RunArgs {
     pub summary_json: Option<PathBuf>,
 }
 
+/// `QUANTITY=TALKER,TALKER…`.
+fn parse_source(s: &str) -> Result<(Quantity, Vec<String>), String> {
+    let (q, talkers) = s
+        .split_once('=')
+        .ok_or_else(|| format!("`{s}`: expected QUANTITY=TALKER,…"))?;
+    let quantity = Quantity::ALL
+        .into_iter()
+        .find(|x| x.name() == q)
+        .ok_or_else(|| {
+            format!(
+                "`{q}`: expected one of {}",
+                Quantity::ALL.map(Quantity::name).join(", ")
+            )
+        })?;
+    let talkers: Vec<String> = talkers.split(',').map(str::to_string).collect();
+    if talkers
+        .iter()
+        .any(|t| t.len() != 2 || !t.bytes().all(|b| b.is_ascii_uppercase()))
+    {
+        return Err(format!("`{s}`: talkers are two upper-case letters"));
+    }
+    Ok((quantity, talkers))
+}
+
 impl RunArgs {
     /// Own ship as these arguments choose it.
     pub fn own_ship(&self) -> OwnShipOptions {
         OwnShipOptions {
             nmea_in: self.nmea_in.clone(),
             nmea_record: self.nmea_record.clone(),
-            origin: self.origin.unwrap_or_default(),
+            origin: self.origin,
+            nmea: NmeaOptions {
+                priority: self.nmea_source.iter().cloned().collect(),
+                variation_deg: self.magnetic_variation,
+                provisional_day: 0,
+            },
+        }
+    }
+
+    /// Source seconds per real second: as given; else real time with a live NMEA source
+    /// (its sentences arrive in real time), as fast as possible otherwise.
+    pub fn speedup(&self) -> Option<f64> {
+        match (self.speedup, &self.nmea_in) {
+            (Some(s), _) => s.0,
+            (None, Some(InSpec::File(_)) | None) => None,
+            (None, Some(_)) => Some(1.0),
         }
     }
 
@@ -90,6 +145,7 @@ impl RunArgs {
     pub fn outputs(&self, record_truth: Option<PathBuf>) -> Outputs {
         Outputs {
             nmea_out: self.nmea_out.clone(),
+            nmea_out_own_ship: self.nmea_out_own_ship,
             record_plots: self.record_plots.clone(),
             record_truth,
             record_tracks: self.record_tracks.clone(),

@@ -64,9 +64,9 @@ pub enum Command {
         /// Seed of the scenario.
         #[arg(long, default_value_t = 1)]
         seed: u64,
-        /// Simulated duration, s.
-        #[arg(long, default_value_t = 600.0)]
-        duration: f64,
+        /// Simulated duration, s (default 600; with `--nmea-in file:`, the recording's length).
+        #[arg(long)]
+        duration: Option<f64>,
         /// Write the simulation's truth to this file (the truth file format `track --truth`
         /// reads: `t_s,target,east_m,north_m,vx_mps,vy_mps,detected`, own ship as target 0).
         #[arg(long, value_name = "PATH")]
@@ -266,8 +266,10 @@ where
             record_truth,
             run,
         } => {
-            if !(duration.is_finite() && *duration > 0.0) {
-                anyhow::bail!("--duration {duration}: must be a positive number of seconds");
+            if let Some(d) = duration {
+                if !(d.is_finite() && *d > 0.0) {
+                    anyhow::bail!("--duration {d}: must be a positive number of seconds");
+                }
             }
             if *targets > tracker_core::sim::MAX_TARGETS {
                 anyhow::bail!(
@@ -280,8 +282,11 @@ where
                     scenario: scenario.kind(),
                     targets: *targets,
                     seed: *seed,
-                    duration_s: *duration,
+                    duration_s: duration.unwrap_or(600.0),
+                    // Live: the scans' UTC is now.
+                    epoch_s: (wall_clock_s() * 1000.0).round() / 1000.0,
                 },
+                duration_from_recording: duration.is_none(),
                 filter: run.filter,
                 own_ship: run.own_ship(),
                 outputs: run.outputs(record_truth.clone()),
@@ -399,6 +404,13 @@ where
     }
 }
 
+/// Now, s since 1970 UTC.
+fn wall_clock_s() -> f64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0.0, |d| d.as_secs_f64())
+}
+
 fn exit(ok: bool) -> ExitCode {
     if ok {
         ExitCode::SUCCESS
@@ -416,7 +428,7 @@ fn track_to_end(cli: &Cli, mut tracking: Run, args: &RunArgs) -> anyhow::Result<
     if use_tui {
         let mut state = crate::display::DisplayState::new(link.clone());
         state.limits = limits;
-        crate::display::run_tui(&mut tracking, &mut state, args.speedup.0)?;
+        crate::display::run_tui(&mut tracking, &mut state, args.speedup())?;
         tracking.finish()?;
     } else {
         let mode = if args.plain {
@@ -425,7 +437,7 @@ fn track_to_end(cli: &Cli, mut tracking: Run, args: &RunArgs) -> anyhow::Result<
             PlainMode::Progress { every: 24 }
         };
         tracking.add_sink(Box::new(Plain::new(mode, limits)));
-        tracking.run_to_end(args.speedup.0, |_| {})?;
+        tracking.run_to_end(args.speedup(), |_| {})?;
     }
     let report = tracking.report(&link);
     // A closed standard output (`| head`) is not a failure of the run.

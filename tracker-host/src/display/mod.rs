@@ -207,7 +207,7 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
     let right = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
-            Constraint::Length(4),
+            Constraint::Length(5),
             Constraint::Min(5),
             Constraint::Length(7),
         ])
@@ -227,15 +227,16 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
         Line::from(vec![
             Span::styled("ARPA ", Style::default().add_modifier(Modifier::BOLD)),
             Span::raw(format!(
-                "scan {}  t {:.0} s  link {}  plots {}  targets {}  acquiring {}",
+                "scan {}  {}  link {}  plots {}  targets {}  acquiring {}",
                 view.scan,
-                view.time_s,
+                utc_label(view.time_s),
                 state.link,
                 view.plots.len(),
                 view.targets.len(),
                 tentative,
             )),
         ]),
+        Line::raw(own_ship_line(&view.own)),
         Line::raw(format!(
             "{} NM  {} vectors {} min{}",
             RANGE_SCALES_NM[state.range_scale],
@@ -251,6 +252,35 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
         Paragraph::new(text).block(Block::default().borders(Borders::ALL)),
         area,
     );
+}
+
+/// `hh:mm:ssZ` of a time in s since 1970 UTC.
+pub fn utc_label(time_s: f64) -> String {
+    let t = time_s.rem_euclid(86_400.0) as u64;
+    format!("{:02}:{:02}:{:02}Z", t / 3600, t / 60 % 60, t % 60)
+}
+
+/// Own ship as the header shows it: course and speed over ground, heading, and how it is
+/// known.
+pub fn own_ship_line(own: &crate::own_ship::OwnShip) -> String {
+    let v = own.velocity_mps;
+    let cog = f64::from(v[0])
+        .atan2(f64::from(v[1]))
+        .to_degrees()
+        .rem_euclid(360.0);
+    let sog = f64::from(v[0].hypot(v[1])) / f64::from(MPS_PER_KNOT);
+    let heading = own.heading_rad.map_or("---".to_string(), |h| {
+        format!("{:05.1}", f64::from(h).to_degrees().rem_euclid(360.0))
+    });
+    let q = own.quality;
+    let state = if q.no_fix_yet {
+        "NO FIX".to_string()
+    } else if let Some(age) = q.dead_reckoning_s {
+        format!("DR {age:.0} s")
+    } else {
+        "fix".to_string()
+    };
+    format!("OWN  COG {cog:05.1}  SOG {sog:4.1} kn  HDG {heading}  {state}")
 }
 
 fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
@@ -363,6 +393,12 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
 
 fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
     let mut lines: Vec<Line> = Vec::new();
+    for a in view.own.alarms() {
+        lines.push(Line::styled(
+            a,
+            Style::default().fg(Color::Red).add_modifier(Modifier::BOLD),
+        ));
+    }
     for t in view.targets.iter().filter(|t| t.dangerous(&state.limits)) {
         lines.push(Line::styled(
             format!(

@@ -39,16 +39,21 @@ impl Plain {
     }
 }
 
-/// The one-line scan header.
+/// The scan header: scan, UTC, counts, own ship, and own ship's alarms.
 pub fn header(r: &ScanReport) -> String {
-    format!(
-        "scan {:>4}  t {:>6.1} s  plots {:>3}  targets tracked {:>3}  acquiring {:>3}",
+    let mut s = format!(
+        "scan {:>4}  {}  plots {:>3}  targets tracked {:>3}  acquiring {:>3}  {}",
         r.scan,
-        r.time_s,
+        crate::display::utc_label(r.time_s),
         r.plots.len(),
         r.targets.len(),
-        r.acquiring()
-    )
+        r.acquiring(),
+        crate::display::own_ship_line(&r.own)
+    );
+    for a in r.own.alarms() {
+        s += &format!("\n  {a}");
+    }
+    s
 }
 
 impl ScanSink for Plain {

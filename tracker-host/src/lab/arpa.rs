@@ -181,7 +181,7 @@ fn drkf_config() -> DrkfConfig {
     c.speedlog = GaussMarkov::with_variance(0.1 * 0.1, 1e-4);
     c.speedlog_var = (0.2 / 3.0 * KN).powi(2);
     c.gyro_var = 0.12f64.to_radians().powi(2);
-    c.speedlog_mode = SpeedlogMode::BottomLock;
+    c.speedlog_mode = SpeedlogMode::ThroughWater;
     c
 }
 

@@ -3,7 +3,7 @@
 
 use tracker_core::geo::MPS_PER_KNOT;
 
-use super::{angle_field, sentence, utc};
+use super::{angle_360, angle_field, date, sentence, utc};
 use crate::origin::Origin;
 
 /// What the bridge's sensors would say about own ship at `position_m`, `velocity_mps`
@@ -17,25 +17,22 @@ pub fn own_ship_sentences(
     let (lat, lon) = origin.to_lat_lon(position_m);
     let (lat, lon) = (angle_field(lat, 2, 'N', 'S'), angle_field(lon, 3, 'E', 'W'));
     let speed_kn = velocity_mps[0].hypot(velocity_mps[1]) / f64::from(MPS_PER_KNOT);
-    let course = velocity_mps[0]
-        .atan2(velocity_mps[1])
-        .to_degrees()
-        .rem_euclid(360.0);
-    let time = utc(time_s);
+    let course = angle_360(velocity_mps[0].atan2(velocity_mps[1]).to_degrees(), 2);
+    let (time, date) = (utc(time_s), date(time_s));
     vec![
         sentence(&format!(
             "GPGGA,{time},{lat},{lon},1,10,0.9,12.0,M,47.0,M,,"
         )),
         sentence(&format!(
-            "GPRMC,{time},A,{lat},{lon},{speed_kn:.2},{course:.2},010126,,,A"
+            "GPRMC,{time},A,{lat},{lon},{speed_kn:.2},{course},{date},,,A"
         )),
         sentence(&format!(
-            "GPVTG,{course:.2},T,,M,{speed_kn:.2},N,{:.2},K,A",
+            "GPVTG,{course},T,,M,{speed_kn:.2},N,{:.2},K,A",
             speed_kn * 1.852
         )),
-        sentence(&format!("HEHDT,{course:.2},T")),
+        sentence(&format!("HEHDT,{course},T")),
         sentence(&format!(
-            "VWVHW,{course:.2},T,,M,{speed_kn:.2},N,{:.2},K",
+            "VWVHW,{course},T,,M,{speed_kn:.2},N,{:.2},K",
             speed_kn * 1.852
         )),
     ]

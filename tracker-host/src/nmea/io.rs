@@ -132,111 +132,342 @@ impl std::str::FromStr for InSpec {
     }
 }
 
+/// Longest line kept, bytes: longer ones (noise, a stream that is not NMEA) are dropped
+/// and counted, and memory never grows with them.
+pub const MAX_LINE_BYTES: usize = crate::nmea::sentence::MAX_LINE_CHARS;
+
+/// Most lines taken from a live source per scan: beyond it the rest wait for the next
+/// scan (a flood cannot stall a scan).
+pub const MAX_LINES_PER_READ: usize = 20_000;
+
 /// An open own-ship NMEA source.
 pub enum NmeaIn {
-    /// A recording: lines, and the next one read ahead.
-    File(std::io::Lines<BufReader<std::fs::File>>, Option<String>),
-    /// A live stream (UDP, TCP or serial) and the bytes of an unfinished line.
-    Live(LiveSource, Vec<u8>),
+    /// A recording, read ahead line by line.
+    File(FileLines),
+    /// A live stream (UDP, TCP or serial).
+    Live(LiveLines),
 }
 
-/// A live byte source.
+/// A recording's lines, with a look-ahead.
+pub struct FileLines {
+    reader: BufReader<std::fs::File>,
+    ahead: std::collections::VecDeque<String>,
+    ended: bool,
+}
+
+impl FileLines {
+    /// Line `i` ahead (0: the next), reading as far as needed; `None` past the end.
+    pub fn peek(&mut self, i: usize) -> Option<&str> {
+        while self.ahead.len() <= i && !self.ended {
+            match read_bounded_line(&mut self.reader, MAX_LINE_BYTES) {
+                Ok(Some(line)) => self.ahead.push_back(line),
+                // A read error ends the recording as its end does.
+                Ok(None) | Err(_) => self.ended = true,
+            }
+        }
+        self.ahead.get(i).map(String::as_str)
+    }
+
+    /// The next line.
+    pub fn next_line(&mut self) -> Option<String> {
+        self.peek(0)?;
+        self.ahead.pop_front()
+    }
+}
+
+/// Reads one line (without its end); `Ok(None)` at the end. A line longer than `max`
+/// bytes is consumed to its end but only its first `max + 1` bytes are kept: enough for
+/// whoever reads it to see that it is too long, and memory stays bounded.
+///
+/// # Errors
+/// The reader's.
+pub fn read_bounded_line(reader: &mut impl BufRead, max: usize) -> std::io::Result<Option<String>> {
+    let mut line = Vec::new();
+    let mut any = false;
+    loop {
+        let buf = reader.fill_buf()?;
+        if buf.is_empty() {
+            break;
+        }
+        any = true;
+        let (chunk, done) = match buf.iter().position(|&b| b == b'\n') {
+            Some(i) => (&buf[..i], Some(i + 1)),
+            None => (buf, None),
+        };
+        let room = (max + 1).saturating_sub(line.len());
+        line.extend_from_slice(&chunk[..chunk.len().min(room)]);
+        let used = done.unwrap_or(buf.len());
+        reader.consume(used);
+        if done.is_some() {
+            break;
+        }
+    }
+    if !any {
+        return Ok(None);
+    }
+    if line.last() == Some(&b'\r') {
+        line.pop();
+    }
+    Ok(Some(String::from_utf8_lossy(&line).into_owned()))
+}
+
+/// A live byte source, reconnected after a drop.
 pub enum LiveSource {
     /// UDP socket.
     Udp(UdpSocket),
-    /// Any non-blocking reader (TCP stream, serial port).
-    Stream(Box<dyn Read + Send>),
+    /// A TCP server we connect to; `None` while disconnected.
+    Tcp {
+        /// `HOST:PORT`.
+        addr: String,
+        /// The connection.
+        stream: Option<TcpStream>,
+        /// When to try again, and the wait after that.
+        retry: Retry,
+    },
+    /// A serial port; `None` while closed.
+    Serial {
+        /// Device path.
+        device: String,
+        /// Baud rate.
+        baud: u32,
+        /// The open port.
+        port: Option<Box<dyn serialport::SerialPort>>,
+        /// When to try again.
+        retry: Retry,
+    },
+}
+
+/// Reconnection with back-off: 1 s, doubling to 30 s.
+#[derive(Clone, Copy, Debug)]
+pub struct Retry {
+    at: std::time::Instant,
+    wait: std::time::Duration,
+}
+
+impl Retry {
+    fn now() -> Self {
+        Retry {
+            at: std::time::Instant::now(),
+            wait: std::time::Duration::from_secs(1),
+        }
+    }
+
+    fn due(&self) -> bool {
+        std::time::Instant::now() >= self.at
+    }
+
+    fn failed(&mut self) {
+        self.at = std::time::Instant::now() + self.wait;
+        self.wait = (self.wait * 2).min(std::time::Duration::from_secs(30));
+    }
+
+    fn succeeded(&mut self) {
+        *self = Retry::now();
+    }
+}
+
+/// How long a reconnection attempt may take, so the scan loop is never held longer.
+const CONNECT_TIMEOUT: std::time::Duration = std::time::Duration::from_millis(200);
+
+/// A live source's lines.
+pub struct LiveLines {
+    source: LiveSource,
+    partial: Vec<u8>,
+    /// Times the source went away.
+    pub drops: u64,
+    /// Times it came back.
+    pub reconnects: u64,
+}
+
+impl LiveLines {
+    /// Whether the source is connected now.
+    pub fn connected(&self) -> bool {
+        match &self.source {
+            LiveSource::Udp(_) => true,
+            LiveSource::Tcp { stream, .. } => stream.is_some(),
+            LiveSource::Serial { port, .. } => port.is_some(),
+        }
+    }
+
+    /// The local address of a UDP source.
+    pub fn udp_addr(&self) -> Option<std::net::SocketAddr> {
+        match &self.source {
+            LiveSource::Udp(s) => s.local_addr().ok(),
+            _ => None,
+        }
+    }
+
+    /// Reads what has arrived, as complete lines (at most [`MAX_LINES_PER_READ`]).
+    pub fn available(&mut self) -> Vec<String> {
+        let mut buf = [0u8; 4096];
+        let mut out = Vec::new();
+        // Bytes read per call are bounded too: a flood leaves the rest in the socket.
+        for _ in 0..256 {
+            let n = self.read(&mut buf);
+            if n == 0 {
+                break;
+            }
+            self.take(&buf[..n], &mut out);
+            if out.len() >= MAX_LINES_PER_READ {
+                break;
+            }
+        }
+        out
+    }
+
+    /// Splits bytes into lines, in linear time; an unfinished line waits in `partial`. A
+    /// line longer than [`MAX_LINE_BYTES`] keeps only its first `MAX_LINE_BYTES + 1` bytes
+    /// (the reader sees it is too long; memory stays bounded).
+    fn take(&mut self, bytes: &[u8], out: &mut Vec<String>) {
+        for &b in bytes {
+            if b == b'\n' {
+                let line = self.partial.strip_suffix(b"\r").unwrap_or(&self.partial);
+                out.push(String::from_utf8_lossy(line).into_owned());
+                self.partial.clear();
+            } else if self.partial.len() <= MAX_LINE_BYTES {
+                self.partial.push(b);
+            }
+        }
+    }
+
+    fn read(&mut self, buf: &mut [u8]) -> usize {
+        use std::io::ErrorKind::{Interrupted, TimedOut, WouldBlock};
+        let (drops, reconnects) = (&mut self.drops, &mut self.reconnects);
+        match &mut self.source {
+            LiveSource::Udp(s) => s.recv(buf).unwrap_or(0),
+            LiveSource::Tcp {
+                addr,
+                stream,
+                retry,
+            } => {
+                if stream.is_none() && retry.due() {
+                    match connect(addr) {
+                        Ok(s) => {
+                            *stream = Some(s);
+                            retry.succeeded();
+                            *reconnects += 1;
+                        }
+                        Err(_) => retry.failed(),
+                    }
+                }
+                let Some(s) = stream.as_mut() else {
+                    return 0;
+                };
+                match s.read(buf) {
+                    Ok(0) => {
+                        *stream = None;
+                        *drops += 1;
+                        retry.failed();
+                        0
+                    }
+                    Ok(n) => n,
+                    Err(e) if matches!(e.kind(), WouldBlock | TimedOut | Interrupted) => 0,
+                    Err(_) => {
+                        *stream = None;
+                        *drops += 1;
+                        retry.failed();
+                        0
+                    }
+                }
+            }
+            LiveSource::Serial {
+                device,
+                baud,
+                port,
+                retry,
+            } => {
+                if port.is_none() && retry.due() {
+                    match open_serial(device, *baud) {
+                        Ok(p) => {
+                            *port = Some(p);
+                            retry.succeeded();
+                            *reconnects += 1;
+                        }
+                        Err(_) => retry.failed(),
+                    }
+                }
+                let Some(p) = port.as_mut() else {
+                    return 0;
+                };
+                match p.read(buf) {
+                    Ok(n) => n,
+                    Err(e) if matches!(e.kind(), WouldBlock | TimedOut | Interrupted) => 0,
+                    Err(_) => {
+                        // A hung-up port (a USB adapter pulled): close it, reopen later.
+                        *port = None;
+                        *drops += 1;
+                        retry.failed();
+                        0
+                    }
+                }
+            }
+        }
+    }
+}
+
+fn connect(addr: &str) -> std::io::Result<TcpStream> {
+    let mut last = std::io::Error::other("no address");
+    for a in addr.to_socket_addrs()? {
+        match TcpStream::connect_timeout(&a, CONNECT_TIMEOUT) {
+            Ok(s) => {
+                s.set_nonblocking(true)?;
+                return Ok(s);
+            }
+            Err(e) => last = e,
+        }
+    }
+    Err(last)
+}
+
+fn open_serial(device: &str, baud: u32) -> serialport::Result<Box<dyn serialport::SerialPort>> {
+    serialport::new(device, baud)
+        .timeout(std::time::Duration::from_millis(1))
+        .open()
 }
 
 impl NmeaIn {
     /// Opens `spec`.
     ///
     /// # Errors
-    /// The file does not open, the port is in use, the server refuses the connection, the serial port does not open.
+    /// The file does not open, the port is in use, the server refuses the connection, the
+    /// serial port does not open.
     pub fn open(spec: &InSpec) -> anyhow::Result<Self> {
+        let live = |source| {
+            NmeaIn::Live(LiveLines {
+                source,
+                partial: Vec::new(),
+                drops: 0,
+                reconnects: 0,
+            })
+        };
         Ok(match spec {
             InSpec::File(p) => {
                 let f = std::fs::File::open(p).with_context(|| format!("{}", p.display()))?;
-                NmeaIn::File(BufReader::new(f).lines(), None)
+                NmeaIn::File(FileLines {
+                    reader: BufReader::new(f),
+                    ahead: std::collections::VecDeque::new(),
+                    ended: false,
+                })
             }
             InSpec::Udp(port) => {
                 let s = UdpSocket::bind(("0.0.0.0", *port))
                     .with_context(|| format!("UDP port {port}"))?;
                 s.set_nonblocking(true)?;
-                NmeaIn::Live(LiveSource::Udp(s), Vec::new())
+                live(LiveSource::Udp(s))
             }
-            InSpec::Tcp(addr) => {
-                let s =
-                    TcpStream::connect(addr).with_context(|| format!("connecting to {addr}"))?;
-                s.set_nonblocking(true)?;
-                NmeaIn::Live(LiveSource::Stream(Box::new(s)), Vec::new())
-            }
-            InSpec::Serial(dev, baud) => {
-                let p = serialport::new(dev, *baud)
-                    .timeout(std::time::Duration::from_millis(1))
-                    .open()
-                    .with_context(|| format!("serial port {dev}"))?;
-                NmeaIn::Live(LiveSource::Stream(Box::new(p)), Vec::new())
-            }
+            InSpec::Tcp(addr) => live(LiveSource::Tcp {
+                stream: Some(connect(addr).with_context(|| format!("connecting to {addr}"))?),
+                addr: addr.clone(),
+                retry: Retry::now(),
+            }),
+            InSpec::Serial(dev, baud) => live(LiveSource::Serial {
+                port: Some(open_serial(dev, *baud).with_context(|| format!("serial port {dev}"))?),
+                device: dev.clone(),
+                baud: *baud,
+                retry: Retry::now(),
+            }),
         })
     }
-
-    /// Lines due by `time_s`: from a recording, every line up to the first timed sentence
-    /// later than `time_s`; from a live source, whatever has arrived.
-    pub fn lines_until(&mut self, time_s: f64) -> Vec<String> {
-        let mut out = Vec::new();
-        match self {
-            NmeaIn::File(lines, ahead) => loop {
-                let next = match ahead.take() {
-                    Some(l) => l,
-                    None => match lines.next() {
-                        Some(Ok(l)) => l,
-                        // A read error ends the recording like its end does.
-                        _ => break,
-                    },
-                };
-                if sentence_time_s(&next).is_some_and(|t| t > time_s + 1e-6) {
-                    *ahead = Some(next);
-                    break;
-                }
-                out.push(next);
-            },
-            NmeaIn::Live(source, partial) => {
-                let mut buf = [0u8; 2048];
-                loop {
-                    let n = match source {
-                        LiveSource::Udp(s) => s.recv(&mut buf).unwrap_or(0),
-                        LiveSource::Stream(r) => r.read(&mut buf).unwrap_or(0),
-                    };
-                    if n == 0 {
-                        break;
-                    }
-                    partial.extend_from_slice(&buf[..n]);
-                    // A line longer than any sentence is noise: drop it.
-                    if partial.len() > 4096 && !partial.contains(&b'\n') {
-                        partial.clear();
-                    }
-                }
-                while let Some(i) = partial.iter().position(|&b| b == b'\n') {
-                    let line: Vec<u8> = partial.drain(..=i).collect();
-                    out.push(String::from_utf8_lossy(&line).into_owned());
-                }
-            }
-        }
-        out
-    }
-}
-
-/// Seconds of the day of a `GGA` or `RMC` line (time is its first field), if it has one.
-fn sentence_time_s(line: &str) -> Option<f64> {
-    let line = line.trim();
-    let kind = line.get(3..6)?;
-    if !matches!(kind, "GGA" | "RMC") {
-        return None;
-    }
-    let field = line.split(',').nth(1)?;
-    let (h, m, s) = (field.get(0..2)?, field.get(2..4)?, field.get(4..)?);
-    Some(h.parse::<f64>().ok()? * 3600.0 + m.parse::<f64>().ok()? * 60.0 + s.parse::<f64>().ok()?)
 }
 
 #[cfg(test)]
@@ -274,27 +505,36 @@ mod tests {
         assert_eq!(String::from_utf8(got).unwrap(), sentences.concat());
         // UDP in: lines arrive and are split.
         let mut input = NmeaIn::open(&InSpec::Udp(0)).unwrap();
-        let NmeaIn::Live(LiveSource::Udp(sock), _) = &input else {
+        let NmeaIn::Live(live) = &mut input else {
             unreachable!()
         };
-        let to = sock.local_addr().unwrap().port();
+        let to = live.udp_addr().unwrap().port();
         let tx = UdpSocket::bind("127.0.0.1:0").unwrap();
         let own = own_ship_sentences([0.0, 0.0], [0.0, 5.0], &Origin::default(), 0.0);
         tx.send_to(own[..2].concat().as_bytes(), ("127.0.0.1", to))
             .unwrap();
         let mut lines = Vec::new();
         for _ in 0..100 {
-            lines.extend(input.lines_until(0.0));
+            lines.extend(live.available());
             if lines.len() >= 2 {
                 break;
             }
             std::thread::sleep(std::time::Duration::from_millis(10));
         }
-        assert_eq!(lines, own[..2].to_vec());
+        assert_eq!(
+            lines,
+            own[..2]
+                .iter()
+                .map(|l| l.trim_end().to_string())
+                .collect::<Vec<_>>()
+        );
         // TCP: we connect to a server (a multiplexer) and read what it sends, in pieces.
         let server = TcpListener::bind("127.0.0.1:0").unwrap();
         let spec = InSpec::Tcp(server.local_addr().unwrap().to_string());
         let mut input = NmeaIn::open(&spec).unwrap();
+        let NmeaIn::Live(live) = &mut input else {
+            unreachable!()
+        };
         let (mut peer, _) = server.accept().unwrap();
         let text = own.concat();
         let (a, b) = text.split_at(text.len() / 2 + 3);
@@ -302,7 +542,7 @@ mod tests {
         let mut lines = Vec::new();
         let mut rest = Some(b);
         for _ in 0..100 {
-            lines.extend(input.lines_until(0.0));
+            lines.extend(live.available());
             // The rest once the first part's complete lines are through.
             if let Some(b) = rest.filter(|_| !lines.is_empty()) {
                 peer.write_all(b.as_bytes()).unwrap();
@@ -313,7 +553,12 @@ mod tests {
             }
             std::thread::sleep(std::time::Duration::from_millis(10));
         }
-        assert_eq!(lines, own);
+        assert_eq!(
+            lines,
+            own.iter()
+                .map(|l| l.trim_end().to_string())
+                .collect::<Vec<_>>()
+        );
         assert!("udp:nowhere".parse::<OutSpec>().is_err());
         assert!("serial:/dev/ttyUSB0@4800".parse::<InSpec>().is_ok());
     }

@@ -8,22 +8,14 @@
 
 pub mod bridge;
 pub mod io;
+pub mod sentence;
 pub mod targets;
 
 pub use io::{InSpec, NmeaIn, NmeaOut, OutSpec};
+pub use sentence::{checksum, sentence};
 pub use targets::{targets_sentences, tll, ttm};
 
-/// XOR of the bytes between `$` and `*`.
-pub fn checksum(body: &str) -> u8 {
-    body.bytes().fold(0, |acc, b| acc ^ b)
-}
-
-/// `$body*HH` with its checksum and CR LF.
-pub fn sentence(body: &str) -> String {
-    format!("${body}*{:02X}\r\n", checksum(body))
-}
-
-/// UTC `hhmmss.ss` of the scenario's time (which starts at midnight).
+/// UTC `hhmmss.ss` of a time in s since 1970-01-01 00:00 UTC.
 pub(crate) fn utc(time_s: f64) -> String {
     let t = time_s.rem_euclid(86_400.0);
     let centis = (t * 100.0).round() as u64 % 8_640_000;
@@ -49,6 +41,25 @@ pub(crate) fn angle_field(v: f64, degree_digits: usize, pos: char, neg: char) ->
     )
 }
 
+/// UTC date `ddmmyy` of a time in s since 1970-01-01 00:00 UTC.
+pub(crate) fn date(time_s: f64) -> String {
+    let day = (time_s / 86_400.0).floor() as i64;
+    chrono::DateTime::from_timestamp(day * 86_400, 0)
+        .map_or_else(|| "010170".to_string(), |d| d.format("%d%m%y").to_string())
+}
+
+/// An angle in degrees as `decimals` decimals in 0 ≤ a < 360: rounded first, then wrapped,
+/// so 359.96 is `0.0`, never `360.0`.
+pub(crate) fn angle_360(deg: f64, decimals: usize) -> String {
+    let scale = 10f64.powi(decimals as i32);
+    let mut a = (deg.rem_euclid(360.0) * scale).round() / scale;
+    if a >= 360.0 {
+        a -= 360.0;
+    }
+    format!("{a:.decimals$}")
+}
+
+/// Degrees of an angle in radians.
 pub(crate) fn degrees(rad: f32) -> f64 {
-    f64::from(rad).to_degrees().rem_euclid(360.0)
+    f64::from(rad).to_degrees()
 }

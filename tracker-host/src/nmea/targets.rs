@@ -1,81 +1,213 @@
 //! Targets out to a chart plotter: `TTM` (tracked target message) and `TLL` (target
-//! latitude and longitude), IEC 61162-1.
+//! latitude and longitude), IEC 61162-1 §8; and, when the plotter has no GNSS of its own,
+//! own ship (`RMC`, `HDT`, `OSD`).
+//!
+//! Target numbers are what a plotter keys its targets on, so they are the plotter's, not
+//! the device's track numbers: 01–99, unique among the targets live on the plotter, kept
+//! for a track's life, and a number given back waits longest before it is given again
+//! ([`TargetNumbers`]). A track that ends (lost, or an acquisition that failed) is sent once
+//! with status `L`, then its number is free. Acquiring tracks go as `Q`, tracked ones as
+//! `T`. With more live tracks than numbers the least important (by danger, then status,
+//! then range) are not sent, and that is counted.
+//!
+//! Course and speed are true (over ground) when own ship's motion is known; otherwise they
+//! are sent relative and marked `R`.
+
+use std::collections::{BTreeMap, VecDeque};
 
 use tracker_core::geo::{METRES_PER_NM, MPS_PER_KNOT};
-use tracker_core::icd::TrackStatus;
+use tracker_core::icd::{TrackState, TrackStatus};
 
-use super::{angle_field, degrees, sentence, utc, NmeaOut, OutSpec};
+use super::{angle_360, angle_field, date, degrees, sentence, utc, NmeaOut, OutSpec};
 use crate::origin::Origin;
-use crate::session::target::TargetData;
+use crate::own_ship::OwnShip;
+use crate::session::target::{AlarmLimits, TargetData};
 use crate::session::ScanReport;
 use crate::sink::ScanSink;
 use crate::source::SourceScan;
 
-/// `TTM`, tracked target message, for one target: number, distance (NM) and true bearing,
-/// speed (kn) and true course over ground, CPA (NM), TCPA (minutes, negative once passed),
-/// units N, name, status (T tracking, L lost, Q acquiring), no reference target, UTC, A
-/// (automatic acquisition).
-pub fn ttm(t: &TargetData, time_s: f64) -> String {
-    let status = match t.status {
-        TrackStatus::Tentative => 'Q',
-        TrackStatus::Lost => 'L',
-        TrackStatus::Confirmed | TrackStatus::Coasting => 'T',
+/// The highest target number (the field holds two digits; 00 is not used).
+pub const MAX_TARGET_NUMBER: u8 = 99;
+
+/// A target as the plotter is told of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PlotterTarget {
+    /// The plotter's number, 1–99.
+    pub number: u8,
+    /// Status letter: `T` tracking, `Q` acquiring, `L` lost.
+    pub status: char,
+    /// The target's data.
+    pub data: TargetData,
+}
+
+/// `TTM` for one target: number, distance (NM) and true bearing, speed (kn) and course,
+/// `T` (true) or `R` (relative: own ship's motion unknown), CPA (NM), TCPA (minutes,
+/// negative once passed), units N, name, status, no reference target, UTC, A (automatic
+/// acquisition). Bearings and courses are 0.0–359.9.
+pub fn ttm(t: &PlotterTarget, time_s: f64) -> String {
+    let d = &t.data;
+    let (speed, course, reference) = if d.true_motion_known {
+        (d.speed_mps, d.course_rad, 'T')
+    } else {
+        (d.rel_speed_mps, d.rel_course_rad, 'R')
     };
-    let number = t.track % 100;
+    let number = t.number;
     sentence(&format!(
-        "RATTM,{number:02},{:.3},{:.1},T,{:.1},{:.1},T,{:.3},{:.2},N,TGT{number:02},{status},,{},A",
-        f64::from(t.range_m) / f64::from(METRES_PER_NM),
-        degrees(t.bearing_rad),
-        f64::from(t.speed_mps) / f64::from(MPS_PER_KNOT),
-        degrees(t.course_rad),
-        f64::from(t.cpa_m) / f64::from(METRES_PER_NM),
-        f64::from(t.tcpa_s) / 60.0,
+        "RATTM,{number:02},{:.3},{},T,{:.1},{},{reference},{:.3},{:.2},N,TGT{number:02},{},,{},A",
+        f64::from(d.range_m) / f64::from(METRES_PER_NM),
+        angle_360(degrees(d.bearing_rad), 1),
+        f64::from(speed) / f64::from(MPS_PER_KNOT),
+        angle_360(degrees(course), 1),
+        f64::from(d.cpa_m) / f64::from(METRES_PER_NM),
+        f64::from(d.tcpa_s) / 60.0,
+        t.status,
         utc(time_s)
     ))
 }
 
-/// `TLL`, target latitude and longitude: number, position, name, UTC, status, no reference.
-pub fn tll(t: &TargetData, origin: &Origin, time_s: f64) -> String {
-    let (lat, lon) = origin.to_lat_lon([f64::from(t.position_m[0]), f64::from(t.position_m[1])]);
-    let number = t.track % 100;
-    let status = if t.status == TrackStatus::Lost {
-        'L'
-    } else {
-        'T'
-    };
+/// `TLL` for one target: number, latitude and longitude (longitude wrapped to ±180°),
+/// name, UTC, status, no reference target.
+pub fn tll(t: &PlotterTarget, origin: &Origin, time_s: f64) -> String {
+    let d = &t.data;
+    let (lat, lon) = origin.to_lat_lon([f64::from(d.position_m[0]), f64::from(d.position_m[1])]);
+    let number = t.number;
     sentence(&format!(
-        "RATLL,{number:02},{},{},TGT{number:02},{},{status},",
+        "RATLL,{number:02},{},{},TGT{number:02},{},{},",
         angle_field(lat, 2, 'N', 'S'),
         angle_field(lon, 3, 'E', 'W'),
-        utc(time_s)
+        utc(time_s),
+        t.status
     ))
 }
 
-/// The sentences of one scan for every target a plotter should show (confirmed and
-/// coasting): `TTM` and `TLL` each.
-pub fn targets_sentences(targets: &[TargetData], origin: &Origin, time_s: f64) -> Vec<String> {
-    targets
-        .iter()
-        .flat_map(|t| [ttm(t, time_s), tll(t, origin, time_s)])
-        .collect()
+/// Own ship for a plotter without GNSS: `RMC` (position, SOG, COG, UTC and date; status
+/// `V` while own ship is dead reckoning or its motion unknown), `HDT` when a heading is
+/// known, and `OSD` (own ship data: heading, course, speed, and their references).
+pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<String> {
+    let p = [f64::from(own.position_m[0]), f64::from(own.position_m[1])];
+    let (lat, lon) = origin.to_lat_lon(p);
+    let v = own.velocity_mps;
+    let sog_kn = f64::from(v[0].hypot(v[1])) / f64::from(MPS_PER_KNOT);
+    let cog = angle_360(f64::from(v[0]).atan2(f64::from(v[1])).to_degrees(), 1);
+    let q = own.quality;
+    let status = if q.dead_reckoning_s.is_none() && q.motion_known && !q.no_fix_yet {
+        'A'
+    } else {
+        'V'
+    };
+    let mut out = vec![sentence(&format!(
+        "RARMC,{},{status},{},{},{sog_kn:.1},{cog},{},,,{}",
+        utc(time_s),
+        angle_field(lat, 2, 'N', 'S'),
+        angle_field(lon, 3, 'E', 'W'),
+        date(time_s),
+        if status == 'A' { 'A' } else { 'E' }
+    ))];
+    let heading = own.heading_rad.map(|h| angle_360(degrees(h), 1));
+    if let Some(h) = &heading {
+        out.push(sentence(&format!("RAHDT,{h},T")));
+    }
+    out.push(sentence(&format!(
+        "RAOSD,{},{},{cog},P,{sog_kn:.1},P,,,N",
+        heading.as_deref().unwrap_or(""),
+        if heading.is_some() { 'A' } else { 'V' }
+    )));
+    out
 }
 
-/// Every confirmed and coasting target to chart plotters each scan, as `TTM` and `TLL`.
+/// The plotter's target numbers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TargetNumbers {
+    free: VecDeque<u8>,
+    of_track: BTreeMap<u16, u8>,
+}
+
+impl TargetNumbers {
+    /// Numbers 1 to `highest` (at most [`MAX_TARGET_NUMBER`]).
+    pub fn new(highest: u8) -> Self {
+        TargetNumbers {
+            free: (1..=highest.min(MAX_TARGET_NUMBER)).collect(),
+            of_track: BTreeMap::new(),
+        }
+    }
+
+    /// The number of `track`, giving it the longest-free one if it has none; `None` when
+    /// every number is in use.
+    pub fn of(&mut self, track: u16) -> Option<u8> {
+        if let Some(n) = self.of_track.get(&track) {
+            return Some(*n);
+        }
+        let n = self.free.pop_front()?;
+        self.of_track.insert(track, n);
+        Some(n)
+    }
+
+    /// The number `track` holds, if any.
+    pub fn held(&self, track: u16) -> Option<u8> {
+        self.of_track.get(&track).copied()
+    }
+
+    /// Gives `track`'s number back (to the end of the queue).
+    pub fn release(&mut self, track: u16) {
+        if let Some(n) = self.of_track.remove(&track) {
+            self.free.push_back(n);
+        }
+    }
+
+    /// Tracks holding a number.
+    pub fn tracks(&self) -> Vec<u16> {
+        self.of_track.keys().copied().collect()
+    }
+}
+
+/// What the plotter output did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct TargetsOutCounts {
+    /// Target reports sent (`TTM` and `TLL` pairs).
+    pub targets_sent: u64,
+    /// Ends sent (`L`).
+    pub lost_sent: u64,
+    /// Live targets not sent because every number was in use (target-scans).
+    pub not_sent_no_number: u64,
+}
+
+/// Targets (and optionally own ship) to chart plotters each scan.
 pub struct TargetsOut {
     out: NmeaOut,
     origin: Origin,
+    numbers: TargetNumbers,
+    last: BTreeMap<u16, TargetData>,
+    own_ship: bool,
+    limits: AlarmLimits,
+    counts: TargetsOutCounts,
 }
 
 impl TargetsOut {
-    /// Opens `spec`; `origin` ties the local frame to the chart.
+    /// Opens `spec`; `origin` ties the local frame to the chart; with `own_ship`, own ship is
+    /// sent too.
     ///
     /// # Errors
     /// The socket does not open (an address that does not resolve, a port in use).
-    pub fn open(spec: &OutSpec, origin: Origin) -> anyhow::Result<Self> {
-        Ok(TargetsOut {
-            out: NmeaOut::open(spec)?,
+    pub fn open(spec: &OutSpec, origin: Origin, own_ship: bool) -> anyhow::Result<Self> {
+        Ok(TargetsOut::new(
+            NmeaOut::open(spec)?,
             origin,
-        })
+            own_ship,
+            MAX_TARGET_NUMBER,
+        ))
+    }
+
+    /// Over an open output, numbering targets 1 to `highest`.
+    pub fn new(out: NmeaOut, origin: Origin, own_ship: bool, highest: u8) -> Self {
+        TargetsOut {
+            out,
+            origin,
+            numbers: TargetNumbers::new(highest),
+            last: BTreeMap::new(),
+            own_ship,
+            limits: AlarmLimits::default(),
+            counts: TargetsOutCounts::default(),
+        }
     }
 
     /// The socket's local address (for a TCP server: the port plotters connect to).
@@ -85,17 +217,107 @@ impl TargetsOut {
     pub fn local_addr(&self) -> std::io::Result<std::net::SocketAddr> {
         self.out.local_addr()
     }
+
+    /// What was sent so far.
+    pub fn counts(&self) -> TargetsOutCounts {
+        self.counts
+    }
+
+    /// One scan's sentences: live tracks in order of importance, each with its number, and
+    /// ends (`L`) for tracks gone since the last scan.
+    pub fn scan_sentences(&mut self, report: &ScanReport) -> Vec<String> {
+        let time_s = report.time_s;
+        let mut live: Vec<(&TrackState, TargetData)> = report
+            .tracks
+            .iter()
+            .filter(|t| t.status != TrackStatus::Lost)
+            .map(|t| (t, TargetData::new(&report.own, t)))
+            .collect();
+        // Most important first: dangerous, then tracked before acquiring, then nearest.
+        let rank = |t: &(&TrackState, TargetData)| {
+            (
+                !t.1.dangerous(&self.limits),
+                t.0.status == TrackStatus::Tentative,
+            )
+        };
+        live.sort_by(|a, b| {
+            rank(a)
+                .cmp(&rank(b))
+                .then(a.1.range_m.total_cmp(&b.1.range_m))
+        });
+        let mut out = Vec::new();
+        // Ends first: numbers given back this scan go to the back of the queue.
+        for track in self.numbers.tracks() {
+            if live.iter().any(|(t, _)| t.track == track) {
+                continue;
+            }
+            let data = report
+                .tracks
+                .iter()
+                .find(|t| t.track == track)
+                .map(|t| TargetData::new(&report.own, t))
+                .or_else(|| self.last.get(&track).copied());
+            if let (Some(number), Some(data)) = (self.numbers.held(track), data) {
+                let t = PlotterTarget {
+                    number,
+                    status: 'L',
+                    data,
+                };
+                out.push(ttm(&t, time_s));
+                out.push(tll(&t, &self.origin, time_s));
+                self.counts.lost_sent += 1;
+            }
+            self.numbers.release(track);
+            self.last.remove(&track);
+        }
+        for (track, data) in &live {
+            let Some(number) = self.numbers.of(track.track) else {
+                self.counts.not_sent_no_number += 1;
+                continue;
+            };
+            let status = match track.status {
+                TrackStatus::Tentative => 'Q',
+                _ => 'T',
+            };
+            let t = PlotterTarget {
+                number,
+                status,
+                data: *data,
+            };
+            out.push(ttm(&t, time_s));
+            out.push(tll(&t, &self.origin, time_s));
+            self.counts.targets_sent += 1;
+            self.last.insert(track.track, *data);
+        }
+        if self.own_ship {
+            out.extend(own_ship_sentences(&report.own, &self.origin, time_s));
+        }
+        out
+    }
 }
 
 impl ScanSink for TargetsOut {
     fn scan(&mut self, _: &SourceScan, report: &ScanReport) -> anyhow::Result<()> {
-        self.out.send(&targets_sentences(
-            &report.targets,
-            &self.origin,
-            report.time_s,
-        ));
+        let sentences = self.scan_sentences(report);
+        self.out.send(&sentences);
         Ok(())
     }
+}
+
+/// The sentences for `targets` as they stand, numbered by their track numbers (for tests
+/// and one-off use: [`TargetsOut`] keeps plotter numbers over a run).
+pub fn targets_sentences(targets: &[TargetData], origin: &Origin, time_s: f64) -> Vec<String> {
+    targets
+        .iter()
+        .flat_map(|d| {
+            let t = PlotterTarget {
+                number: (d.track % 99 + 1) as u8,
+                status: 'T',
+                data: *d,
+            };
+            [ttm(&t, time_s), tll(&t, origin, time_s)]
+        })
+        .collect()
 }
 
 #[cfg(test)]
@@ -103,10 +325,18 @@ mod tests {
     use super::*;
     use crate::nmea::checksum;
 
+    fn plotter(data: TargetData) -> PlotterTarget {
+        PlotterTarget {
+            number: 7,
+            status: 'T',
+            data,
+        }
+    }
+
     #[test]
     fn ttm_reads_back_through_an_independent_parser() {
         let t = crate::session::target::example();
-        let s = ttm(&t, 3723.5);
+        let s = ttm(&plotter(t), 3723.5);
         assert!(s.ends_with("\r\n") && s.starts_with("$RATTM,07,"));
         let parsed = match nmea::parse_str(s.trim()).unwrap() {
             nmea::ParseResult::TTM(d) => d,
@@ -136,6 +366,13 @@ mod tests {
         );
         // Bearing 036.9° true (3 km east, 4 km north); course 270° true.
         assert!(s.contains(",36.9,T,") && s.contains(",270.0,T,"), "{s}");
+        // Own motion unknown: relative course and speed, marked R.
+        let rel = TargetData {
+            true_motion_known: false,
+            ..t
+        };
+        let s = ttm(&plotter(rel), 0.0);
+        assert!(s.contains(",R,"), "{s}");
     }
 
     #[test]
@@ -145,7 +382,7 @@ mod tests {
             lat_deg: 50.0,
             lon_deg: -1.0,
         };
-        let s = tll(&t, &origin, 0.0);
+        let s = tll(&plotter(t), &origin, 0.0);
         // The nmea crate checks the frame and checksum (it has no TLL field parser).
         let frame = nmea::parse_nmea_sentence(s.trim()).unwrap();
         assert_eq!(frame.checksum, checksum(&s[1..s.find('*').unwrap()]));
@@ -158,5 +395,26 @@ mod tests {
         let lon_min: f64 = f[4][3..].parse().unwrap();
         assert!((lon_min - (60.0 - 3000.0 / (1852.0 * 50f64.to_radians().cos()))).abs() < 1e-3);
         assert_eq!((f[6], f[7], f[8]), ("TGT07", "000000.00", "T"));
+    }
+
+    #[test]
+    fn numbers_are_unique_kept_and_given_back_last() {
+        let mut n = TargetNumbers::new(3);
+        assert_eq!((n.of(10), n.of(11), n.of(10)), (Some(1), Some(2), Some(1)));
+        assert_eq!(n.of(12), Some(3));
+        assert_eq!(n.of(13), None, "all in use");
+        n.release(11);
+        assert_eq!(n.of(14), Some(2));
+        n.release(10);
+        n.release(12);
+        assert_eq!(n.of(15), Some(1), "the longest free first");
+    }
+
+    #[test]
+    fn angles_never_read_360() {
+        assert_eq!(angle_360(359.96, 1), "0.0");
+        assert_eq!(angle_360(-0.01, 1), "0.0");
+        assert_eq!(angle_360(359.94, 1), "359.9");
+        assert_eq!(angle_360(720.5, 2), "0.50");
     }
 }

@@ -1,5 +1,5 @@
 //! Own ship: where we are and how we move, which every range, bearing, CPA and TCPA is
-//! measured from.
+//! measured from, and how far that can be trusted.
 //!
 //! An [`OwnShipSource`] gives own ship at each scan:
 //!
@@ -8,8 +8,16 @@
 //! | [`FromPlotSource`] | what the plot source knows: the simulator's truth, a plots file's own-ship columns |
 //! | [`NmeaOwnShip`] | NMEA 0183 from the bridge (a recording, UDP, TCP, serial) through the dead-reckoning filter ([`nav`]) |
 //! | [`SimulatedBridge`] | the plot source's own ship sent through the same sentences and filter, and recorded |
+//!
+//! [`sentences`] says what each sentence means, [`clock`] keeps the bridge's UTC, [`select`]
+//! chooses one talker per quantity, [`recording`] reads a whole recording ahead (its start,
+//! its fixes).
 
+pub mod clock;
 pub mod nav;
+pub mod recording;
+pub mod select;
+pub mod sentences;
 
 use std::io::Write as _;
 
@@ -21,6 +29,34 @@ use crate::nmea::{InSpec, NmeaIn};
 use crate::origin::Origin;
 use crate::source::SourceScan;
 use nav::{NavCounts, OwnShipNav};
+use select::Selector;
+
+/// How far own ship can be trusted.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OwnShipQuality {
+    /// Seconds since the last position fix, once that is longer than
+    /// [`nav::POSITION_LOST_S`]: own ship is dead reckoned. `None`: measured.
+    pub dead_reckoning_s: Option<f32>,
+    /// Own ship's motion over ground is known (measured, or dead reckoned within
+    /// [`nav::MAX_DEAD_RECKONING_S`]). Without it targets' true course and speed are not.
+    pub motion_known: bool,
+    /// A heading was received and has stopped.
+    pub heading_lost: bool,
+    /// No position yet: own ship is taken at the origin, stopped.
+    pub no_fix_yet: bool,
+}
+
+impl Default for OwnShipQuality {
+    /// Measured, motion known (the simulator's truth, a plots file).
+    fn default() -> Self {
+        OwnShipQuality {
+            dead_reckoning_s: None,
+            motion_known: true,
+            heading_lost: false,
+            no_fix_yet: false,
+        }
+    }
+}
 
 /// Own ship's state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -29,6 +65,57 @@ pub struct OwnShip {
     pub position_m: EastNorth,
     /// Velocity over ground, m/s.
     pub velocity_mps: EastNorth,
+    /// Heading, rad true, when a heading sensor gives it.
+    pub heading_rad: Option<f32>,
+    /// How far it can be trusted.
+    pub quality: OwnShipQuality,
+}
+
+impl OwnShip {
+    /// Measured `position_m` and `velocity_mps`, no heading.
+    pub fn at(position_m: EastNorth, velocity_mps: EastNorth) -> Self {
+        OwnShip {
+            position_m,
+            velocity_mps,
+            ..OwnShip::default()
+        }
+    }
+
+    /// Unknown: at the origin, stopped, no fix yet.
+    pub fn unknown() -> Self {
+        OwnShip {
+            quality: OwnShipQuality {
+                motion_known: false,
+                no_fix_yet: true,
+                ..OwnShipQuality::default()
+            },
+            ..OwnShip::default()
+        }
+    }
+
+    /// The alarms own ship raises, as the operator reads them.
+    pub fn alarms(&self) -> Vec<String> {
+        let q = self.quality;
+        let mut a = Vec::new();
+        if q.no_fix_yet {
+            a.push("OWN SHIP: no position fix yet".to_string());
+        } else if let Some(age) = q.dead_reckoning_s {
+            if q.motion_known {
+                a.push(format!(
+                    "OWN SHIP: position lost, dead reckoning for {age:.0} s"
+                ));
+            } else {
+                a.push(format!(
+                    "OWN SHIP: position lost {:.0} min ago, motion unknown: true vectors off",
+                    age / 60.0
+                ));
+            }
+        }
+        if q.heading_lost {
+            a.push("OWN SHIP: heading lost".to_string());
+        }
+        a
+    }
 }
 
 /// A source of own ship, asked once a scan.
@@ -43,6 +130,11 @@ pub trait OwnShipSource {
     /// What became of the sentences, for sources that read NMEA.
     fn nmea_counts(&self) -> Option<NavCounts> {
         None
+    }
+
+    /// What happened worth telling (a change of source, a disagreement, a reconnection).
+    fn events(&self) -> Vec<String> {
+        Vec::new()
     }
 }
 
@@ -61,6 +153,25 @@ impl OwnShipSource for FromPlotSource {
     }
 }
 
+/// How own-ship NMEA is read.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NmeaOptions {
+    /// Talker priority per quantity (the first delivering one is used).
+    pub priority: std::collections::BTreeMap<sentences::Quantity, Vec<String>>,
+    /// The operator's magnetic variation, degrees east, for magnetic headings that come
+    /// with none.
+    pub variation_deg: Option<f64>,
+    /// Times before the first dated sentence count from this day (days since 1970).
+    pub provisional_day: i64,
+}
+
+/// A timed sentence this far ahead of the clock, whose next timed neighbour is back before
+/// it, is out of sequence (one corrupt time with a valid checksum), s.
+const OUT_OF_SEQUENCE_S: f64 = 60.0;
+
+/// Timed sentences looked at past an outlying one.
+const LOOK_AHEAD_LINES: usize = 64;
+
 /// Own ship from NMEA 0183 through the dead-reckoning filter. A recording is replayed in
 /// step with the scans by its sentences' UTC; a live source gives what has arrived.
 pub struct NmeaOwnShip {
@@ -73,26 +184,84 @@ impl NmeaOwnShip {
     ///
     /// # Errors
     /// The file, socket or port does not open.
-    pub fn open(spec: &InSpec, origin: Origin) -> anyhow::Result<Self> {
+    pub fn open(spec: &InSpec, origin: Origin, o: &NmeaOptions) -> anyhow::Result<Self> {
         Ok(NmeaOwnShip {
             input: NmeaIn::open(spec)?,
-            nav: OwnShipNav::new(origin),
+            nav: OwnShipNav::with_selector(
+                origin,
+                o.provisional_day,
+                o.variation_deg,
+                Selector::new(o.priority.clone()),
+            ),
         })
+    }
+
+    /// Feeds every line of a recording due by `time_s`: untimed lines as they come, a timed
+    /// one once its time has come. A timed line far ahead whose next timed neighbour is back
+    /// before it is out of sequence: refused, and the replay goes on.
+    fn replay_until(&mut self, time_s: f64) {
+        let NmeaIn::File(file) = &mut self.input else {
+            return;
+        };
+        while let Some(line) = file.peek(0) {
+            let Some(t) = self.nav.time_of(line) else {
+                if let Some(line) = file.next_line() {
+                    self.nav.feed(&line);
+                }
+                continue;
+            };
+            let reference = self.nav.newest_s().unwrap_or(t).min(time_s);
+            if t > reference + OUT_OF_SEQUENCE_S {
+                let back = (1..LOOK_AHEAD_LINES)
+                    .filter_map(|i| file.peek(i).map(|l| self.nav.time_of(l)))
+                    .flatten()
+                    .next()
+                    .is_some_and(|next| next < t - 1.0);
+                if back {
+                    file.next_line();
+                    self.nav.refuse_out_of_sequence();
+                    continue;
+                }
+            }
+            if t > time_s + 1e-6 {
+                break;
+            }
+            if let Some(line) = file.next_line() {
+                self.nav.feed(&line);
+            }
+        }
     }
 }
 
 impl OwnShipSource for NmeaOwnShip {
     fn own_ship(&mut self, scan: &SourceScan) -> anyhow::Result<OwnShip> {
         let t = scan.radar.time_s;
-        for line in self.input.lines_until(t) {
-            self.nav.feed(&line);
+        match &mut self.input {
+            NmeaIn::File(_) => self.replay_until(t),
+            NmeaIn::Live(live) => {
+                for line in live.available() {
+                    self.nav.feed(&line);
+                }
+            }
         }
-        // Before the first position fix own ship stays at the origin, stopped.
-        Ok(self.nav.own_ship_at(t).unwrap_or_default())
+        Ok(self.nav.own_ship_at(t).unwrap_or_else(OwnShip::unknown))
     }
 
     fn nmea_counts(&self) -> Option<NavCounts> {
-        Some(self.nav.counts())
+        Some(self.nav.counts().clone())
+    }
+
+    fn events(&self) -> Vec<String> {
+        let mut e = self.nav.events();
+        if let NmeaIn::Live(live) = &self.input {
+            if live.drops > 0 {
+                e.push(format!(
+                    "NMEA source dropped {} times, reconnected {} times",
+                    live.drops, live.reconnects
+                ));
+            }
+        }
+        e
     }
 }
 
@@ -102,7 +271,8 @@ impl OwnShipSource for NmeaOwnShip {
 pub struct SimulatedBridge {
     recording: std::io::BufWriter<std::fs::File>,
     origin: Origin,
-    nav: OwnShipNav,
+    /// Made at the first scan, whose date it starts from (as a replay's would).
+    nav: Option<OwnShipNav>,
 }
 
 impl SimulatedBridge {
@@ -116,7 +286,7 @@ impl SimulatedBridge {
         Ok(SimulatedBridge {
             recording: std::io::BufWriter::new(f),
             origin,
-            nav: OwnShipNav::new(origin),
+            nav: None,
         })
     }
 }
@@ -125,6 +295,10 @@ impl OwnShipSource for SimulatedBridge {
     fn own_ship(&mut self, scan: &SourceScan) -> anyhow::Result<OwnShip> {
         let truth = FromPlotSource.own_ship(scan)?;
         let t = scan.radar.time_s;
+        let origin = self.origin;
+        let nav = self
+            .nav
+            .get_or_insert_with(|| OwnShipNav::new(origin, (t / 86_400.0).floor() as i64, None));
         let lines = own_ship_sentences(
             truth.position_m.map(f64::from),
             truth.velocity_mps.map(f64::from),
@@ -135,15 +309,15 @@ impl OwnShipSource for SimulatedBridge {
             self.recording
                 .write_all(l.as_bytes())
                 .context("writing the NMEA recording")?;
-            self.nav.feed(l);
+            nav.feed(l);
         }
         self.recording
             .flush()
             .context("writing the NMEA recording")?;
-        Ok(self.nav.own_ship_at(t).unwrap_or_default())
+        Ok(nav.own_ship_at(t).unwrap_or_else(OwnShip::unknown))
     }
 
     fn nmea_counts(&self) -> Option<NavCounts> {
-        Some(self.nav.counts())
+        self.nav.as_ref().map(|n| n.counts().clone())
     }
 }

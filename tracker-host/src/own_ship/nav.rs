@@ -1,36 +1,105 @@
-//! Own ship from NMEA: sentences in, paper 004's dead-reckoning filter (DRKF) out. GPS
-//! position and velocity, the gyro's heading and the log's speed through the water, each
-//! parsed by the `nmea` crate; a bad checksum, a malformed sentence, a void fix and a
-//! sentence older than the newest one are each rejected and counted ([`NavCounts`]).
+//! Own ship from NMEA: every line classified, the chosen talkers' readings timed by the
+//! bridge's clock and fed to paper 004's dead-reckoning filter (DRKF): GNSS position and
+//! velocity over ground, the heading (true, or magnetic made true with the variation), the
+//! log's speed through the water. Counted per kind and reason ([`NavCounts`]).
+//!
+//! Speed through the water (`VHW`, `VBW` water) enters as the DRKF's log row through the
+//! water (eq. 7d: the filter estimates the current between it and the GNSS velocity); speed
+//! over ground along the keel (`VBW` ground) enters, with the heading, as a velocity over
+//! ground.
+//!
+//! A magnetic heading (`HDG`, `HDM`) is made true with the variation: the sentence's own
+//! (`HDG`), else the GNSS receiver's (`RMC`), else the operator's (`--magnetic-variation`);
+//! with none of them it is not used (counted `no_variation`).
+//!
+//! Sensor failures: a position older than [`POSITION_LOST_S`] is dead reckoning (an alarm
+//! with its age); after [`MAX_DEAD_RECKONING_S`] of that, or a gap of that long between
+//! fixes, own ship's motion is no longer known (targets' true motion is not given) and the
+//! filter restarts at the next fix. A heading that stops for [`HEADING_LOST_S`] is an alarm.
 
-use tracker_core::geo::MPS_PER_KNOT;
+use std::collections::BTreeMap;
+
 use tracker_core::nav::drkf::{Drkf, DrkfConfig, NavFix, SpeedlogMode};
 use tracker_core::nav::GaussMarkov;
 
-use super::OwnShip;
+use super::clock::UtcClock;
+use super::select::Selector;
+use super::sentences::{decode, Decoded, Reading, Rejection};
+use super::{OwnShip, OwnShipQuality};
+use crate::nmea::sentence::{self, Line, LineError};
 use crate::origin::Origin;
 
-/// What became of the own-ship sentences.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+/// A position older than this is dead reckoning, s.
+pub const POSITION_LOST_S: f64 = 10.0;
+
+/// Dead reckoning longer than this leaves own ship's motion unknown; a gap between fixes
+/// this long restarts the filter, s.
+pub const MAX_DEAD_RECKONING_S: f64 = 300.0;
+
+/// A heading silent this long (after one was received) is an alarm, s.
+pub const HEADING_LOST_S: f64 = 10.0;
+
+/// What became of the lines.
+#[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct NavCounts {
-    /// Used by the dead-reckoning filter.
-    pub accepted: u64,
-    /// Checksum wrong.
-    pub bad_checksum: u64,
-    /// Not a sentence, or fields out of form.
-    pub malformed: u64,
-    /// A fix flagged invalid (RMC status V, GGA quality 0) or without its values.
-    pub void: u64,
-    /// Older than a sentence already used.
-    pub stale: u64,
-    /// Well-formed but not a sentence own ship needs (satellites, depth, …).
+    /// Lines read (annotations and blank lines included).
+    pub lines: u64,
+    /// Sentences used (at least one reading applied).
+    pub used: u64,
+    /// Well-formed sentences own ship does not use (satellites, depth, wind, AIS,
+    /// proprietary), and those of a talker not chosen for its quantity.
     pub ignored: u64,
+    /// Of the ignored: sentences of a talker not chosen for their quantity.
+    pub other_source: u64,
+    /// A recording's annotations (`#` comments, JSON reports): not sentences.
+    pub annotations: u64,
+    /// Rejected: the checksum does not match.
+    pub bad_checksum: u64,
+    /// Rejected: not framed as a sentence, or fields that do not parse.
+    pub malformed: u64,
+    /// Rejected: data flagged invalid or empty (RMC `V`, GGA quality 0, empty HDT).
+    pub void: u64,
+    /// Rejected: a time earlier than the newest one used.
+    pub stale: u64,
+    /// Rejected: a value out of range.
+    pub out_of_range: u64,
+    /// Rejected: a heading that should be true is magnetic (`HDT,…,M`).
+    pub not_true: u64,
+    /// Rejected: a magnetic heading with no variation known.
+    pub no_variation: u64,
+    /// Ignored sentences by type (`GSV`, `VDM`, `P` for proprietary, …).
+    pub ignored_by_type: BTreeMap<String, u64>,
 }
 
 impl NavCounts {
-    /// Sentences rejected (errors, not the ignored ones).
+    /// Sentences rejected, for any reason.
     pub fn rejected(&self) -> u64 {
-        self.bad_checksum + self.malformed + self.void + self.stale
+        self.bad_checksum
+            + self.malformed
+            + self.void
+            + self.stale
+            + self.out_of_range
+            + self.not_true
+            + self.no_variation
+    }
+
+    /// Blank lines: what is neither a sentence nor an annotation.
+    pub fn blank(&self) -> u64 {
+        self.lines - self.used - self.ignored - self.annotations - self.rejected()
+    }
+
+    fn reject(&mut self, r: Rejection) {
+        match r {
+            Rejection::Malformed => self.malformed += 1,
+            Rejection::Void => self.void += 1,
+            Rejection::NotTrue => self.not_true += 1,
+            Rejection::OutOfRange => self.out_of_range += 1,
+        }
+    }
+
+    fn ignore(&mut self, kind: &str) {
+        self.ignored += 1;
+        *self.ignored_by_type.entry(kind.to_string()).or_default() += 1;
     }
 }
 
@@ -38,34 +107,26 @@ impl std::fmt::Display for NavCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} accepted, {} rejected (bad checksum {}, malformed {}, void {}, stale {}), {} ignored",
-            self.accepted,
+            "{} lines: {} used, {} ignored ({} of another talker), {} rejected (bad checksum {}, malformed {}, void {}, stale {}, out of range {}, not true {}, no variation {}), {} annotations",
+            self.lines,
+            self.used,
+            self.ignored,
+            self.other_source,
             self.rejected(),
             self.bad_checksum,
             self.malformed,
             self.void,
             self.stale,
-            self.ignored
+            self.out_of_range,
+            self.not_true,
+            self.no_variation,
+            self.annotations
         )
     }
 }
 
-/// Own ship from NMEA: the dead-reckoning filter (paper 004's DRKF) fed GPS position and
-/// velocity, the gyro's heading and the log's speed through the water.
-pub struct OwnShipNav {
-    origin: Origin,
-    drkf: Option<Drkf<f64>>,
-    /// Time of the filter's state, s of the day.
-    time_s: f64,
-    /// Newest sentence time seen.
-    newest_s: Option<f64>,
-    /// Velocity over ground from the last VTG before the first position.
-    velocity: Option<[f64; 2]>,
-    counts: NavCounts,
-}
-
-/// The DRKF's sensor model for bridge NMEA: GPS 5 m and 0.1 m/s, gyro 0.5°, log 0.1 m/s
-/// through the water, a ship's accelerations.
+/// The DRKF's sensor model for bridge NMEA: GNSS 5 m and 0.1 m/s, heading 0.5°, log 0.1
+/// m/s through the water, a ship's accelerations.
 fn drkf_config() -> DrkfConfig {
     let mut c = DrkfConfig::table_1(1).unwrap_or_else(|| unreachable!("test 1 exists"));
     c.acceleration = GaussMarkov::with_variance(0.05 * 0.05, 0.1);
@@ -73,127 +134,253 @@ fn drkf_config() -> DrkfConfig {
     c.gps_velocity_var = 0.01;
     c.gyro_var = 0.5f64.to_radians().powi(2);
     c.speedlog_var = 0.01;
-    c.speedlog_mode = SpeedlogMode::BottomLock;
+    c.speedlog_mode = SpeedlogMode::ThroughWater;
     c
 }
 
+/// Own ship from NMEA.
+pub struct OwnShipNav {
+    origin: Origin,
+    clock: UtcClock,
+    selector: Selector,
+    drkf: Option<Drkf<f64>>,
+    /// Time of the filter's state, s.
+    time_s: f64,
+    /// Velocity over ground from before the first position.
+    velocity: Option<[f64; 2]>,
+    variation_deg: Option<f64>,
+    operator_variation_deg: Option<f64>,
+    last_position_s: Option<f64>,
+    last_heading_s: Option<f64>,
+    heading_deg: Option<f64>,
+    counts: NavCounts,
+    events: Vec<String>,
+    /// The position fixes used (time, latitude, longitude), when asked to keep them.
+    fixes: Option<Vec<(f64, f64, f64)>>,
+}
+
 impl OwnShipNav {
-    /// No fix yet.
-    pub fn new(origin: Origin) -> Self {
+    /// No fix yet. Times before the first dated sentence count from `provisional_day` (days
+    /// since 1970); `variation_deg` is the operator's magnetic variation (east positive).
+    pub fn new(origin: Origin, provisional_day: i64, variation_deg: Option<f64>) -> Self {
+        OwnShipNav::with_selector(origin, provisional_day, variation_deg, Selector::default())
+    }
+
+    /// As [`OwnShipNav::new`], choosing talkers with `selector`.
+    pub fn with_selector(
+        origin: Origin,
+        provisional_day: i64,
+        variation_deg: Option<f64>,
+        selector: Selector,
+    ) -> Self {
         OwnShipNav {
             origin,
+            clock: UtcClock::new(provisional_day),
+            selector,
             drkf: None,
             time_s: 0.0,
-            newest_s: None,
             velocity: None,
+            variation_deg: None,
+            operator_variation_deg: variation_deg,
+            last_position_s: None,
+            last_heading_s: None,
+            heading_deg: None,
             counts: NavCounts::default(),
+            events: Vec::new(),
+            fixes: None,
         }
+    }
+
+    /// Keeps every position fix used, for [`OwnShipNav::fixes`].
+    pub fn keep_fixes(mut self) -> Self {
+        self.fixes = Some(Vec::new());
+        self
+    }
+
+    /// The position fixes used so far: (time s since 1970, latitude, longitude), when kept.
+    pub fn fixes(&self) -> &[(f64, f64, f64)] {
+        self.fixes.as_deref().unwrap_or(&[])
+    }
+
+    /// Counts a line refused for a time out of sequence (found by a reader's look-ahead:
+    /// one sentence stamped far from its neighbours).
+    pub fn refuse_out_of_sequence(&mut self) {
+        self.counts.lines += 1;
+        self.counts.stale += 1;
     }
 
     /// The counts so far.
-    pub fn counts(&self) -> NavCounts {
-        self.counts
+    pub fn counts(&self) -> &NavCounts {
+        &self.counts
     }
 
-    /// Takes one line. Timed sentences (GGA, RMC) set the time the others apply at.
-    pub fn feed(&mut self, line: &str) {
-        let line = line.trim();
-        if line.is_empty() {
-            return;
+    /// Changes of source, disagreements between sources, filter restarts, oldest first.
+    pub fn events(&self) -> Vec<String> {
+        let mut e = self.selector.events().to_vec();
+        e.extend(self.events.iter().cloned());
+        e
+    }
+
+    /// The newest sentence time used, s since 1970.
+    pub fn newest_s(&self) -> Option<f64> {
+        self.clock.newest_s()
+    }
+
+    /// The time `line` carries on this clock, if it is a timed sentence that would be used
+    /// (for replaying a recording in step: a line is due once its time has come).
+    pub fn time_of(&self, line: &str) -> Option<f64> {
+        let Ok(Line::Sentence(s)) = sentence::parse(line) else {
+            return None;
+        };
+        match decode(&s, line) {
+            Decoded::Readings(stamp, _) | Decoded::Time(stamp) => self.clock.peek(&stamp),
+            _ => None,
         }
-        let parsed = match nmea::parse_str(line) {
-            Ok(p) => p,
-            Err(nmea::Error::ChecksumMismatch { .. }) => {
+    }
+
+    /// Takes one line.
+    pub fn feed(&mut self, line: &str) {
+        self.counts.lines += 1;
+        let s = match sentence::parse(line) {
+            Ok(Line::Sentence(s)) => s,
+            Ok(Line::Annotation) => {
+                self.counts.annotations += 1;
+                return;
+            }
+            Ok(Line::Blank) => return,
+            Err(LineError::BadChecksum) => {
                 self.counts.bad_checksum += 1;
                 return;
             }
-            Err(nmea::Error::Unsupported(_) | nmea::Error::Unknown(_)) => {
-                self.counts.ignored += 1;
-                return;
-            }
-            Err(_) => {
+            Err(LineError::Malformed(_)) => {
                 self.counts.malformed += 1;
                 return;
             }
         };
-        let mut fix = NavFix::default();
-        let knots = f64::from(MPS_PER_KNOT);
-        let velocity = |sog_kn: f64, cog_deg: f64| {
-            let c = cog_deg.to_radians();
-            [sog_kn * knots * c.sin(), sog_kn * knots * c.cos()]
-        };
-        let mut time = None;
-        match parsed {
-            nmea::ParseResult::GGA(g) => {
-                let valid = !matches!(g.fix_type, None | Some(nmea::sentences::FixType::Invalid));
-                match (valid, g.latitude, g.longitude, g.fix_time) {
-                    (true, Some(lat), Some(lon), Some(t)) => {
-                        fix.gps_position_m = Some(self.origin.to_local(lat, lon));
-                        time = Some(seconds(t));
-                    }
-                    _ => {
-                        self.counts.void += 1;
-                        return;
-                    }
-                }
-            }
-            nmea::ParseResult::RMC(r) => {
-                // Status, the second field: A valid, V void (the crate keeps its enum private).
-                let valid = line.split(',').nth(2) == Some("A");
-                match (valid, r.lat, r.lon, r.fix_time) {
-                    (true, Some(lat), Some(lon), Some(t)) => {
-                        fix.gps_position_m = Some(self.origin.to_local(lat, lon));
-                        if let (Some(s), Some(c)) = (r.speed_over_ground, r.true_course) {
-                            fix.gps_velocity_mps = Some(velocity(f64::from(s), f64::from(c)));
-                        }
-                        time = Some(seconds(t));
-                    }
-                    _ => {
-                        self.counts.void += 1;
-                        return;
-                    }
-                }
-            }
-            nmea::ParseResult::VTG(v) => match (v.speed_over_ground, v.true_course) {
-                (Some(s), Some(c)) => {
-                    fix.gps_velocity_mps = Some(velocity(f64::from(s), f64::from(c)))
-                }
-                _ => {
-                    self.counts.void += 1;
-                    return;
-                }
-            },
-            nmea::ParseResult::HDT(h) => match h.heading {
-                Some(h) => fix.gyro_rad = Some(f64::from(h).to_radians()),
-                None => {
-                    self.counts.void += 1;
-                    return;
-                }
-            },
-            nmea::ParseResult::VHW(v) => match v.relative_speed_knots {
-                Some(s) => fix.speedlog_mps = Some(s * knots),
-                None => {
-                    self.counts.void += 1;
-                    return;
-                }
-            },
-            _ => {
-                self.counts.ignored += 1;
+        let (stamp, readings) = match decode(&s, line) {
+            Decoded::Readings(stamp, readings) => (stamp, readings),
+            Decoded::Time(stamp) => (stamp, Vec::new()),
+            Decoded::Ignored => {
+                let kind = if s.proprietary { "P" } else { s.kind };
+                self.counts.ignore(kind);
                 return;
             }
-        }
-        if let Some(t) = time {
-            if self.newest_s.is_some_and(|n| t < n) {
+            Decoded::Rejected(r) => {
+                self.counts.reject(r);
+                return;
+            }
+        };
+        let now = match self.clock.take(&stamp) {
+            Ok(Some(t)) => t,
+            Ok(None) => self.clock.newest_s().unwrap_or(self.time_s),
+            Err(_) => {
                 self.counts.stale += 1;
                 return;
             }
-            self.newest_s = Some(t);
+        };
+        if readings.is_empty() {
+            // A time-only sentence (ZDA): it set the clock.
+            self.counts.used += 1;
+            return;
         }
-        let at = time.unwrap_or(self.time_s);
-        self.apply(at, &fix);
+        self.apply_readings(s.talker, &readings, now);
+    }
+
+    fn apply_readings(&mut self, talker: &str, readings: &[Reading], now: f64) {
+        let mut fix = NavFix::default();
+        let (mut chosen, mut other) = (0, 0);
+        for r in readings {
+            let r = match *r {
+                Reading::Variation(v) => {
+                    self.variation_deg = Some(v);
+                    continue;
+                }
+                // A magnetic heading is made true here; without a variation it cannot be,
+                // and is refused before it could be chosen over a true one.
+                Reading::HeadingMagnetic {
+                    heading_deg,
+                    deviation_deg,
+                    variation_deg,
+                } => match variation_deg
+                    .or(self.variation_deg)
+                    .or(self.operator_variation_deg)
+                {
+                    Some(var) => Reading::HeadingTrue(
+                        (heading_deg + deviation_deg.unwrap_or(0.0) + var).rem_euclid(360.0),
+                    ),
+                    None => {
+                        self.counts.no_variation += 1;
+                        return;
+                    }
+                },
+                other => other,
+            };
+            let local = match r {
+                Reading::Position { lat_deg, lon_deg } => {
+                    Some(self.origin.to_local(lat_deg, lon_deg))
+                }
+                _ => None,
+            };
+            if !self.selector.admit(talker, &r, local, now) {
+                other += 1;
+                continue;
+            }
+            match r {
+                Reading::Position { lat_deg, lon_deg } => {
+                    fix.gps_position_m = local;
+                    if let Some(f) = self.fixes.as_mut() {
+                        f.push((now, lat_deg, lon_deg));
+                    }
+                }
+                Reading::GroundVelocity { sog_mps, cog_deg } => {
+                    let c = cog_deg.unwrap_or(0.0).to_radians();
+                    fix.gps_velocity_mps = Some([sog_mps * c.sin(), sog_mps * c.cos()]);
+                }
+                Reading::GroundSpeedAlongKeel(v) => match self.heading_deg {
+                    Some(h) => {
+                        let h = h.to_radians();
+                        fix.gps_velocity_mps = Some([v * h.sin(), v * h.cos()]);
+                    }
+                    None => continue,
+                },
+                Reading::HeadingTrue(h) => fix.gyro_rad = Some(self.heading(h, now)),
+                Reading::WaterSpeed(v) => fix.speedlog_mps = Some(v),
+                Reading::HeadingMagnetic { .. } | Reading::Variation(_) => continue,
+            }
+            chosen += 1;
+        }
+        if chosen == 0 {
+            if other > 0 {
+                self.counts.other_source += 1;
+                self.counts.ignored += 1;
+            } else {
+                // Only a variation (an RMC without a fix cannot get here: it is void).
+                self.counts.used += 1;
+            }
+            return;
+        }
+        self.apply(now, &fix);
+    }
+
+    fn heading(&mut self, deg: f64, now: f64) -> f64 {
+        self.heading_deg = Some(deg);
+        self.last_heading_s = Some(now);
+        deg.to_radians()
     }
 
     fn apply(&mut self, at: f64, fix: &NavFix) {
+        // A long gap: the filter's dead reckoning means nothing any more; start again.
+        if let (Some(_), Some(last), Some(_)) =
+            (fix.gps_position_m, self.last_position_s, &self.drkf)
+        {
+            if at - last > MAX_DEAD_RECKONING_S {
+                self.events.push(format!(
+                    "own-ship filter restarted after {:.0} min without a position",
+                    (at - last) / 60.0
+                ));
+                self.drkf = None;
+            }
+        }
         let Some(drkf) = self.drkf.as_mut() else {
             if let Some(v) = fix.gps_velocity_mps {
                 self.velocity = Some(v);
@@ -211,12 +398,13 @@ impl OwnShipNav {
                     Ok(d) => {
                         self.drkf = Some(d);
                         self.time_s = at;
-                        self.counts.accepted += 1;
+                        self.last_position_s = Some(at);
+                        self.counts.used += 1;
                     }
-                    Err(_) => self.counts.void += 1,
+                    Err(_) => self.counts.out_of_range += 1,
                 }
             } else {
-                self.counts.accepted += 1;
+                self.counts.used += 1;
             }
             return;
         };
@@ -229,31 +417,47 @@ impl OwnShipNav {
             self.time_s = at;
         }
         match drkf.update(fix) {
-            Ok(_) => self.counts.accepted += 1,
-            Err(_) => self.counts.void += 1,
+            Ok(_) => {
+                self.counts.used += 1;
+                if fix.gps_position_m.is_some() {
+                    self.last_position_s = Some(at);
+                }
+            }
+            Err(_) => self.counts.out_of_range += 1,
         }
     }
 
-    /// Own ship at `time_s` (s of the day), predicted from the last sentence; `None` before
-    /// the first position.
+    /// Own ship at `time_s` (s since 1970), predicted from the last sentence, with what is
+    /// known of its quality; `None` before the first position.
     pub fn own_ship_at(&self, time_s: f64) -> Option<OwnShip> {
         let mut d = self.drkf.clone()?;
         let dt = time_s - self.time_s;
+        let since_fix = self.last_position_s.map_or(f64::INFINITY, |t| time_s - t);
         if dt > 0.0 {
-            d.predict(dt).ok()?;
+            // Dead reckoning is bounded: past the limit the position is held, not flown on.
+            d.predict(dt.min(MAX_DEAD_RECKONING_S)).ok()?;
         }
         let p = d.position_m();
         let v = d.velocity_over_ground_mps();
+        if !(p.iter().chain(v.iter()).all(|x| x.is_finite())) {
+            return None;
+        }
+        let heading_age = self.last_heading_s.map(|t| time_s - t);
         Some(OwnShip {
             position_m: [p[0] as f32, p[1] as f32],
             velocity_mps: [v[0] as f32, v[1] as f32],
+            heading_rad: self
+                .heading_deg
+                .filter(|_| heading_age.is_some_and(|a| a <= HEADING_LOST_S))
+                .map(|h| h.to_radians() as f32),
+            quality: OwnShipQuality {
+                dead_reckoning_s: (since_fix > POSITION_LOST_S).then_some(since_fix as f32),
+                motion_known: since_fix <= MAX_DEAD_RECKONING_S,
+                heading_lost: heading_age.is_some_and(|a| a > HEADING_LOST_S),
+                no_fix_yet: false,
+            },
         })
     }
-}
-
-fn seconds(t: chrono::NaiveTime) -> f64 {
-    use chrono::Timelike;
-    f64::from(t.num_seconds_from_midnight()) + f64::from(t.nanosecond()) * 1e-9
 }
 
 #[cfg(test)]
@@ -262,33 +466,48 @@ mod tests {
     use crate::nmea::bridge::own_ship_sentences;
     use crate::nmea::{sentence, ttm};
 
+    /// 2026-01-01 00:00 UTC, s since 1970, and its day.
+    const T0: f64 = 1_767_225_600.0;
+    const DAY0: i64 = 20_454;
+
     #[test]
     fn own_ship_sentences_drive_the_dead_reckoning_filter() {
         let origin = Origin::default();
-        let mut nav = OwnShipNav::new(origin);
+        let mut nav = OwnShipNav::new(origin, DAY0, None);
         let v = [0.0, 6.0];
         for k in 0..60 {
-            let t = 10.0 * 3600.0 + f64::from(k);
+            let t = T0 + 10.0 * 3600.0 + f64::from(k);
             for s in own_ship_sentences([0.0, 6.0 * f64::from(k)], v, &origin, t) {
                 // Every one of ours passes the independent parser.
                 assert!(nmea::parse_str(s.trim()).is_ok(), "{s}");
                 nav.feed(&s);
             }
         }
-        assert_eq!(nav.counts().accepted, 300);
+        assert_eq!(nav.counts().used, 300, "{}", nav.counts());
         assert_eq!(nav.counts().rejected(), 0);
-        let own = nav.own_ship_at(10.0 * 3600.0 + 60.0).unwrap();
+        let own = nav.own_ship_at(T0 + 10.0 * 3600.0 + 60.0).unwrap();
         assert!((own.position_m[1] - 360.0).abs() < 2.0, "{own:?}");
         assert!((own.velocity_mps[1] - 6.0).abs() < 0.05 && own.velocity_mps[0].abs() < 0.05);
+        assert_eq!(own.quality, OwnShipQuality::default());
+        assert!(own.heading_rad.is_some_and(|h| h.abs() < 1e-3));
+        // The feed stops: dead reckoning is announced, then the motion is unknown.
+        let later = nav.own_ship_at(T0 + 10.0 * 3600.0 + 80.0).unwrap();
+        assert!(later.quality.dead_reckoning_s.is_some_and(|a| a > 20.0));
+        assert!(later.quality.heading_lost && later.heading_rad.is_none());
+        assert!(later.quality.motion_known);
+        let gone = nav.own_ship_at(T0 + 10.0 * 3600.0 + 3600.0).unwrap();
+        assert!(!gone.quality.motion_known);
+        // Held, not flown on for an hour.
+        assert!(gone.position_m[1] < 360.0 + 6.0 * MAX_DEAD_RECKONING_S as f32 + 50.0);
     }
 
     #[test]
     fn bad_sentences_are_rejected_and_counted() {
         let origin = Origin::default();
-        let mut nav = OwnShipNav::new(origin);
-        let good = own_ship_sentences([0.0, 0.0], [0.0, 5.0], &origin, 100.0);
+        let mut nav = OwnShipNav::new(origin, DAY0, None);
+        let good = own_ship_sentences([0.0, 0.0], [0.0, 5.0], &origin, T0 + 100.0);
         nav.feed(&good[0]);
-        let before = nav.own_ship_at(100.0);
+        let before = nav.own_ship_at(T0 + 100.0);
         // Checksum off by one.
         let mut bad = good[0].trim().to_string();
         let last = bad.pop().unwrap();
@@ -298,18 +517,35 @@ mod tests {
         nav.feed(&sentence("GPRMC,000150.00,V,,,,,,,010126,,,N"));
         nav.feed(&sentence("GPGGA,000150.00,,,,,0,00,99.9,,M,,M,,"));
         // Older than what was used.
-        nav.feed(&own_ship_sentences([0.0, 0.0], [0.0, 5.0], &origin, 50.0)[0]);
-        // Garbage with a good checksum, no sentence at all, and one own ship does not need.
+        nav.feed(&own_ship_sentences([0.0, 0.0], [0.0, 5.0], &origin, T0 + 50.0)[0]);
+        // Garbage with a good checksum, no sentence at all, one own ship does not need, a
+        // comment.
         nav.feed(&sentence("GPGGA,garbage"));
         nav.feed("not nmea at all");
-        nav.feed(&ttm(&crate::session::target::example(), 100.0));
+        nav.feed(&ttm(
+            &crate::nmea::targets::PlotterTarget {
+                number: 7,
+                status: 'T',
+                data: crate::session::target::example(),
+            },
+            100.0,
+        ));
+        nav.feed("# recorded on a Tuesday");
+        // A magnetic heading with no variation known.
+        nav.feed(&sentence("HCHDM,120.0,M"));
         let c = nav.counts();
-        assert_eq!(c.accepted, 1);
+        assert_eq!(c.used, 1);
         assert_eq!(c.bad_checksum, 1, "{c}");
         assert_eq!(c.void, 2, "{c}");
         assert_eq!(c.stale, 1, "{c}");
         assert_eq!(c.malformed, 2, "{c}");
         assert_eq!(c.ignored, 1, "{c}");
-        assert_eq!(nav.own_ship_at(100.0), before);
+        assert_eq!(c.ignored_by_type.get("TTM"), Some(&1));
+        assert_eq!((c.annotations, c.no_variation), (1, 1), "{c}");
+        assert_eq!(nav.own_ship_at(T0 + 100.0), before);
+        // With a variation the magnetic heading is used.
+        nav.feed(&sentence("HCHDG,120.0,,,2.5,W"));
+        assert_eq!(nav.counts().used, 2);
+        assert_eq!(nav.counts().blank(), 0);
     }
 }

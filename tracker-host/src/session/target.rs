@@ -35,6 +35,9 @@ pub struct TargetData {
     pub position_m: EastNorth,
     /// Velocity, m/s.
     pub velocity_mps: EastNorth,
+    /// True course and speed are known (own ship's motion is): without, only the relative
+    /// ones mean anything.
+    pub true_motion_known: bool,
 }
 
 impl TargetData {
@@ -67,6 +70,7 @@ impl TargetData {
             age_scans: t.age_scans,
             position_m: t.position_m,
             velocity_mps: t.velocity_mps,
+            true_motion_known: own.quality.motion_known,
         }
     }
 
@@ -103,15 +107,22 @@ pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
         " TRK STATUS     RNG NM  BRG °T  CRS °T   SPD kn  CPA NM  TCPA min  RCRS °T  RSPD kn  AGE\n",
     );
     for t in targets {
+        // Without own ship's motion the true course and speed are unknown: shown as ---.
+        let (course, speed) = if t.true_motion_known {
+            (
+                format!("{:>7.1}", deg(t.course_rad)),
+                format!("{:>8.1}", t.speed_mps / MPS_PER_KNOT),
+            )
+        } else {
+            (format!("{:>7}", "---"), format!("{:>8}", "---"))
+        };
         s +=
             &format!(
-            "{:>4} {:<9} {:>7.2} {:>7.1} {:>7.1} {:>8.1} {:>7.2} {:>9.1} {:>8.1} {:>8.1} {:>4}{}\n",
+            "{:>4} {:<9} {:>7.2} {:>7.1} {course} {speed} {:>7.2} {:>9.1} {:>8.1} {:>8.1} {:>4}{}\n",
             t.track,
             status_name(t.status),
             t.range_m / METRES_PER_NM,
             deg(t.bearing_rad),
-            deg(t.course_rad),
-            t.speed_mps / MPS_PER_KNOT,
             t.cpa_m / METRES_PER_NM,
             t.tcpa_s / 60.0,
             deg(t.rel_course_rad),
@@ -137,10 +148,7 @@ pub fn status_name(s: TrackStatus) -> &'static str {
 /// north at 6 m/s: for tests of what is made of target data.
 #[cfg(test)]
 pub(crate) fn example() -> TargetData {
-    let own = OwnShip {
-        position_m: [0.0, 0.0],
-        velocity_mps: [0.0, 6.0],
-    };
+    let own = OwnShip::at([0.0, 0.0], [0.0, 6.0]);
     let track = TrackState {
         track: 7,
         status: TrackStatus::Confirmed,
@@ -159,10 +167,7 @@ mod tests {
 
     #[test]
     fn a_head_on_target_alarms() {
-        let own = OwnShip {
-            position_m: [0.0, 0.0],
-            velocity_mps: [0.0, 5.0],
-        };
+        let own = OwnShip::at([0.0, 0.0], [0.0, 5.0]);
         let t = TrackState {
             track: 3,
             status: TrackStatus::Confirmed,

@@ -58,4 +58,8 @@ pub trait PlotSource {
 
     /// Scans still to come, when the source knows (for progress and the display).
     fn scans_left(&self) -> Option<u64>;
+
+    /// Own ship as the session used it for the scan just given (a simulator that follows a
+    /// live own-ship source takes it; others ignore it).
+    fn own_ship_estimate(&mut self, _own: &OwnShip) {}
 }

@@ -284,8 +284,8 @@ impl PlotSource for PlotsFileSource {
             }
         };
         let own = OwnShip {
-            position_m: scan.own_position_m,
-            velocity_mps: velocity,
+            heading_rad: scan.heading_deg.map(|h| h.to_radians() as f32),
+            ..OwnShip::at(scan.own_position_m, velocity)
         };
         let truth = match self.truth.as_mut() {
             Some(t) => Some(t.at(scan.radar.time_s, own, &self.path)?),

@@ -5,6 +5,8 @@
 use tracker_core::sim::{ScanOutput, Scenario, ScenarioConfig, ScenarioKind};
 
 use super::{PlotSource, RadarScan, SourceScan};
+use crate::origin::Origin;
+use crate::own_ship::recording::RecordedTrack;
 use crate::own_ship::OwnShip;
 use crate::score::{ScanTruth, TargetTruth};
 
@@ -19,25 +21,58 @@ pub struct SimulatorOptions {
     pub seed: u64,
     /// Simulated duration, s: the source ends after the scans that fit in it.
     pub duration_s: f64,
+    /// UTC of the first scan, s since 1970 (the scans' times count from it).
+    pub epoch_s: f64,
 }
 
-/// The simulator, producing `scans` scans.
+/// Where the simulated own ship goes.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OwnShipTruth {
+    /// The scenario's own ship: 12 kn on a steady course.
+    Scenario,
+    /// A recorded track (an NMEA recording's fixes), in the local frame of `origin`: the
+    /// picture moves with the recorded ship.
+    Recorded(RecordedTrack, Origin),
+    /// Own ship as the own-ship source estimates it, a scan late (a live NMEA source, whose
+    /// future the simulator cannot know).
+    Estimated,
+}
+
+/// The simulator.
 pub struct SimulatorSource {
     scenario: Scenario,
     scans_left: u64,
+    scans_done: u64,
+    epoch_s: f64,
+    own: OwnShipTruth,
+    estimate: Option<OwnShip>,
 }
 
 impl SimulatorSource {
     /// Places own ship and the targets.
     pub fn new(o: &SimulatorOptions) -> Self {
-        let scenario = Scenario::new(ScenarioConfig {
+        SimulatorSource::with_own_ship(o, OwnShipTruth::Scenario)
+    }
+
+    /// Places the targets around own ship, which goes as `own` says.
+    pub fn with_own_ship(o: &SimulatorOptions, own: OwnShipTruth) -> Self {
+        let mut scenario = Scenario::new(ScenarioConfig {
             kind: o.scenario,
             ..ScenarioConfig::open_sea(o.targets, o.seed)
         });
+        if let OwnShipTruth::Recorded(track, origin) = &own {
+            // The targets were placed around (0, 0): start the recording there too.
+            let (p, v) = track.at(origin, o.epoch_s);
+            scenario.set_own_ship(p.map(|c| c as f32), v.map(|c| c as f32));
+        }
         let scan_s = f64::from(scenario.config().scan_s);
         SimulatorSource {
             scenario,
             scans_left: (o.duration_s / scan_s).ceil().max(0.0) as u64,
+            scans_done: 0,
+            epoch_s: o.epoch_s,
+            own,
+            estimate: None,
         }
     }
 
@@ -47,11 +82,14 @@ impl SimulatorSource {
     }
 }
 
-/// One simulated scan as the session's input, with its truth.
-pub fn source_scan(out: &ScanOutput) -> SourceScan {
+/// One simulated scan as the session's input, with its truth; `epoch_s` is the UTC of the
+/// scenario's start.
+pub fn source_scan(out: &ScanOutput, epoch_s: f64) -> SourceScan {
+    let v = out.own_velocity_mps;
     let own = OwnShip {
-        position_m: out.own_position_m,
-        velocity_mps: out.own_velocity_mps,
+        // The simulated ship steers its course: no current, no leeway.
+        heading_rad: Some(tracker_core::geo::course_speed(v).0),
+        ..OwnShip::at(out.own_position_m, v)
     };
     let targets = out
         .truth
@@ -67,7 +105,7 @@ pub fn source_scan(out: &ScanOutput) -> SourceScan {
     SourceScan {
         radar: RadarScan {
             scan: out.scan,
-            time_s: out.time_ms as f64 / 1000.0,
+            time_s: epoch_s + out.time_ms as f64 / 1000.0,
             plots: out.plots.to_vec(),
         },
         own_ship: Some(own),
@@ -81,7 +119,27 @@ impl PlotSource for SimulatorSource {
             return Ok(None);
         }
         self.scans_left -= 1;
-        Ok(Some(source_scan(&self.scenario.next_scan())))
+        let scan_s = f64::from(self.scenario.config().scan_s);
+        let now_s = self.epoch_s + self.scans_done as f64 * scan_s;
+        match &self.own {
+            OwnShipTruth::Scenario => {}
+            OwnShipTruth::Recorded(track, origin) => {
+                let (p, v) = track.at(origin, now_s);
+                self.scenario
+                    .set_own_ship(p.map(|c| c as f32), v.map(|c| c as f32));
+            }
+            OwnShipTruth::Estimated => {
+                if let Some(e) = self.estimate.filter(|e| !e.quality.no_fix_yet) {
+                    self.scenario.set_own_ship(e.position_m, e.velocity_mps);
+                }
+            }
+        }
+        self.scans_done += 1;
+        Ok(Some(source_scan(&self.scenario.next_scan(), self.epoch_s)))
+    }
+
+    fn own_ship_estimate(&mut self, own: &OwnShip) {
+        self.estimate = Some(*own);
     }
 
     fn scan_period_s(&self) -> Option<f64> {

@@ -114,10 +114,7 @@ impl TruthFile {
             }
             any = true;
             if r.target == 0 {
-                truth.own = OwnShip {
-                    position_m: r.position_m,
-                    velocity_mps: r.velocity_mps,
-                };
+                truth.own = OwnShip::at(r.position_m, r.velocity_mps);
             } else {
                 truth.targets.push(TargetTruth {
                     id: r.target,

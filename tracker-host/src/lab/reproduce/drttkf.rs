@@ -19,9 +19,9 @@ fn schedule(t: usize) -> (bool, bool, SpeedlogMode) {
     let gps = !(300..700).contains(&t);
     let loran = !(500..700).contains(&t);
     let mode = if (600..700).contains(&t) {
-        SpeedlogMode::BottomLock
+        SpeedlogMode::ThroughWater
     } else {
-        SpeedlogMode::GroundLock
+        SpeedlogMode::OverGround
     };
     (gps, loran, mode)
 }
@@ -85,8 +85,8 @@ fn dr_run(test: usize, seed: u64) -> anyhow::Result<DrRun> {
         let ground = [v[0] + c[0], v[1] + c[1]];
         let n = |rng: &mut fastrand::Rng, var: f64| var.sqrt() * normal(rng);
         let speed = match mode {
-            SpeedlogMode::GroundLock => ground[0].hypot(ground[1]),
-            SpeedlogMode::BottomLock => v[0].hypot(v[1]),
+            SpeedlogMode::OverGround => ground[0].hypot(ground[1]),
+            SpeedlogMode::ThroughWater => v[0].hypot(v[1]),
         };
         let fix = NavFix {
             gps_position_m: gps.then(|| {

@@ -1,0 +1,137 @@
+//! The bridge's clock: UTC from the sentences' time fields, with the date from RMC and ZDA.
+//!
+//! Times are seconds since 1970-01-01 00:00 UTC. A time of day without a date takes the
+//! date in force; midnight is recognised when the time of day falls by more than half a day
+//! (23:59:57.5 then 00:00:00.0 is 2.5 s later, the next day). Before any date is known a
+//! provisional day is used (the recording's first date when it has one, today's for a live
+//! source, else day 0): only differences between times matter then. A time earlier than
+//! the newest one used is a step backwards: refused (the caller counts it and skips the
+//! sentence), the clock unchanged.
+
+use super::sentences::{Day, Stamp};
+
+/// Seconds in a day.
+pub const DAY_S: f64 = 86_400.0;
+
+/// How far back a time may be before it is a step backwards, s (sentences of one epoch
+/// share a time; receivers round it).
+const SAME_TIME_S: f64 = 1e-3;
+
+/// The clock.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UtcClock {
+    day: Option<Day>,
+    provisional_day: Day,
+    newest_s: Option<f64>,
+}
+
+/// A time the clock refuses.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Backwards {
+    /// The refused time, s.
+    pub time_s: f64,
+    /// The newest time used, s.
+    pub newest_s: f64,
+}
+
+impl UtcClock {
+    /// A clock that takes `provisional_day` until a sentence gives the date.
+    pub fn new(provisional_day: Day) -> Self {
+        UtcClock {
+            day: None,
+            provisional_day,
+            newest_s: None,
+        }
+    }
+
+    /// The newest time used, s.
+    pub fn newest_s(&self) -> Option<f64> {
+        self.newest_s
+    }
+
+    /// The time `stamp` stands for, without taking it (`None` for a stamp without a time).
+    pub fn peek(&self, stamp: &Stamp) -> Option<f64> {
+        self.resolve(stamp).map(|(t, _)| t)
+    }
+
+    fn resolve(&self, stamp: &Stamp) -> Option<(f64, Day)> {
+        let tod = stamp.time_of_day_s?;
+        if let Some(day) = stamp.day {
+            return Some((day as f64 * DAY_S + tod, day));
+        }
+        let day = self.day.unwrap_or(self.provisional_day);
+        let at = |d: Day| d as f64 * DAY_S + tod;
+        let Some(newest) = self.newest_s else {
+            return Some((at(day), day));
+        };
+        // The day that puts the time nearest the newest: across midnight forwards (the time
+        // of day fell) or backwards (a step back over midnight).
+        [day, day + 1, day - 1]
+            .into_iter()
+            .map(|d| (at(d), d))
+            .min_by(|a, b| (a.0 - newest).abs().total_cmp(&(b.0 - newest).abs()))
+    }
+
+    /// Takes `stamp`'s time: returns it (`Ok(None)` for a stamp without a time).
+    ///
+    /// # Errors
+    /// [`Backwards`] when the time is earlier than the newest one used (nothing changes).
+    pub fn take(&mut self, stamp: &Stamp) -> Result<Option<f64>, Backwards> {
+        let Some((t, day)) = self.resolve(stamp) else {
+            return Ok(None);
+        };
+        if let Some(newest) = self.newest_s {
+            if t < newest - SAME_TIME_S {
+                return Err(Backwards {
+                    time_s: t,
+                    newest_s: newest,
+                });
+            }
+        }
+        self.newest_s = Some(self.newest_s.map_or(t, |n| n.max(t)));
+        if stamp.day.is_some() || self.day.is_some() {
+            self.day = Some(day);
+        } else {
+            self.provisional_day = day;
+        }
+        Ok(Some(t))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn at(tod: f64, day: Option<Day>) -> Stamp {
+        Stamp {
+            time_of_day_s: Some(tod),
+            day,
+        }
+    }
+
+    #[test]
+    fn midnight_rolls_over_and_steps_back_are_refused() {
+        let mut c = UtcClock::new(0);
+        let d = 17_763; // 2018-08-20
+        assert_eq!(
+            c.take(&at(86_397.5, Some(d))),
+            Ok(Some(d as f64 * DAY_S + 86_397.5))
+        );
+        // A time-only sentence just after midnight: 2.5 s later, the next day.
+        let t = c.take(&at(0.0, None)).unwrap().unwrap();
+        assert_eq!(t, (d + 1) as f64 * DAY_S);
+        // A dated sentence agrees.
+        assert_eq!(c.take(&at(1.0, Some(d + 1))), Ok(Some(t + 1.0)));
+        // 23:59:50 without a date, after 00:00:01: a step back over midnight, refused.
+        let back = c.take(&at(DAY_S - 10.0, None)).unwrap_err();
+        assert_eq!(back.time_s, (d + 1) as f64 * DAY_S - 10.0);
+        // A step back of 13 s (Humminbird's log) is refused; the clock stays.
+        let mut c = UtcClock::new(5);
+        c.take(&at(70_000.0, None)).unwrap();
+        assert!(c.take(&at(69_987.0, None)).is_err());
+        assert_eq!(c.newest_s(), Some(5.0 * DAY_S + 70_000.0));
+        // Sentences of one epoch share a time.
+        assert!(c.take(&at(70_000.0, None)).is_ok());
+        assert_eq!(c.take(&Stamp::default()), Ok(None));
+    }
+}

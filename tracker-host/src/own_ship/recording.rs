@@ -1,0 +1,138 @@
+//! A whole own-ship recording read ahead, as the simulator needs it to move the radar
+//! picture with the recorded ship: where and when it starts, how long it lasts, and the
+//! position fixes it holds (through the same classification, clock and talker choice as the
+//! replay, so both see the same fixes).
+
+use std::path::Path;
+
+use super::nav::OwnShipNav;
+use super::select::Selector;
+use super::sentences::{decode, Decoded};
+use super::NmeaOptions;
+use crate::nmea::io::{read_bounded_line, MAX_LINE_BYTES};
+use crate::nmea::sentence::{self, Line};
+use crate::origin::Origin;
+
+/// A recording's own-ship track.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RecordedTrack {
+    /// Position fixes: time (s since 1970), latitude, longitude (degrees).
+    pub fixes: Vec<(f64, f64, f64)>,
+}
+
+impl RecordedTrack {
+    /// Reads `path` whole.
+    ///
+    /// # Errors
+    /// The file does not open, or holds no position fix.
+    pub fn read(path: &Path, o: &NmeaOptions) -> anyhow::Result<Self> {
+        let open = || {
+            std::fs::File::open(path)
+                .map(std::io::BufReader::new)
+                .map_err(|e| anyhow::anyhow!("opening {}: {e}", path.display()))
+        };
+        let provisional_day = first_day(open()?).unwrap_or(o.provisional_day);
+        let mut reader = open()?;
+        let mut nav = OwnShipNav::with_selector(
+            Origin::default(),
+            provisional_day,
+            o.variation_deg,
+            Selector::new(o.priority.clone()),
+        )
+        .keep_fixes();
+        while let Ok(Some(line)) = read_bounded_line(&mut reader, MAX_LINE_BYTES) {
+            nav.feed(&line);
+        }
+        let fixes = nav.fixes().to_vec();
+        if fixes.is_empty() {
+            anyhow::bail!(
+                "{}: no position fix in the recording ({})",
+                path.display(),
+                nav.counts()
+            );
+        }
+        Ok(RecordedTrack { fixes })
+    }
+
+    /// The first fix's time, s since 1970.
+    pub fn start_s(&self) -> f64 {
+        self.fixes[0].0
+    }
+
+    /// From the first fix to the last, s.
+    pub fn span_s(&self) -> f64 {
+        self.fixes.last().map_or(0.0, |f| f.0) - self.start_s()
+    }
+
+    /// The first fix's position: the natural origin of the local frame.
+    pub fn first_position(&self) -> Origin {
+        Origin {
+            lat_deg: self.fixes[0].1,
+            lon_deg: self.fixes[0].2,
+        }
+    }
+
+    /// Own ship's position (local frame of `origin`, m) and velocity (m/s) at `time_s`:
+    /// between fixes, on the straight line between them; before the first, at the first;
+    /// after the last, straight on at the last velocity. The velocity is taken over fixes
+    /// [`VELOCITY_SPAN_S`] apart, so a fix's few metres of noise do not make metres per
+    /// second.
+    pub fn at(&self, origin: &Origin, time_s: f64) -> ([f64; 2], [f64; 2]) {
+        let local = |i: usize| origin.to_local(self.fixes[i].1, self.fixes[i].2);
+        let n = self.fixes.len();
+        let time = |i: usize| self.fixes[i].0;
+        let index_at = |t: f64| self.fixes.partition_point(|f| f.0 <= t);
+        let velocity = |t: f64| {
+            let a = index_at(t - VELOCITY_SPAN_S / 2.0).saturating_sub(1);
+            let b = index_at(t + VELOCITY_SPAN_S / 2.0).min(n - 1);
+            let dt = time(b) - time(a);
+            if b <= a || dt <= 0.0 {
+                return [0.0, 0.0];
+            }
+            let (pa, pb) = (local(a), local(b));
+            [(pb[0] - pa[0]) / dt, (pb[1] - pa[1]) / dt]
+        };
+        let v = velocity(time_s.min(time(n - 1)));
+        let i = index_at(time_s);
+        if i == 0 {
+            return (local(0), v);
+        }
+        if i >= n {
+            let p = local(n - 1);
+            let dt = time_s - time(n - 1);
+            return ([p[0] + v[0] * dt, p[1] + v[1] * dt], v);
+        }
+        let (pa, pb) = (local(i - 1), local(i));
+        let f = (time_s - time(i - 1)) / (time(i) - time(i - 1)).max(1e-9);
+        (
+            [pa[0] + f * (pb[0] - pa[0]), pa[1] + f * (pb[1] - pa[1])],
+            v,
+        )
+    }
+}
+
+/// The day the recording starts on: the first date a sentence gives, the day before when
+/// the time of day fell between the first timed sentence and that one (midnight passed).
+fn first_day(mut reader: impl std::io::BufRead) -> Option<i64> {
+    let mut first_tod = None;
+    while let Ok(Some(line)) = read_bounded_line(&mut reader, MAX_LINE_BYTES) {
+        let Ok(Line::Sentence(s)) = sentence::parse(&line) else {
+            continue;
+        };
+        let stamp = match decode(&s, &line) {
+            Decoded::Readings(stamp, _) | Decoded::Time(stamp) => stamp,
+            _ => continue,
+        };
+        let Some(tod) = stamp.time_of_day_s else {
+            continue;
+        };
+        let first = *first_tod.get_or_insert(tod);
+        if let Some(day) = stamp.day {
+            return Some(if tod < first { day - 1 } else { day });
+        }
+    }
+    None
+}
+
+/// Fixes this far apart give own ship's velocity, s.
+pub const VELOCITY_SPAN_S: f64 = 10.0;

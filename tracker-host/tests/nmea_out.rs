@@ -1,0 +1,317 @@
+//! What a chart plotter gets: over an hour of the main job's picture, no target number is
+//! shared by two live targets in any scan, a number stays with its track, and every track
+//! that ends is sent once as lost (`L`); positions are valid in every hemisphere and across
+//! the antimeridian; own ship goes out when asked.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::net::UdpSocket;
+
+use tracker_core::filter::FilterKind;
+use tracker_core::icd::TrackStatus;
+use tracker_core::sim::ScenarioKind;
+use tracker_host::app::demo::{self, DemoOptions};
+use tracker_host::link::{Client, InprocTransport};
+use tracker_host::nmea::targets::TargetsOut;
+use tracker_host::nmea::{NmeaOut, OutSpec};
+use tracker_host::origin::Origin;
+
+/// The fields of a sentence between the address and the checksum, after checking both.
+fn fields(s: &str) -> Vec<String> {
+    let s = s.trim();
+    let frame = nmea::parse_nmea_sentence(s).unwrap_or_else(|e| panic!("{s}: {e:?}"));
+    assert_eq!(frame.checksum, frame.calc_checksum(), "{s}: checksum");
+    s[1..s.find('*').unwrap()]
+        .split(',')
+        .map(str::to_string)
+        .collect()
+}
+
+fn sink() -> NmeaOut {
+    let rx = UdpSocket::bind("127.0.0.1:0").unwrap();
+    NmeaOut::open(&OutSpec::Udp(rx.local_addr().unwrap().to_string())).unwrap()
+}
+
+#[test]
+fn an_hour_of_targets_keeps_numbers_unique_and_sends_every_end_once() {
+    let options = DemoOptions::new(ScenarioKind::Crossing, 40, 11, 3600.0, FilterKind::KalmanCv);
+    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+    let mut out = TargetsOut::new(sink(), Origin::default(), false, 99);
+    // number → track it stands for, from each target's TLL position matched to the report.
+    let mut holder: BTreeMap<u8, u16> = BTreeMap::new();
+    let mut ended: BTreeSet<u16> = BTreeSet::new();
+    let mut live_before: BTreeSet<u16> = BTreeSet::new();
+    let (mut scans, mut lost_sent) = (0, 0);
+    while let Some(report) = run.step().unwrap() {
+        scans += 1;
+        let sentences = out.scan_sentences(&report);
+        let live: BTreeSet<u16> = report
+            .tracks
+            .iter()
+            .filter(|t| t.status != TrackStatus::Lost)
+            .map(|t| t.track)
+            .collect();
+        let mut numbers_this_scan = BTreeSet::new();
+        let mut lost_this_scan = BTreeSet::new();
+        for pair in sentences.chunks(2) {
+            let ttm = fields(&pair[0]);
+            let tll = fields(&pair[1]);
+            assert_eq!((ttm[0].as_str(), tll[0].as_str()), ("RATTM", "RATLL"));
+            let number: u8 = ttm[1].parse().unwrap();
+            assert!((1..=99).contains(&number), "{}", pair[0]);
+            assert_eq!(tll[1], ttm[1]);
+            assert!(
+                numbers_this_scan.insert(number),
+                "scan {}: number {number} twice",
+                report.scan
+            );
+            let status = ttm[12].as_str();
+            if status == "L" {
+                let track = holder.remove(&number).expect("an end of a number in use");
+                assert!(!live.contains(&track), "track {track} sent lost while live");
+                assert!(ended.insert(track), "track {track} sent lost twice");
+                lost_this_scan.insert(track);
+                lost_sent += 1;
+                continue;
+            }
+            // Which live track is this? The one at the TLL's position.
+            let lat: f64 =
+                tll[2][..2].parse::<f64>().unwrap() + tll[2][2..].parse::<f64>().unwrap() / 60.0;
+            let lon: f64 =
+                -(tll[4][..3].parse::<f64>().unwrap() + tll[4][3..].parse::<f64>().unwrap() / 60.0);
+            let p = Origin::default().to_local(lat, lon);
+            let track = report
+                .tracks
+                .iter()
+                .filter(|t| t.status != TrackStatus::Lost)
+                .min_by(|a, b| {
+                    let d = |t: &tracker_core::icd::TrackState| {
+                        (f64::from(t.position_m[0]) - p[0]).hypot(f64::from(t.position_m[1]) - p[1])
+                    };
+                    d(a).total_cmp(&d(b))
+                })
+                .unwrap();
+            match holder.get(&number) {
+                Some(&t) => assert_eq!(t, track.track, "number {number} moved to another track"),
+                None => {
+                    assert!(!holder.values().any(|&t| t == track.track));
+                    holder.insert(number, track.track);
+                }
+            }
+            assert_eq!(
+                status,
+                if track.status == TrackStatus::Tentative {
+                    "Q"
+                } else {
+                    "T"
+                }
+            );
+        }
+        // Every track live a scan ago and gone now was sent lost, this scan.
+        for gone in live_before.difference(&live) {
+            assert!(
+                lost_this_scan.contains(gone),
+                "scan {}: track {gone} ended without L",
+                report.scan
+            );
+        }
+        live_before = live;
+    }
+    assert_eq!(scans, 1440);
+    assert!(lost_sent > 50, "{lost_sent} ends over the hour");
+    assert_eq!(out.counts().not_sent_no_number, 0);
+}
+
+#[test]
+fn with_few_numbers_the_least_important_wait_and_are_counted() {
+    let options = DemoOptions::new(ScenarioKind::OpenSea, 40, 2, 120.0, FilterKind::KalmanCv);
+    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+    let mut out = TargetsOut::new(sink(), Origin::default(), false, 10);
+    while let Some(report) = run.step().unwrap() {
+        let sentences = out.scan_sentences(&report);
+        let numbers: Vec<String> = sentences
+            .iter()
+            .step_by(2)
+            .map(|s| fields(s)[1].clone())
+            .collect();
+        let unique: BTreeSet<&String> = numbers.iter().collect();
+        assert_eq!(unique.len(), numbers.len());
+        assert!(
+            numbers.len() <= 10 + 10,
+            "at most every number live and every number ending"
+        );
+    }
+    assert!(out.counts().not_sent_no_number > 0);
+}
+
+#[test]
+fn positions_are_valid_in_every_hemisphere_and_across_the_antimeridian() {
+    let target = |east: f32, north: f32| {
+        let own = tracker_host::own_ship::OwnShip::at([0.0, 0.0], [0.0, 5.0]);
+        let t = tracker_core::icd::TrackState {
+            track: 1,
+            status: TrackStatus::Confirmed,
+            position_m: [east, north],
+            velocity_mps: [3.0, -2.0],
+            innovation_cov_m2: [100.0, 0.0, 100.0],
+            age_scans: 10,
+            hit_history: 0x3ff,
+        };
+        tracker_host::session::target::TargetData::new(&own, &t)
+    };
+    for (origin, east, north, lat_ok, lon_ok) in [
+        // Sydney: south and east.
+        (
+            Origin {
+                lat_deg: -33.9,
+                lon_deg: 151.2,
+            },
+            5000.0,
+            -3000.0,
+            'S',
+            'E',
+        ),
+        // Rio: south and west.
+        (
+            Origin {
+                lat_deg: -22.9,
+                lon_deg: -43.2,
+            },
+            -5000.0,
+            3000.0,
+            'S',
+            'W',
+        ),
+        // Fiji, just west of the antimeridian, the target 10 km east across it.
+        (
+            Origin {
+                lat_deg: -17.0,
+                lon_deg: 179.95,
+            },
+            10_000.0,
+            0.0,
+            'S',
+            'W',
+        ),
+        // Just east of it, the target across it to the west.
+        (
+            Origin {
+                lat_deg: 52.0,
+                lon_deg: -179.95,
+            },
+            -10_000.0,
+            0.0,
+            'N',
+            'E',
+        ),
+    ] {
+        let t = tracker_host::nmea::targets::PlotterTarget {
+            number: 1,
+            status: 'T',
+            data: target(east, north),
+        };
+        let s = tracker_host::nmea::tll(&t, &origin, 1_767_225_600.0 + 45_296.5);
+        let f = fields(&s);
+        assert_eq!(
+            (f[3].chars().next(), f[5].chars().next()),
+            (Some(lat_ok), Some(lon_ok)),
+            "{s}"
+        );
+        let lat_deg: f64 = f[2][..2].parse().unwrap();
+        let lat_min: f64 = f[2][2..].parse().unwrap();
+        let lon_deg: f64 = f[4][..3].parse().unwrap();
+        let lon_min: f64 = f[4][3..].parse().unwrap();
+        assert!(f[2].len() == 10 && lat_deg <= 90.0 && lat_min < 60.0, "{s}");
+        assert!(
+            f[4].len() == 11 && lon_deg <= 180.0 && lon_min < 60.0,
+            "{s}"
+        );
+        assert_eq!(f[7], "123456.50");
+        // Back to the local frame: the same place.
+        let sign = |c: char| if c == 'S' || c == 'W' { -1.0 } else { 1.0 };
+        let lat = sign(lat_ok) * (lat_deg + lat_min / 60.0);
+        let lon = sign(lon_ok) * (lon_deg + lon_min / 60.0);
+        let back = origin.to_local(lat, lon);
+        assert!(
+            (back[0] - f64::from(east)).abs() < 1.0 && (back[1] - f64::from(north)).abs() < 1.0,
+            "{s} {back:?}"
+        );
+        // TTM: bearings and courses 0.0–359.9.
+        let ttm = fields(&tracker_host::nmea::ttm(&t, 0.0));
+        for i in [3, 6] {
+            let a: f64 = ttm[i].parse().unwrap();
+            assert!((0.0..360.0).contains(&a) && ttm[i] != "360.0", "{ttm:?}");
+        }
+    }
+    // Checked by an independent parser too (pynmea2) where it is installed.
+    tracker_host_tools_check();
+}
+
+/// Runs `tools/check_nmea.py` (pynmea2) over sentences in every hemisphere, when Python and
+/// pynmea2 are there; `scripts/setup` installs them, and the test command requires them.
+fn tracker_host_tools_check() {
+    let python = std::env::var("TRACKER_PYTHON").unwrap_or_else(|_| "python3".to_string());
+    let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tools/check_nmea.py");
+    let have = std::process::Command::new(&python)
+        .args(["-c", "import pynmea2"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !have {
+        assert!(
+            std::env::var_os("TRACKER_REQUIRE_TOOLS").is_none(),
+            "pynmea2 is required (TRACKER_REQUIRE_TOOLS is set): scripts/setup installs it"
+        );
+        eprintln!("pynmea2 not installed: the independent check is skipped");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("out.nmea");
+    let mut text = String::new();
+    for (lat, lon) in [
+        (-33.9, 151.2),
+        (-22.9, -43.2),
+        (-17.0, 179.95),
+        (52.0, -179.95),
+        (60.1, 23.5),
+    ] {
+        let origin = Origin {
+            lat_deg: lat,
+            lon_deg: lon,
+        };
+        for (e, n) in [(10_000.0, -5_000.0), (-10_000.0, 5_000.0)] {
+            let own = tracker_host::own_ship::OwnShip::at([0.0, 0.0], [1.0, 5.0]);
+            let t = tracker_core::icd::TrackState {
+                track: 3,
+                status: TrackStatus::Confirmed,
+                position_m: [e, n],
+                velocity_mps: [-3.0, 2.0],
+                innovation_cov_m2: [100.0; 3],
+                age_scans: 10,
+                hit_history: 0x3ff,
+            };
+            let p = tracker_host::nmea::targets::PlotterTarget {
+                number: 42,
+                status: 'T',
+                data: tracker_host::session::target::TargetData::new(&own, &t),
+            };
+            let (tlat, tlon) = origin.to_lat_lon([f64::from(e), f64::from(n)]);
+            text += &tracker_host::nmea::ttm(&p, 1_767_225_600.0);
+            text += &tracker_host::nmea::tll(&p, &origin, 1_767_225_600.0);
+            text += &format!("# expect {tlat:.6} {tlon:.6}\n");
+            text +=
+                &tracker_host::nmea::targets::own_ship_sentences(&own, &origin, 1_767_225_600.0)
+                    .concat();
+        }
+    }
+    std::fs::write(&file, text).unwrap();
+    let out = std::process::Command::new(&python)
+        .arg(&script)
+        .arg(&file)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}

@@ -1,0 +1,224 @@
+//! The thirteen real own-ship NMEA recordings in `../shared/realdata/nmea/` (receivers,
+//! plotters and bridge networks nobody on this project wrote), each replayed through the
+//! main job with the simulated picture moving with the recorded ship:
+//!
+//! - every line is classified (used, ignored, rejected with a reason, annotation or blank),
+//!   and none of these well-formed recordings has a line counted malformed or a bad
+//!   checksum;
+//! - own ship, as the product used it (its plots recording's own-ship columns), follows the
+//!   recording's position fixes: median error at most 5 m, against fixes read here
+//!   independently of the product (framing and fields by hand);
+//! - the simulated targets around it are tracked with no false track.
+//!
+//! The files are read where CI has them (`../shared/realdata/` beside the checkout); a
+//! missing file fails the test.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use tracker_host::own_ship::recording::RecordedTrack;
+use tracker_host::own_ship::NmeaOptions;
+
+const FILES: [&str; 13] = [
+    "gpsd-bundg_zeus_9.log",
+    "gpsd-hemi.log",
+    "gpsd-humminbird-M37.log",
+    "gpsd-neo-m8n.log",
+    "gpsd-rst39.log",
+    "gpsd-saab-r4.log",
+    "gpsd-skytraq-PX1172RH_DS.log",
+    "mayara-halo_and_0183-nmea.log",
+    "radar_pi-3g-trueheading-udp10110.log",
+    "radar_pi-4g-noheading-merrimac-tcp2000.log",
+    "signalk-gofree-merrimac.log",
+    "signalk-gps.log",
+    "signalk-plaka.log",
+];
+
+fn realdata() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/realdata/nmea")
+}
+
+/// A position fix as the recording states it: time of day (s, if the sentence has one),
+/// latitude and longitude (degrees). Read here by hand: checksum, then RMC, GGA or GLL.
+fn fixes(text: &str) -> Vec<(Option<f64>, f64, f64)> {
+    let mut out = Vec::new();
+    for line in text.lines() {
+        let line = line.trim();
+        let Some(body) = line.strip_prefix('$') else {
+            continue;
+        };
+        let Some((body, sum)) = body.rsplit_once('*') else {
+            continue;
+        };
+        if u8::from_str_radix(sum, 16).ok() != Some(body.bytes().fold(0, |a, b| a ^ b)) {
+            continue;
+        }
+        let f: Vec<&str> = body.split(',').collect();
+        let kind = f[0].get(2..).unwrap_or("");
+        let angle = |v: &str, h: &str| -> Option<f64> {
+            let x: f64 = v.parse().ok()?;
+            let d = (x / 100.0).trunc();
+            let a = d + (x - 100.0 * d) / 60.0;
+            match h {
+                "N" | "E" => Some(a),
+                "S" | "W" => Some(-a),
+                _ => None,
+            }
+        };
+        let tod = |t: &str| -> Option<f64> {
+            let h: f64 = t.get(0..2)?.parse().ok()?;
+            let m: f64 = t.get(2..4)?.parse().ok()?;
+            let s: f64 = t.get(4..)?.parse().ok()?;
+            Some(h * 3600.0 + m * 60.0 + s)
+        };
+        let get = |i: usize| f.get(i).copied().unwrap_or("");
+        let fix = match kind {
+            "RMC" if get(2) == "A" => angle(get(3), get(4))
+                .zip(angle(get(5), get(6)))
+                .map(|(la, lo)| (tod(get(1)), la, lo)),
+            "GGA" if !matches!(get(6), "" | "0") => angle(get(2), get(3))
+                .zip(angle(get(4), get(5)))
+                .map(|(la, lo)| (tod(get(1)), la, lo)),
+            "GLL" if get(6) == "A" => angle(get(1), get(2))
+                .zip(angle(get(3), get(4)))
+                .map(|(la, lo)| (tod(get(5)), la, lo)),
+            _ => None,
+        };
+        out.extend(fix);
+    }
+    out
+}
+
+/// Metres between two latitudes/longitudes (flat earth: they are metres apart).
+fn metres(a: (f64, f64), b: (f64, f64)) -> f64 {
+    let north = (a.0 - b.0) * 111_120.0;
+    let east = (a.1 - b.1) * 111_120.0 * a.0.to_radians().cos();
+    north.hypot(east)
+}
+
+#[test]
+fn every_real_recording_drives_own_ship_and_the_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut table = String::new();
+    for name in FILES {
+        let path = realdata().join(name);
+        let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
+            panic!(
+                "{}: {e} (CI has ../shared beside the checkout)",
+                path.display()
+            )
+        });
+        let track = RecordedTrack::read(&path, &NmeaOptions::default()).unwrap();
+        let origin = track.first_position();
+        // Long enough to read every line of the recording.
+        let duration = track.span_s() + 30.0;
+        let plots = dir.path().join(format!("{name}.plots.csv"));
+        let json = dir.path().join(format!("{name}.json"));
+        let args = [
+            "tracker-host".to_string(),
+            "--link".into(),
+            "inproc".into(),
+            "demo".into(),
+            "--plain".into(),
+            "--nmea-in".into(),
+            format!("file:{}", path.display()),
+            "--duration".into(),
+            format!("{duration}"),
+            "--record-plots".into(),
+            plots.display().to_string(),
+            "--summary-json".into(),
+            json.display().to_string(),
+        ];
+        let code = tracker_host::cli::run(args).expect("the demo runs");
+        assert_eq!(code, ExitCode::SUCCESS, "{name}");
+        let summary: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let c = &summary["own_ship_nmea"];
+        let n = |k: &str| {
+            c[k].as_u64()
+                .unwrap_or_else(|| panic!("{name}: no {k} in {c}"))
+        };
+        // Every line classified.
+        let rejected: u64 = [
+            "bad_checksum",
+            "malformed",
+            "void",
+            "stale",
+            "out_of_range",
+            "not_true",
+            "no_variation",
+        ]
+        .iter()
+        .map(|k| n(k))
+        .sum();
+        let lines = text.lines().count() as u64;
+        let blank = text.lines().filter(|l| l.trim().is_empty()).count() as u64;
+        assert_eq!(n("lines"), lines, "{name}: every line read");
+        assert_eq!(
+            n("used") + n("ignored") + rejected + n("annotations") + blank,
+            lines,
+            "{name}: {c}"
+        );
+        assert_eq!(
+            n("malformed"),
+            0,
+            "{name}: well-formed lines counted malformed: {c}"
+        );
+        assert_eq!(n("bad_checksum"), 0, "{name}: {c}");
+        assert!(n("used") > 0, "{name}: {c}");
+        // No false track in the simulated picture around the recorded ship.
+        assert_eq!(summary["false_tracks"], 0, "{name}: {summary}");
+        // Own ship as the product used it, against the recording's fixes.
+        let recorded = fixes(&text);
+        assert!(!recorded.is_empty(), "{name}");
+        let csv = std::fs::read_to_string(&plots).unwrap();
+        let mut errors = Vec::new();
+        let mut seen_scans = std::collections::BTreeSet::new();
+        for row in csv.lines().skip(1) {
+            let f: Vec<&str> = row.split(',').collect();
+            if !seen_scans.insert(f[0].to_string()) {
+                continue;
+            }
+            let t: f64 = f[1].parse().unwrap();
+            let (e, nn): (f64, f64) = (f[4].parse().unwrap(), f[5].parse().unwrap());
+            let (lat, lon) = origin.to_lat_lon([e, nn]);
+            let tod = t.rem_euclid(86_400.0);
+            // The fix nearest in time (within 1.5 s) of the scan, if the recording has one
+            // then; recordings without times (the HALO network's GLL) are compared with their
+            // last fix at their last scan.
+            let nearest = recorded
+                .iter()
+                .filter_map(|&(ft, la, lo)| ft.map(|ft| (ft, la, lo)))
+                .map(|(ft, la, lo)| {
+                    let dt = (ft - tod + 43_200.0).rem_euclid(86_400.0) - 43_200.0;
+                    (dt.abs(), la, lo)
+                })
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .filter(|x| x.0 <= 1.5);
+            if let Some((_, la, lo)) = nearest {
+                errors.push(metres((lat, lon), (la, lo)));
+            }
+        }
+        if errors.is_empty() {
+            // No timed fix: the last scan against the last fix.
+            let last = csv.lines().last().unwrap();
+            let f: Vec<&str> = last.split(',').collect();
+            let (lat, lon) = origin.to_lat_lon([f[4].parse().unwrap(), f[5].parse().unwrap()]);
+            let fix = recorded.last().unwrap();
+            errors.push(metres((lat, lon), (fix.1, fix.2)));
+        }
+        errors.sort_by(f64::total_cmp);
+        let median = errors[errors.len() / 2];
+        table += &format!(
+            "{name}: {} lines, {} used, {} ignored, {rejected} rejected; own ship vs fixes: median {median:.1} m, max {:.1} m over {} scans\n",
+            lines,
+            n("used"),
+            n("ignored"),
+            errors.last().unwrap(),
+            errors.len()
+        );
+        assert!(median <= 5.0, "{name}: median own-ship error {median:.1} m");
+    }
+    eprintln!("{table}");
+}
