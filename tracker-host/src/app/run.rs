@@ -54,6 +54,15 @@ impl Run {
     /// # Errors
     /// A source, the session or a sink failed.
     pub fn step(&mut self) -> anyhow::Result<Option<ScanReport>> {
+        self.step_at(|_| {})
+    }
+
+    /// As [`Run::step`], calling `before` with the scan's time (s) once the source has given
+    /// it and before it is tracked: a real-time run waits there until the scan is due.
+    ///
+    /// # Errors
+    /// A source, the session or a sink failed.
+    pub fn step_at(&mut self, before: impl FnOnce(f64)) -> anyhow::Result<Option<ScanReport>> {
         if self.finished {
             return Ok(None);
         }
@@ -61,6 +70,7 @@ impl Run {
             self.finish()?;
             return Ok(None);
         };
+        before(scan.radar.time_s);
         let own = self.own_ship.own_ship(&scan)?;
         self.plots.own_ship_estimate(&own);
         let report = self.session.scan(&scan.radar, &own)?;
@@ -98,15 +108,17 @@ impl Run {
     ) -> anyhow::Result<()> {
         let start = Instant::now();
         let mut first_time_s = None;
-        while let Some(report) = self.step()? {
-            show(&report);
-            if let Some(x) = speedup {
-                let t0 = *first_time_s.get_or_insert(report.time_s);
-                let due = start + Duration::from_secs_f64(((report.time_s - t0) / x).max(0.0));
-                if let Some(wait) = due.checked_duration_since(Instant::now()) {
-                    std::thread::sleep(wait);
-                }
+        // A scan is tracked (and sent on) when its time has come, not before.
+        let wait = |time_s: f64, first: &mut Option<f64>| {
+            let Some(x) = speedup else { return };
+            let t0 = *first.get_or_insert(time_s);
+            let due = start + Duration::from_secs_f64(((time_s - t0) / x).max(0.0));
+            if let Some(wait) = due.checked_duration_since(Instant::now()) {
+                std::thread::sleep(wait);
             }
+        };
+        while let Some(report) = self.step_at(|t| wait(t, &mut first_time_s))? {
+            show(&report);
         }
         Ok(())
     }

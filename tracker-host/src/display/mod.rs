@@ -80,7 +80,7 @@ pub struct DisplayState {
     /// Link name for the title.
     pub link: String,
     trails: BTreeMap<u16, VecDeque<EastNorth>>,
-    lost: Vec<u16>,
+    lost: Vec<String>,
 }
 
 impl DisplayState {
@@ -101,11 +101,17 @@ impl DisplayState {
 
     /// Takes a new scan: extends the trails, notes lost tracks, keeps the selection valid.
     pub fn observe(&mut self, view: &ScanReport) {
+        // Lost tracked targets (the device says lost), by their numbers; a failed acquisition
+        // is not an alarm.
         self.lost = view
-            .tracks
+            .ended
             .iter()
-            .filter(|t| t.status == TrackStatus::Lost)
-            .map(|t| t.track)
+            .filter(|e| {
+                view.tracks
+                    .iter()
+                    .any(|t| t.track == e.track && t.status == TrackStatus::Lost)
+            })
+            .map(TargetData::label)
             .collect();
         for t in &view.targets {
             let trail = self.trails.entry(t.track).or_default();
@@ -358,7 +364,7 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
 fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
     let header = Row::new(
         [
-            "TRK", "STATUS", "RNG NM", "BRG °T", "CRS °T", "SPD kn", "CPA NM", "TCPA min",
+            "TGT", "STATUS", "RNG NM", "BRG °T", "CRS °T", "SPD kn", "CPA NM", "TCPA min",
         ]
         .map(|h| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD))),
     );
@@ -371,7 +377,7 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             Style::default()
         };
         Row::new(vec![
-            format!("{}", t.track),
+            t.label(),
             status_name(t.status).to_string(),
             format!("{:.2}", t.range_m / METRES_PER_NM),
             format!("{:.1}", t.bearing_rad.to_degrees()),
@@ -403,7 +409,7 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
         lines.push(Line::styled(
             format!(
                 "CPA/TCPA ALARM: target {} CPA {:.2} NM in {:.1} min",
-                t.track,
+                t.label(),
                 t.cpa_m / METRES_PER_NM,
                 t.tcpa_s / 60.0
             ),
@@ -562,11 +568,11 @@ mod tests {
         let text = screen(&state, &view);
         assert!(text.contains("PPI 6 NM"), "{text}");
         assert!(
-            text.contains("TRK") && text.contains("CPA NM") && text.contains("TCPA min"),
+            text.contains("TGT") && text.contains("CPA NM") && text.contains("TCPA min"),
             "{text}"
         );
         assert!(text.contains("relative vectors 6 min"), "{text}");
-        let first = view.targets[0].track.to_string();
+        let first = view.targets[0].label();
         assert!(text.contains(&first), "{text}");
         assert!(text.contains("q quit"), "{text}");
 

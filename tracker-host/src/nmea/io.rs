@@ -563,3 +563,74 @@ mod tests {
         assert!("serial:/dev/ttyUSB0@4800".parse::<InSpec>().is_ok());
     }
 }
+
+#[cfg(test)]
+mod reconnect_tests {
+    use super::*;
+    use std::io::Write;
+    use std::net::TcpListener;
+    use std::time::{Duration, Instant};
+
+    /// Reads from `input` until `want` lines have come or 10 s pass.
+    fn read_lines(live: &mut LiveLines, want: usize) -> Vec<String> {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let mut lines = Vec::new();
+        while lines.len() < want && Instant::now() < deadline {
+            lines.extend(live.available());
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        lines
+    }
+
+    #[test]
+    fn a_dropped_tcp_source_is_reconnected_and_an_endless_line_is_bounded() {
+        let server = TcpListener::bind("127.0.0.1:0").unwrap();
+        let addr = server.local_addr().unwrap();
+        let mut input = NmeaIn::open(&InSpec::Tcp(addr.to_string())).unwrap();
+        let NmeaIn::Live(live) = &mut input else {
+            unreachable!()
+        };
+        let (mut peer, _) = server.accept().unwrap();
+        peer.write_all(b"$GPZDA,000001,01,01,2026,00,00*4F\r\n")
+            .unwrap();
+        assert_eq!(read_lines(live, 1).len(), 1);
+        // The multiplexer drops the connection: noticed, and the source connects again (the
+        // port is still listening) within the back-off.
+        drop(peer);
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while live.drops == 0 && Instant::now() < deadline {
+            assert!(live.available().is_empty());
+            std::thread::sleep(Duration::from_millis(20));
+        }
+        assert_eq!(live.drops, 1);
+        // Accept while the source tries again (it connects from `available`).
+        server.set_nonblocking(true).unwrap();
+        let deadline = Instant::now() + Duration::from_secs(10);
+        let mut peer = loop {
+            assert!(live.available().is_empty());
+            if let Ok((p, _)) = server.accept() {
+                break p;
+            }
+            assert!(Instant::now() < deadline, "no reconnection");
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        peer.set_nonblocking(false).unwrap();
+        peer.write_all(b"$GPZDA,000002,01,01,2026,00,00*4C\r\n")
+            .unwrap();
+        let lines = read_lines(live, 1);
+        assert_eq!(lines, ["$GPZDA,000002,01,01,2026,00,00*4C"]);
+        assert_eq!(live.reconnects, 1);
+        // A megabyte without a line end: kept to its first MAX_LINE_BYTES + 1 bytes.
+        let writer = std::thread::spawn(move || {
+            peer.write_all(&vec![b'x'; 1 << 20]).unwrap();
+            peer.write_all(b"\n$GPZDA,000003,01,01,2026,00,00*4D\r\n")
+                .unwrap();
+            peer
+        });
+        let lines = read_lines(live, 2);
+        drop(writer.join());
+        assert_eq!(lines.len(), 2);
+        assert_eq!(lines[0].len(), MAX_LINE_BYTES + 1);
+        assert!(live.partial.capacity() < 64 * 1024);
+    }
+}

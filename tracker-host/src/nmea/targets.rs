@@ -2,32 +2,23 @@
 //! latitude and longitude), IEC 61162-1 §8; and, when the plotter has no GNSS of its own,
 //! own ship (`RMC`, `HDT`, `OSD`).
 //!
-//! Target numbers are what a plotter keys its targets on, so they are the plotter's, not
-//! the device's track numbers: 01–99, unique among the targets live on the plotter, kept
-//! for a track's life, and a number given back waits longest before it is given again
-//! ([`TargetNumbers`]). A track that ends (lost, or an acquisition that failed) is sent once
-//! with status `L`, then its number is free. Acquiring tracks go as `Q`, tracked ones as
-//! `T`. With more live tracks than numbers the least important (by danger, then status,
-//! then range) are not sent, and that is counted.
+//! Targets go under their target numbers (01–99, unique, kept for a track's life: see
+//! [`crate::session::numbers`]), the same the display and the table show: tracked ones as
+//! `T`, acquiring ones (a second plot) as `Q`, and a target that ends (lost, or an
+//! acquisition that failed) once as `L`, after which its number is free.
 //!
 //! Course and speed are true (over ground) when own ship's motion is known; otherwise they
 //! are sent relative and marked `R`.
 
-use std::collections::{BTreeMap, VecDeque};
-
 use tracker_core::geo::{METRES_PER_NM, MPS_PER_KNOT};
-use tracker_core::icd::{TrackState, TrackStatus};
 
 use super::{angle_360, angle_field, date, degrees, sentence, utc, NmeaOut, OutSpec};
 use crate::origin::Origin;
 use crate::own_ship::OwnShip;
-use crate::session::target::{AlarmLimits, TargetData};
+use crate::session::target::TargetData;
 use crate::session::ScanReport;
 use crate::sink::ScanSink;
 use crate::source::SourceScan;
-
-/// The highest target number (the field holds two digits; 00 is not used).
-pub const MAX_TARGET_NUMBER: u8 = 99;
 
 /// A target as the plotter is told of it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,70 +106,21 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
     out
 }
 
-/// The plotter's target numbers.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TargetNumbers {
-    free: VecDeque<u8>,
-    of_track: BTreeMap<u16, u8>,
-}
-
-impl TargetNumbers {
-    /// Numbers 1 to `highest` (at most [`MAX_TARGET_NUMBER`]).
-    pub fn new(highest: u8) -> Self {
-        TargetNumbers {
-            free: (1..=highest.min(MAX_TARGET_NUMBER)).collect(),
-            of_track: BTreeMap::new(),
-        }
-    }
-
-    /// The number of `track`, giving it the longest-free one if it has none; `None` when
-    /// every number is in use.
-    pub fn of(&mut self, track: u16) -> Option<u8> {
-        if let Some(n) = self.of_track.get(&track) {
-            return Some(*n);
-        }
-        let n = self.free.pop_front()?;
-        self.of_track.insert(track, n);
-        Some(n)
-    }
-
-    /// The number `track` holds, if any.
-    pub fn held(&self, track: u16) -> Option<u8> {
-        self.of_track.get(&track).copied()
-    }
-
-    /// Gives `track`'s number back (to the end of the queue).
-    pub fn release(&mut self, track: u16) {
-        if let Some(n) = self.of_track.remove(&track) {
-            self.free.push_back(n);
-        }
-    }
-
-    /// Tracks holding a number.
-    pub fn tracks(&self) -> Vec<u16> {
-        self.of_track.keys().copied().collect()
-    }
-}
-
-/// What the plotter output did.
+/// What the plotter output sent.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct TargetsOutCounts {
-    /// Target reports sent (`TTM` and `TLL` pairs).
+    /// Target reports sent (`TTM` and `TLL` pairs, tracking and acquiring).
     pub targets_sent: u64,
     /// Ends sent (`L`).
     pub lost_sent: u64,
-    /// Live targets not sent because every number was in use (target-scans).
-    pub not_sent_no_number: u64,
 }
 
-/// Targets (and optionally own ship) to chart plotters each scan.
+/// Targets (and optionally own ship) to chart plotters each scan: tracked targets as `T`,
+/// acquiring ones as `Q`, ended ones once as `L`, each under its target number.
 pub struct TargetsOut {
     out: NmeaOut,
     origin: Origin,
-    numbers: TargetNumbers,
-    last: BTreeMap<u16, TargetData>,
     own_ship: bool,
-    limits: AlarmLimits,
     counts: TargetsOutCounts,
 }
 
@@ -189,23 +131,15 @@ impl TargetsOut {
     /// # Errors
     /// The socket does not open (an address that does not resolve, a port in use).
     pub fn open(spec: &OutSpec, origin: Origin, own_ship: bool) -> anyhow::Result<Self> {
-        Ok(TargetsOut::new(
-            NmeaOut::open(spec)?,
-            origin,
-            own_ship,
-            MAX_TARGET_NUMBER,
-        ))
+        Ok(TargetsOut::new(NmeaOut::open(spec)?, origin, own_ship))
     }
 
-    /// Over an open output, numbering targets 1 to `highest`.
-    pub fn new(out: NmeaOut, origin: Origin, own_ship: bool, highest: u8) -> Self {
+    /// Over an open output.
+    pub fn new(out: NmeaOut, origin: Origin, own_ship: bool) -> Self {
         TargetsOut {
             out,
             origin,
-            numbers: TargetNumbers::new(highest),
-            last: BTreeMap::new(),
             own_ship,
-            limits: AlarmLimits::default(),
             counts: TargetsOutCounts::default(),
         }
     }
@@ -223,71 +157,32 @@ impl TargetsOut {
         self.counts
     }
 
-    /// One scan's sentences: live tracks in order of importance, each with its number, and
-    /// ends (`L`) for tracks gone since the last scan.
+    /// One scan's sentences: ends first, then tracked and acquiring targets; targets still
+    /// waiting for a number are not sent.
     pub fn scan_sentences(&mut self, report: &ScanReport) -> Vec<String> {
         let time_s = report.time_s;
-        let mut live: Vec<(&TrackState, TargetData)> = report
-            .tracks
-            .iter()
-            .filter(|t| t.status != TrackStatus::Lost)
-            .map(|t| (t, TargetData::new(&report.own, t)))
-            .collect();
-        // Most important first: dangerous, then tracked before acquiring, then nearest.
-        let rank = |t: &(&TrackState, TargetData)| {
-            (
-                !t.1.dangerous(&self.limits),
-                t.0.status == TrackStatus::Tentative,
-            )
-        };
-        live.sort_by(|a, b| {
-            rank(a)
-                .cmp(&rank(b))
-                .then(a.1.range_m.total_cmp(&b.1.range_m))
-        });
         let mut out = Vec::new();
-        // Ends first: numbers given back this scan go to the back of the queue.
-        for track in self.numbers.tracks() {
-            if live.iter().any(|(t, _)| t.track == track) {
-                continue;
-            }
-            let data = report
-                .tracks
-                .iter()
-                .find(|t| t.track == track)
-                .map(|t| TargetData::new(&report.own, t))
-                .or_else(|| self.last.get(&track).copied());
-            if let (Some(number), Some(data)) = (self.numbers.held(track), data) {
+        let groups = [
+            (&report.ended, 'L'),
+            (&report.targets, 'T'),
+            (&report.acquiring, 'Q'),
+        ];
+        for (targets, status) in groups {
+            for d in targets {
+                let Some(number) = d.number else { continue };
                 let t = PlotterTarget {
                     number,
-                    status: 'L',
-                    data,
+                    status,
+                    data: *d,
                 };
                 out.push(ttm(&t, time_s));
                 out.push(tll(&t, &self.origin, time_s));
-                self.counts.lost_sent += 1;
+                if status == 'L' {
+                    self.counts.lost_sent += 1;
+                } else {
+                    self.counts.targets_sent += 1;
+                }
             }
-            self.numbers.release(track);
-            self.last.remove(&track);
-        }
-        for (track, data) in &live {
-            let Some(number) = self.numbers.of(track.track) else {
-                self.counts.not_sent_no_number += 1;
-                continue;
-            };
-            let status = match track.status {
-                TrackStatus::Tentative => 'Q',
-                _ => 'T',
-            };
-            let t = PlotterTarget {
-                number,
-                status,
-                data: *data,
-            };
-            out.push(ttm(&t, time_s));
-            out.push(tll(&t, &self.origin, time_s));
-            self.counts.targets_sent += 1;
-            self.last.insert(track.track, *data);
         }
         if self.own_ship {
             out.extend(own_ship_sentences(&report.own, &self.origin, time_s));
@@ -395,19 +290,6 @@ mod tests {
         let lon_min: f64 = f[4][3..].parse().unwrap();
         assert!((lon_min - (60.0 - 3000.0 / (1852.0 * 50f64.to_radians().cos()))).abs() < 1e-3);
         assert_eq!((f[6], f[7], f[8]), ("TGT07", "000000.00", "T"));
-    }
-
-    #[test]
-    fn numbers_are_unique_kept_and_given_back_last() {
-        let mut n = TargetNumbers::new(3);
-        assert_eq!((n.of(10), n.of(11), n.of(10)), (Some(1), Some(2), Some(1)));
-        assert_eq!(n.of(12), Some(3));
-        assert_eq!(n.of(13), None, "all in use");
-        n.release(11);
-        assert_eq!(n.of(14), Some(2));
-        n.release(10);
-        n.release(12);
-        assert_eq!(n.of(15), Some(1), "the longest free first");
     }
 
     #[test]

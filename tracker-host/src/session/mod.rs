@@ -16,9 +16,11 @@
 //! | [`device`] | the device's half of the scan over the link, reset recovery, host restart |
 //! | [`associate`] | refined gate (Mahalanobis, χ²) and GNN (Kuhn–Munkres) |
 //! | [`target`] | range, bearing, course, speed, CPA, TCPA, alarms |
+//! | [`numbers`] | the target numbers (01–99) the navigator and plotters know targets by |
 
 pub mod associate;
 pub mod device;
+pub mod numbers;
 pub mod target;
 
 use std::time::{Duration, Instant};
@@ -33,6 +35,7 @@ use crate::own_ship::OwnShip;
 use crate::source::RadarScan;
 use associate::{Association, CHI2_2DOF_99};
 use device::DeviceLink;
+use numbers::TargetNumbers;
 use target::{AlarmLimits, TargetData};
 
 /// A plot's position error at mid range under the IMO sensor model, m: the tracking
@@ -85,8 +88,14 @@ pub struct ScanReport {
     pub plots_m: Vec<EastNorth>,
     /// Every track the device reported, in its order.
     pub tracks: Vec<TrackState>,
-    /// Target data of confirmed and coasting tracks, nearest first.
+    /// Target data of confirmed and coasting tracks, numbered, nearest first.
     pub targets: Vec<TargetData>,
+    /// Tentative tracks that have had a second plot (shown as acquiring), numbered,
+    /// nearest first.
+    pub acquiring: Vec<TargetData>,
+    /// Targets shown last scan and gone now (lost, or an acquisition that failed), as last
+    /// seen, with their numbers (free from the next scan).
+    pub ended: Vec<TargetData>,
     /// What association did.
     pub association: Association,
     /// Host wall time for the scan, link included.
@@ -111,6 +120,7 @@ pub struct Session {
     epoch_s: Option<f64>,
     last_time_ms: Option<u64>,
     host_times: Vec<Duration>,
+    numbers: TargetNumbers,
 }
 
 impl Session {
@@ -125,6 +135,7 @@ impl Session {
             epoch_s: None,
             last_time_ms: None,
             host_times: Vec::new(),
+            numbers: TargetNumbers::new(numbers::MAX_TARGET_NUMBER),
         })
     }
 
@@ -170,12 +181,7 @@ impl Session {
                     associate::associate(gates, &plots_m, gate)
                 })?;
         self.last_time_ms = Some(time_ms);
-        let mut targets: Vec<TargetData> = tracks
-            .iter()
-            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
-            .map(|t| TargetData::new(own, t))
-            .collect();
-        targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+        let numbered = self.numbers.scan(own, &tracks, &self.config.alarms);
         let host_time = started.elapsed();
         self.host_times.push(host_time);
         Ok(ScanReport {
@@ -185,7 +191,9 @@ impl Session {
             plots: radar.plots.clone(),
             plots_m,
             tracks,
-            targets,
+            targets: numbered.tracked,
+            acquiring: numbered.acquiring,
+            ended: numbered.ended,
             association,
             host_time,
         })
@@ -221,5 +229,10 @@ impl Session {
     /// Host time of every scan so far, link included.
     pub fn host_times(&self) -> &[Duration] {
         &self.host_times
+    }
+
+    /// Target-scans that waited for a target number (every number was in use).
+    pub fn targets_without_number(&self) -> u64 {
+        self.numbers.waited
     }
 }

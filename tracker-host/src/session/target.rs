@@ -9,8 +9,11 @@ use crate::own_ship::OwnShip;
 /// One target's data, as the display shows it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TargetData {
-    /// Track number.
+    /// The device's track number.
     pub track: u16,
+    /// The target number the navigator and plotters know it by (01–99; see
+    /// [`super::numbers`]); `None` until given one.
+    pub number: Option<u8>,
     /// Life-cycle state.
     pub status: TrackStatus,
     /// Range from own ship, m.
@@ -58,6 +61,7 @@ impl TargetData {
         );
         TargetData {
             track: t.track,
+            number: None,
             status: t.status,
             range_m,
             bearing_rad,
@@ -72,6 +76,11 @@ impl TargetData {
             velocity_mps: t.velocity_mps,
             true_motion_known: own.quality.motion_known,
         }
+    }
+
+    /// The target's number as the navigator reads it (`07`), or `--` while it has none.
+    pub fn label(&self) -> String {
+        self.number.map_or("--".to_string(), |n| format!("{n:02}"))
     }
 
     /// True when the target will pass closer than `cpa_limit_m` within `tcpa_limit_s`.
@@ -104,7 +113,7 @@ impl Default for AlarmLimits {
 pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
     let deg = |r: f32| r.to_degrees();
     let mut s = String::from(
-        " TRK STATUS     RNG NM  BRG °T  CRS °T   SPD kn  CPA NM  TCPA min  RCRS °T  RSPD kn  AGE\n",
+        " TGT STATUS     RNG NM  BRG °T  CRS °T   SPD kn  CPA NM  TCPA min  RCRS °T  RSPD kn  AGE\n",
     );
     for t in targets {
         // Without own ship's motion the true course and speed are unknown: shown as ---.
@@ -119,7 +128,7 @@ pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
         s +=
             &format!(
             "{:>4} {:<9} {:>7.2} {:>7.1} {course} {speed} {:>7.2} {:>9.1} {:>8.1} {:>8.1} {:>4}{}\n",
-            t.track,
+            t.label(),
             status_name(t.status),
             t.range_m / METRES_PER_NM,
             deg(t.bearing_rad),
@@ -186,6 +195,6 @@ mod tests {
         assert!(d.dangerous(&AlarmLimits::default()));
         let text = table(&[d], &AlarmLimits::default());
         assert!(text.contains("ALARM"), "{text}");
-        assert!(text.contains("   3 tracked"), "{text}");
+        assert!(text.contains("  -- tracked"), "{text}");
     }
 }

@@ -1,0 +1,189 @@
+//! Target numbers: the numbers the navigator and every plotter know targets by, the same on
+//! the display, in the table and in `TTM`.
+//!
+//! They are not the device's track numbers (which run to 65,535 and restart with the
+//! device): 01–99, unique among the targets shown, kept for a track's life, and a number
+//! given back waits longest before it is given again, so a plotter that missed a target's
+//! end does not join a new target to the old one's trail. Shown are the tracked targets
+//! (confirmed and coasting) and, as acquiring, tentative tracks that have had a second plot
+//! (a first plot alone is mostly clutter, and has no velocity yet). With more targets than
+//! numbers the least important wait: dangerous first, then tracked before acquiring, then
+//! nearest; those left without a number are counted.
+
+use std::collections::{BTreeMap, VecDeque};
+
+use tracker_core::icd::{TrackState, TrackStatus};
+
+use super::target::{AlarmLimits, TargetData};
+use crate::own_ship::OwnShip;
+
+/// The highest target number (two digits; 00 is not used).
+pub const MAX_TARGET_NUMBER: u8 = 99;
+
+/// A tentative track is shown (acquiring) from this many plots on.
+pub const ACQUIRING_FROM_HITS: u32 = 2;
+
+/// The numbers and who holds them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TargetNumbers {
+    free: VecDeque<u8>,
+    of_track: BTreeMap<u16, u8>,
+    last: BTreeMap<u16, TargetData>,
+    /// Targets that waited for a number (target-scans).
+    pub waited: u64,
+}
+
+/// One scan's numbered targets.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Numbered {
+    /// Confirmed and coasting tracks, nearest first.
+    pub tracked: Vec<TargetData>,
+    /// Tentative tracks with a second plot, nearest first.
+    pub acquiring: Vec<TargetData>,
+    /// Targets shown last scan and gone now (lost, or an acquisition that failed), as they
+    /// were last seen: their numbers are free from the next scan.
+    pub ended: Vec<TargetData>,
+}
+
+impl TargetNumbers {
+    /// Numbers 1 to `highest` (at most [`MAX_TARGET_NUMBER`]).
+    pub fn new(highest: u8) -> Self {
+        TargetNumbers {
+            free: (1..=highest.min(MAX_TARGET_NUMBER)).collect(),
+            of_track: BTreeMap::new(),
+            last: BTreeMap::new(),
+            waited: 0,
+        }
+    }
+
+    /// The number `track` holds, if any.
+    pub fn held(&self, track: u16) -> Option<u8> {
+        self.of_track.get(&track).copied()
+    }
+
+    fn take(&mut self, track: u16) -> Option<u8> {
+        if let Some(n) = self.of_track.get(&track) {
+            return Some(*n);
+        }
+        let n = self.free.pop_front()?;
+        self.of_track.insert(track, n);
+        Some(n)
+    }
+
+    fn release(&mut self, track: u16) {
+        if let Some(n) = self.of_track.remove(&track) {
+            self.free.push_back(n);
+        }
+        self.last.remove(&track);
+    }
+
+    /// Numbers the device's `tracks` seen from `own`.
+    pub fn scan(&mut self, own: &OwnShip, tracks: &[TrackState], limits: &AlarmLimits) -> Numbered {
+        let shown = |t: &TrackState| match t.status {
+            TrackStatus::Confirmed | TrackStatus::Coasting => true,
+            TrackStatus::Tentative => (t.hit_history & 0x3ff).count_ones() >= ACQUIRING_FROM_HITS,
+            TrackStatus::Lost => false,
+        };
+        let mut live: Vec<TargetData> = tracks
+            .iter()
+            .filter(|t| shown(t))
+            .map(|t| TargetData::new(own, t))
+            .collect();
+        let mut out = Numbered::default();
+        // Ends: their numbers go back after this scan's numbers are given, to the back of the
+        // queue, so no number ends and starts in the same scan.
+        let mut ending = Vec::new();
+        let held: Vec<u16> = self.of_track.keys().copied().collect();
+        for track in held {
+            if live.iter().any(|t| t.track == track) {
+                continue;
+            }
+            let data = tracks
+                .iter()
+                .find(|t| t.track == track)
+                .map(|t| TargetData::new(own, t))
+                .or_else(|| self.last.get(&track).copied());
+            if let Some(mut d) = data {
+                d.number = self.held(track);
+                d.status = TrackStatus::Lost;
+                out.ended.push(d);
+            }
+            ending.push(track);
+        }
+        // Most important first: dangerous, then tracked before acquiring, then nearest.
+        let rank = |t: &TargetData| (!t.dangerous(limits), t.status == TrackStatus::Tentative);
+        live.sort_by(|a, b| rank(a).cmp(&rank(b)).then(a.range_m.total_cmp(&b.range_m)));
+        for mut t in live {
+            t.number = self.take(t.track);
+            if t.number.is_none() {
+                self.waited += 1;
+            }
+            self.last.insert(t.track, t);
+            if t.status == TrackStatus::Tentative {
+                out.acquiring.push(t);
+            } else {
+                out.tracked.push(t);
+            }
+        }
+        for track in ending {
+            self.release(track);
+        }
+        for list in [&mut out.tracked, &mut out.acquiring] {
+            list.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn track(id: u16, status: TrackStatus, hits: u16, north: f32) -> TrackState {
+        TrackState {
+            track: id,
+            status,
+            position_m: [0.0, north],
+            velocity_mps: [0.0, 0.0],
+            innovation_cov_m2: [100.0, 0.0, 100.0],
+            age_scans: 4,
+            hit_history: hits,
+        }
+    }
+
+    #[test]
+    fn numbers_are_unique_kept_and_given_back_last() {
+        let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
+        let limits = AlarmLimits::default();
+        let mut n = TargetNumbers::new(3);
+        let a = track(10, TrackStatus::Confirmed, 0b111, 5000.0);
+        let b = track(11, TrackStatus::Confirmed, 0b111, 6000.0);
+        let clutter = track(12, TrackStatus::Tentative, 0b1, 7000.0);
+        let s = n.scan(&own, &[a, b, clutter], &limits);
+        assert_eq!(
+            s.tracked.iter().map(|t| t.number).collect::<Vec<_>>(),
+            [Some(1), Some(2)]
+        );
+        assert!(s.acquiring.is_empty(), "one plot is not shown");
+        let c = track(13, TrackStatus::Tentative, 0b11, 8000.0);
+        let d = track(14, TrackStatus::Tentative, 0b11, 9000.0);
+        let s = n.scan(&own, &[a, b, c, d], &limits);
+        assert_eq!(s.acquiring[0].number, Some(3));
+        assert_eq!(s.acquiring[1].number, None, "every number in use");
+        assert_eq!(n.waited, 1);
+        // b ends: its number is sent with the end, and free only from the next scan.
+        let s = n.scan(&own, &[a, c, d], &limits);
+        assert_eq!(s.ended.len(), 1);
+        assert_eq!((s.ended[0].track, s.ended[0].number), (11, Some(2)));
+        assert_eq!(
+            s.acquiring.iter().find(|t| t.track == 14).unwrap().number,
+            None
+        );
+        let s = n.scan(&own, &[a, c, d], &limits);
+        assert_eq!(
+            s.acquiring.iter().find(|t| t.track == 14).unwrap().number,
+            Some(2)
+        );
+        assert_eq!(n.held(10), Some(1), "kept for the track's life");
+    }
+}
