@@ -40,6 +40,7 @@ pub mod icd;
 #[cfg(feature = "metrics")]
 pub mod metrics;
 pub mod nav;
+pub mod radar;
 pub mod scalar;
 #[cfg(feature = "sim")]
 pub mod sim;
