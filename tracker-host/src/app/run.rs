@@ -186,7 +186,11 @@ impl Run {
             link_bytes_sent: stats.bytes_sent,
             link_bytes_received: stats.bytes_received,
             own_ship_nmea: self.nmea_counts(),
-            events: self.session.events().to_vec(),
+            events: {
+                let mut e = self.session.events();
+                e.extend(self.own_ship.events());
+                e
+            },
         }
     }
 }

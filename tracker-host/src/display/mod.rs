@@ -79,6 +79,8 @@ pub struct DisplayState {
     pub limits: AlarmLimits,
     /// Link name for the title.
     pub link: String,
+    /// The last operator command's refusal, shown until the next command.
+    pub message: Option<String>,
     trails: BTreeMap<u16, VecDeque<EastNorth>>,
     lost: Vec<String>,
 }
@@ -94,6 +96,7 @@ impl DisplayState {
             paused: false,
             limits: AlarmLimits::default(),
             link,
+            message: None,
             trails: BTreeMap::new(),
             lost: Vec::new(),
         }
@@ -399,6 +402,12 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
 
 fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
     let mut lines: Vec<Line> = Vec::new();
+    for note in view.skipped.iter().chain(&state.message) {
+        lines.push(Line::styled(
+            note.clone(),
+            Style::default().fg(Color::Yellow),
+        ));
+    }
     for a in view.own.alarms() {
         lines.push(Line::styled(
             a,
@@ -447,6 +456,23 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     );
 }
 
+/// Applies an operator key to the display and, for a command, to the device; returns true
+/// for quit. A command the device refuses is a message on the display, never an exit.
+pub fn key(run: &mut Run, state: &mut DisplayState, key: char, view: &ScanReport) -> bool {
+    use tracker_core::icd::TrackCommand;
+    let command = match state.key(key, Some(view)) {
+        Action::None => None,
+        Action::Quit => return true,
+        Action::Acquire(plot) => Some(TrackCommand::Acquire { plot }),
+        Action::Cancel(track) => Some(TrackCommand::Cancel { track }),
+        Action::CancelAll => Some(TrackCommand::CancelAll),
+    };
+    if let Some(c) = command {
+        state.message = run.session_mut().command(c).err().map(|e| format!("{e:#}"));
+    }
+    false
+}
+
 /// Runs `run` in the terminal until its source ends or the user quits; returns the scans
 /// run. With `speedup`, scans are paced at the source's antenna period divided by it. The
 /// terminal is restored whatever happens.
@@ -460,7 +486,6 @@ pub fn run_tui(
 ) -> anyhow::Result<u64> {
     use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind};
     use std::time::{Duration, Instant};
-    use tracker_core::icd::TrackCommand;
 
     let period = run.scan_period_s().unwrap_or(2.5);
     let interval = speedup.map_or(Duration::ZERO, |x| Duration::from_secs_f64(period / x));
@@ -487,15 +512,8 @@ pub fn run_tui(
                         KeyCode::Esc => 'q',
                         _ => continue,
                     };
-                    let command = match state.key(c, Some(&view)) {
-                        Action::None => None,
-                        Action::Quit => return Ok(done),
-                        Action::Acquire(plot) => Some(TrackCommand::Acquire { plot }),
-                        Action::Cancel(track) => Some(TrackCommand::Cancel { track }),
-                        Action::CancelAll => Some(TrackCommand::CancelAll),
-                    };
-                    if let Some(c) = command {
-                        run.session_mut().command(c)?;
+                    if key(run, state, c, &view) {
+                        return Ok(done);
                     }
                     continue;
                 }
@@ -639,5 +657,29 @@ mod tests {
             let text = screen(&state, &view);
             assert!(text.contains("CPA/TCPA ALARM"), "{text}");
         }
+    }
+
+    #[test]
+    fn refused_commands_are_messages_and_the_run_goes_on() {
+        let mut d = demo();
+        let mut state = DisplayState::new("inproc".into());
+        let mut view = step(&mut d);
+        for _ in 0..6 {
+            view = step(&mut d);
+            state.observe(&view);
+        }
+        // Select a target, cancel it, and cancel it again within the scan: the second is
+        // refused by the device (no such track).
+        assert!(!key(&mut d, &mut state, '↓', &view));
+        let selected = state.selected.expect("a target selected");
+        assert!(!key(&mut d, &mut state, 'c', &view));
+        assert_eq!(state.message, None);
+        assert!(!key(&mut d, &mut state, 'c', &view));
+        let m = state.message.clone().expect("the refusal shown");
+        assert!(m.contains("refused") && m.contains("InvalidValue"), "{m}");
+        // The run goes on; the cancelled target is gone.
+        let view = step(&mut d);
+        assert!(!view.tracks.iter().any(|t| t.track == selected));
+        assert!(key(&mut d, &mut state, 'q', &view), "q quits");
     }
 }

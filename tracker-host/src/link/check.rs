@@ -302,4 +302,55 @@ mod tests {
         assert_eq!(report.good_sent, 200 + report.bad_sent);
         assert_eq!(report.bad_sent, 8);
     }
+
+    /// A line with junk on it before anything: garbage into the device's UART and
+    /// garbage (half a frame, noise) ahead of its first reply.
+    struct JunkFirst {
+        inner: InprocTransport,
+        to_device: Option<Vec<u8>>,
+        to_host: Option<Vec<u8>>,
+    }
+
+    impl crate::link::Transport for JunkFirst {
+        fn write_all(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+            if let Some(junk) = self.to_device.take() {
+                self.inner.write_all(&junk)?;
+            }
+            self.inner.write_all(bytes)
+        }
+
+        fn read(&mut self, buf: &mut [u8], timeout: Duration) -> std::io::Result<usize> {
+            if let Some(junk) = self.to_host.take() {
+                let n = junk.len().min(buf.len());
+                buf[..n].copy_from_slice(&junk[..n]);
+                return Ok(n);
+            }
+            self.inner.read(buf, timeout)
+        }
+    }
+
+    #[test]
+    fn junk_on_the_line_before_the_handshake_is_survived_at_once() {
+        let junk: Vec<u8> = (0..700u32).map(|i| (i * 37 % 251) as u8 | 1).collect();
+        let mut client = Client::new(Box::new(JunkFirst {
+            inner: InprocTransport::new(),
+            to_device: Some(junk.clone()),
+            to_host: Some(junk),
+        }));
+        let report = run(
+            &mut client,
+            &LinkCheckOptions {
+                frames: 50,
+                seed: 2,
+            },
+        )
+        .unwrap();
+        assert!(
+            report.passed(),
+            "{}\n{:?}",
+            report.summary(),
+            report.failures
+        );
+        assert!(client.stats().resyncs >= 1);
+    }
 }

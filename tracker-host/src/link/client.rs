@@ -68,6 +68,8 @@ pub struct ClientStats {
     pub unmatched: u64,
     /// Requests sent again after a lost answer.
     pub retries: u64,
+    /// Resynchronisations of the line ([`Client::resync`]).
+    pub resyncs: u64,
     /// Bytes written to the link.
     pub bytes_sent: u64,
     /// Bytes read from the link.
@@ -204,6 +206,12 @@ impl Client {
                         DeviceToHost::Tracks(t) => (usize::from(t.part), usize::from(t.parts)),
                         _ => (0, 1),
                     };
+                    // A report in no parts, or a part past its count, is no answer: ask
+                    // again (a retry gets the device's report afresh).
+                    if of == 0 || part >= of {
+                        self.stats.frames_damaged += 1;
+                        return Err(RequestError::Lost);
+                    }
                     if parts.len() != of {
                         parts.clear();
                         parts.resize(of, None);
@@ -278,12 +286,46 @@ impl Client {
         }
     }
 
-    /// Handshake: checks the device speaks our protocol version.
+    /// Brings both ends back to a frame boundary: a lone delimiter ends whatever the device
+    /// was decoding (junk on the line becomes one frame of its own, answered with an error),
+    /// then everything arriving until the line has been quiet for [`RESYNC_QUIET`] (at most
+    /// [`RESYNC_MAX`]) is dropped, and our decoder starts afresh.
+    ///
+    /// # Errors
+    /// [`RequestError::Io`] when the transport fails.
+    pub fn resync(&mut self) -> Result<(), RequestError> {
+        self.transport.write_all(&[0])?;
+        self.stats.bytes_sent += 1;
+        let start = Instant::now();
+        let mut quiet_since = Instant::now();
+        let mut buf = [0u8; 4096];
+        while quiet_since.elapsed() < RESYNC_QUIET && start.elapsed() < RESYNC_MAX {
+            let n = self.transport.read(&mut buf, RESYNC_QUIET / 4)?;
+            if n > 0 {
+                self.stats.bytes_received += n as u64;
+                quiet_since = Instant::now();
+            }
+        }
+        self.inbox.clear();
+        *self.decoder = FrameDecoder::new();
+        self.stats.resyncs += 1;
+        Ok(())
+    }
+
+    /// Handshake: brings the line back to a frame boundary ([`Client::resync`]), then checks
+    /// the device speaks our protocol version, trying [`HELLO_ATTEMPTS`] times whatever
+    /// [`Client::retries`] says (junk on the line before it must not fail the handshake).
     ///
     /// # Errors
     /// No answer, another protocol version, or a refusal.
     pub fn hello(&mut self) -> anyhow::Result<tracker_core::icd::DeviceInfo> {
-        match self.request(&HostToDevice::Hello)? {
+        let retries = self.retries;
+        self.retries = self.retries.max(HELLO_ATTEMPTS - 1);
+        let answer = self
+            .resync()
+            .and_then(|()| self.request(&HostToDevice::Hello));
+        self.retries = retries;
+        match answer? {
             DeviceToHost::HelloAck(info) if info.protocol == PROTOCOL_VERSION => Ok(info),
             DeviceToHost::HelloAck(info) => bail!(
                 "device speaks protocol {}, this host {}",
@@ -295,6 +337,15 @@ impl Client {
         }
     }
 }
+
+/// A line quiet this long is at a frame boundary again.
+pub const RESYNC_QUIET: Duration = Duration::from_millis(40);
+
+/// Longest a resynchronisation drains a line that keeps talking.
+pub const RESYNC_MAX: Duration = Duration::from_secs(1);
+
+/// Tries of a handshake.
+pub const HELLO_ATTEMPTS: u32 = 3;
 
 /// Replies carrying [`UNPAIRED_REQUEST_ID`] answer frames the device could not read.
 pub fn is_unpaired(h: &Header) -> bool {

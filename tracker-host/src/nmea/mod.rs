@@ -1,17 +1,19 @@
 //! NMEA 0183 with the bridge: what the tracker tells a chart plotter about its targets
 //! ([`targets`]: `TTM` tracked target, `TLL` target latitude/longitude), the sentences a
 //! simulated bridge sends ([`bridge`]), and the sockets, ports and files they travel through
-//! ([`io`]). What own ship makes of incoming sentences is in [`crate::own_ship`].
+//! ([`input`], [`out`]). What own ship makes of incoming sentences is in [`crate::own_ship`].
 //!
 //! Units on the wire are NMEA's: nautical miles, knots, degrees true, minutes, latitude and
 //! longitude in degrees and minutes, UTC.
 
 pub mod bridge;
-pub mod io;
+pub mod input;
+pub mod out;
 pub mod sentence;
 pub mod targets;
 
-pub use io::{InSpec, NmeaIn, NmeaOut, OutSpec};
+pub use input::{InSpec, NmeaIn};
+pub use out::{NmeaOut, OutSpec};
 pub use sentence::{checksum, sentence};
 pub use targets::{targets_sentences, tll, ttm};
 

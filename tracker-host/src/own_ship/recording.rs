@@ -9,7 +9,7 @@ use super::nav::OwnShipNav;
 use super::select::Selector;
 use super::sentences::{decode, Decoded};
 use super::NmeaOptions;
-use crate::nmea::io::{read_bounded_line, MAX_LINE_BYTES};
+use crate::nmea::input::{read_bounded_line, MAX_LINE_BYTES};
 use crate::nmea::sentence::{self, Line};
 use crate::origin::Origin;
 

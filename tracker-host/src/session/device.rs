@@ -7,9 +7,9 @@
 use anyhow::{bail, Context};
 use tracker_core::geo::EastNorth;
 use tracker_core::icd::{
-    AssignmentBatch, DeviceInfo, DeviceToHost, GatedPlots, HostToDevice, OwnShipPosition, Plot,
-    PlotBatch, TrackCommand, TrackState, TrackStatus, TrackerConfig, MAX_ASSIGNMENTS_PER_MESSAGE,
-    MAX_PLOTS_PER_MESSAGE,
+    AssignmentBatch, DeviceInfo, DeviceToHost, ErrorCode, GatedPlots, HostToDevice,
+    OwnShipPosition, Plot, PlotBatch, TrackCommand, TrackState, TrackStatus, TrackerConfig,
+    MAX_ASSIGNMENTS_PER_MESSAGE, MAX_PLOTS_PER_MESSAGE,
 };
 
 use super::associate::Association;
@@ -20,9 +20,105 @@ pub struct DeviceLink {
     client: Client,
     config: TrackerConfig,
     boot_id: u32,
+    /// The device's track table size (its handshake's).
+    max_tracks: usize,
     /// Track numbers in the device's last report (to notice them all gone at once).
     last_tracks: Vec<u16>,
     events: Vec<String>,
+}
+
+/// The device answered a request with an error: it refused it, its state unchanged.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Refused {
+    /// What was asked.
+    pub what: &'static str,
+    /// The device's reason.
+    pub code: ErrorCode,
+}
+
+impl std::fmt::Display for Refused {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "the device refused the {}: {:?}", self.what, self.code)
+    }
+}
+
+impl std::error::Error for Refused {}
+
+/// A report from the device that cannot be right (a value not finite or out of range, a
+/// plot index past the scan's plots, more tracks than its table holds): not believed.
+#[derive(Debug, Clone, PartialEq)]
+pub struct InvalidReport(pub String);
+
+impl std::fmt::Display for InvalidReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "the device's report is invalid: {}", self.0)
+    }
+}
+
+impl std::error::Error for InvalidReport {}
+
+/// Largest coordinate believed in a device report, m (the filters' own bound).
+const MAX_REPORTED_POSITION_M: f32 = 1.0e7;
+
+/// Fastest target believed in a device report, m/s (about 390 kn).
+const MAX_REPORTED_SPEED_MPS: f32 = 200.0;
+
+/// Checks the rough gates against what was sent: at most one per track the device holds,
+/// plot indices within the scan's `plots`, finite predictions and positive definite
+/// innovation covariances.
+fn check_gates(gates: &[GatedPlots], plots: usize, max_tracks: usize) -> Result<(), InvalidReport> {
+    if gates.len() > max_tracks {
+        return Err(InvalidReport(format!(
+            "{} gates for a table of {max_tracks}",
+            gates.len()
+        )));
+    }
+    for g in gates {
+        let s = g.innovation_cov_m2;
+        let finite = g.predicted_m.iter().chain(s.iter()).all(|v| v.is_finite());
+        let definite = s[0] > 0.0 && s[2] > 0.0 && s[0] * s[2] > s[1] * s[1];
+        let near = g
+            .predicted_m
+            .iter()
+            .all(|v| v.abs() <= MAX_REPORTED_POSITION_M);
+        if !(finite && definite && near) {
+            return Err(InvalidReport(format!("track {}'s gate {g:?}", g.track)));
+        }
+        if let Some(p) = g.plots.iter().find(|&&p| usize::from(p) >= plots) {
+            return Err(InvalidReport(format!(
+                "track {} gated plot {p} of {plots}",
+                g.track
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Checks track states: at most the table's size, every number finite and in range.
+fn check_tracks(tracks: &[TrackState], max_tracks: usize) -> Result<(), InvalidReport> {
+    if tracks.len() > max_tracks {
+        return Err(InvalidReport(format!(
+            "{} tracks for a table of {max_tracks}",
+            tracks.len()
+        )));
+    }
+    for t in tracks {
+        let finite = t
+            .position_m
+            .iter()
+            .chain(&t.velocity_mps)
+            .chain(&t.innovation_cov_m2)
+            .all(|v| v.is_finite());
+        let sane = t
+            .position_m
+            .iter()
+            .all(|v| v.abs() <= MAX_REPORTED_POSITION_M)
+            && t.velocity_mps[0].hypot(t.velocity_mps[1]) <= MAX_REPORTED_SPEED_MPS;
+        if !(finite && sane) {
+            return Err(InvalidReport(format!("track {}: {t:?}", t.track)));
+        }
+    }
+    Ok(())
 }
 
 /// Every track the device had a scan ago is gone from its gates.
@@ -50,6 +146,7 @@ impl DeviceLink {
             client,
             config,
             boot_id: info.boot_id,
+            max_tracks: usize::from(info.max_tracks),
             last_tracks: Vec::new(),
             events: Vec::new(),
         };
@@ -129,6 +226,7 @@ impl DeviceLink {
                 if !reset && !vanished {
                     return Err(refused);
                 }
+
                 self.last_tracks.clear();
                 self.scan_once(scan, own, plots, &associate)
             }
@@ -167,10 +265,18 @@ impl DeviceLink {
                 match reply {
                     DeviceToHost::Ack => {}
                     DeviceToHost::Gated(g) => gates.extend(g.gates),
+                    DeviceToHost::Error(code) => {
+                        return Err(Refused {
+                            what: "plots",
+                            code,
+                        }
+                        .into())
+                    }
                     other => bail!("plots of scan {scan} answered {other:?}"),
                 }
             }
         }
+        check_gates(&gates, plots.len(), self.max_tracks)?;
         // Every track gone at once: the device was probably reset (or its table cleared).
         let known = |id: &u16| gates.iter().any(|g| g.track == *id);
         if !self.last_tracks.is_empty() && !self.last_tracks.iter().any(known) {
@@ -178,6 +284,7 @@ impl DeviceLink {
         }
         let association = associate(&gates);
         let tracks = self.send_assignments(scan, &association)?;
+        check_tracks(&tracks, self.max_tracks)?;
         self.last_tracks = tracks
             .iter()
             .filter(|t| t.status != TrackStatus::Lost)
@@ -220,6 +327,13 @@ impl DeviceLink {
                 match reply {
                     DeviceToHost::Ack => {}
                     DeviceToHost::Tracks(t) => tracks.extend(t.tracks),
+                    DeviceToHost::Error(code) => {
+                        return Err(Refused {
+                            what: "assignments",
+                            code,
+                        }
+                        .into())
+                    }
                     other => bail!("assignments of scan {scan} answered {other:?}"),
                 }
             }
@@ -283,9 +397,10 @@ impl DeviceLink {
     }
 }
 
-fn expect_ack(reply: DeviceToHost, what: &str) -> anyhow::Result<()> {
+fn expect_ack(reply: DeviceToHost, what: &'static str) -> anyhow::Result<()> {
     match reply {
         DeviceToHost::Ack => Ok(()),
+        DeviceToHost::Error(code) => Err(Refused { what, code }.into()),
         other => bail!("{what}: the device answered {other:?}"),
     }
 }

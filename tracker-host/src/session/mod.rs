@@ -100,6 +100,9 @@ pub struct ScanReport {
     pub association: Association,
     /// Host wall time for the scan, link included.
     pub host_time: Duration,
+    /// Why the scan was not tracked, when it was not: the device refused it or reported
+    /// something that cannot be right (the session goes on with the next scan).
+    pub skipped: Option<String>,
 }
 
 impl ScanReport {
@@ -121,6 +124,8 @@ pub struct Session {
     last_time_ms: Option<u64>,
     host_times: Vec<Duration>,
     numbers: TargetNumbers,
+    events: Vec<String>,
+    skipped: u64,
 }
 
 impl Session {
@@ -136,6 +141,8 @@ impl Session {
             last_time_ms: None,
             host_times: Vec::new(),
             numbers: TargetNumbers::new(numbers::MAX_TARGET_NUMBER),
+            events: Vec::new(),
+            skipped: 0,
         })
     }
 
@@ -175,12 +182,44 @@ impl Session {
             .map(|p| geo::polar_to_local(own.position_m, p.range_m, p.bearing_rad))
             .collect();
         let gate = self.config.refined_gate_d2;
-        let (association, tracks) =
-            self.device
-                .scan(radar.scan, time_ms, own.position_m, &radar.plots, |gates| {
-                    associate::associate(gates, &plots_m, gate)
-                })?;
+        let done = self
+            .device
+            .scan(radar.scan, time_ms, own.position_m, &radar.plots, |gates| {
+                associate::associate(gates, &plots_m, gate)
+            });
         self.last_time_ms = Some(time_ms);
+        let (association, tracks) = match done {
+            Ok(done) => done,
+            // A refusal, a report not believed or an answer that never came whole costs this
+            // scan, not the session.
+            Err(e)
+                if e.downcast_ref::<device::Refused>().is_some()
+                    || e.downcast_ref::<device::InvalidReport>().is_some()
+                    || matches!(
+                        e.downcast_ref::<crate::link::RequestError>(),
+                        Some(crate::link::RequestError::Lost)
+                    ) =>
+            {
+                let why = format!("scan {} skipped: {e}", radar.scan);
+                self.events.push(why.clone());
+                self.skipped += 1;
+                return Ok(ScanReport {
+                    scan: radar.scan,
+                    time_s: radar.time_s,
+                    own: *own,
+                    plots: radar.plots.clone(),
+                    plots_m,
+                    tracks: Vec::new(),
+                    targets: Vec::new(),
+                    acquiring: Vec::new(),
+                    ended: Vec::new(),
+                    association: Association::default(),
+                    host_time: started.elapsed(),
+                    skipped: Some(why),
+                });
+            }
+            Err(e) => return Err(e),
+        };
         let numbered = self.numbers.scan(own, &tracks, &self.config.alarms);
         let host_time = started.elapsed();
         self.host_times.push(host_time);
@@ -196,6 +235,7 @@ impl Session {
             ended: numbered.ended,
             association,
             host_time,
+            skipped: None,
         })
     }
 
@@ -216,9 +256,16 @@ impl Session {
         self.device.restart_host()
     }
 
-    /// What happened on the link worth telling the operator, oldest first.
-    pub fn events(&self) -> &[String] {
-        self.device.events()
+    /// What happened worth telling the operator (resets, restarts, skipped scans).
+    pub fn events(&self) -> Vec<String> {
+        let mut e = self.device.events().to_vec();
+        e.extend(self.events.iter().cloned());
+        e
+    }
+
+    /// Scans skipped because the device refused them or reported nonsense.
+    pub fn scans_skipped(&self) -> u64 {
+        self.skipped
     }
 
     /// The link's counters.

@@ -1,100 +1,11 @@
-//! Where NMEA travels: out to chart plotters over UDP or a TCP server, in from a recording,
-//! UDP, a TCP server (a multiplexer) or a serial port.
+//! Where NMEA comes in from: a recording, UDP, a TCP server (a multiplexer) or a serial
+//! port; lines bounded, live sources reopened after a drop.
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::{TcpListener, TcpStream, ToSocketAddrs, UdpSocket};
+use std::io::{BufRead, BufReader, Read};
+use std::net::{TcpStream, ToSocketAddrs, UdpSocket};
 use std::path::PathBuf;
 
 use anyhow::Context;
-
-/// Where NMEA goes: `udp:HOST:PORT` (datagrams to one listener) or `tcp:PORT` (a server any
-/// number of chart plotters connect to).
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub enum OutSpec {
-    /// Datagrams to this address.
-    Udp(String),
-    /// A TCP server on this port (all interfaces).
-    Tcp(u16),
-}
-
-impl std::str::FromStr for OutSpec {
-    type Err = String;
-    fn from_str(s: &str) -> Result<Self, String> {
-        match s.split_once(':') {
-            Some(("udp", addr)) if addr.contains(':') => Ok(OutSpec::Udp(addr.to_string())),
-            Some(("tcp", port)) => port
-                .parse()
-                .map(OutSpec::Tcp)
-                .map_err(|_| format!("{s}: tcp:PORT with a port number")),
-            _ => Err(format!("{s}: expected udp:HOST:PORT or tcp:PORT")),
-        }
-    }
-}
-
-/// An open NMEA output.
-pub enum NmeaOut {
-    /// UDP socket and destination.
-    Udp(UdpSocket, std::net::SocketAddr),
-    /// Listening socket and the connected clients.
-    Tcp(TcpListener, Vec<TcpStream>),
-}
-
-impl NmeaOut {
-    /// Opens `spec`.
-    ///
-    /// # Errors
-    /// An address that does not resolve, a port in use.
-    pub fn open(spec: &OutSpec) -> anyhow::Result<Self> {
-        Ok(match spec {
-            OutSpec::Udp(addr) => {
-                let to = addr
-                    .to_socket_addrs()
-                    .with_context(|| format!("resolving {addr}"))?
-                    .next()
-                    .with_context(|| format!("{addr} resolves to nothing"))?;
-                let bind = if to.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" };
-                NmeaOut::Udp(UdpSocket::bind(bind).context("UDP socket")?, to)
-            }
-            OutSpec::Tcp(port) => {
-                let l = TcpListener::bind(("0.0.0.0", *port))
-                    .with_context(|| format!("listening on TCP port {port}"))?;
-                l.set_nonblocking(true)?;
-                NmeaOut::Tcp(l, Vec::new())
-            }
-        })
-    }
-
-    /// The local address (for a TCP server: the port clients connect to).
-    ///
-    /// # Errors
-    /// The operating system's.
-    pub fn local_addr(&self) -> std::io::Result<std::net::SocketAddr> {
-        match self {
-            NmeaOut::Udp(s, _) => s.local_addr(),
-            NmeaOut::Tcp(l, _) => l.local_addr(),
-        }
-    }
-
-    /// Sends one scan's sentences (one datagram each over UDP). A chart plotter that went
-    /// away is dropped; nothing here stops the tracker.
-    pub fn send(&mut self, sentences: &[String]) {
-        match self {
-            NmeaOut::Udp(socket, to) => {
-                for s in sentences {
-                    let _ = socket.send_to(s.as_bytes(), *to);
-                }
-            }
-            NmeaOut::Tcp(listener, clients) => {
-                while let Ok((c, _)) = listener.accept() {
-                    let _ = c.set_nodelay(true);
-                    clients.push(c);
-                }
-                let all: String = sentences.concat();
-                clients.retain_mut(|c| c.write_all(all.as_bytes()).is_ok());
-            }
-        }
-    }
-}
 
 /// Where own-ship NMEA comes from: `file:PATH` (a recording, replayed in step with the
 /// scans by its UTC times), `udp:PORT`, `tcp:HOST:PORT` (a TCP server such as a
@@ -475,7 +386,10 @@ mod tests {
     use super::*;
     use crate::nmea::bridge::own_ship_sentences;
     use crate::nmea::targets_sentences;
+    use crate::nmea::{NmeaOut, OutSpec};
     use crate::origin::Origin;
+    use std::io::Write;
+    use std::net::TcpListener;
 
     #[test]
     fn out_and_in_over_loopback() {
