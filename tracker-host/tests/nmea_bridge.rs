@@ -217,3 +217,61 @@ fn midnight_a_step_back_a_corrupt_time_and_an_outage() {
     assert_eq!((c.bad_checksum, c.stale), (1, 1), "{c}");
     assert_eq!(c.malformed, 0, "{c}");
 }
+
+/// A recording with a 2.5-hour GPS outage plays through: own ship is dead reckoned, then
+/// marked unknown, and when the fixes return the filter starts again there (the first fix
+/// after the gap waits for a second to confirm the jump in time) and own ship follows.
+#[test]
+fn a_two_and_a_half_hour_outage_plays_through() {
+    use tracker_host::nmea::bridge::own_ship_sentences;
+    use tracker_host::origin::Origin;
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("outage.nmea");
+    let origin = Origin::default();
+    let t0 = 1_767_225_600.0 + 8.0 * 3600.0;
+    let gap = 2.5 * 3600.0;
+    let truth = |k: f64| [0.0, 4.0 * k];
+    let mut text = String::new();
+    for k in (0..120).chain((gap as i32)..(gap as i32 + 120)) {
+        let k = f64::from(k);
+        for l in own_ship_sentences(truth(k), [0.0, 4.0], &origin, t0 + k) {
+            text += &l;
+        }
+    }
+    std::fs::write(&path, text).unwrap();
+    let options = DemoOptions {
+        own_ship: OwnShipOptions {
+            nmea_in: Some(InSpec::File(path)),
+            origin: Some(origin),
+            ..OwnShipOptions::default()
+        },
+        duration_from_recording: true,
+        ..DemoOptions::new(ScenarioKind::OpenSea, 5, 2, 60.0, FilterKind::KalmanCv)
+    };
+    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+    let (mut unknown, mut after, mut scans) = (0, 0, 0);
+    while let Some(r) = run.step().unwrap() {
+        scans += 1;
+        let k = r.time_s - t0;
+        assert!(r.own.position_m.iter().all(|v| v.is_finite()), "t {k}");
+        if (1000.0..gap).contains(&k) {
+            assert!(!r.own.quality.motion_known, "t {k}: {:?}", r.own.quality);
+            unknown += 1;
+        }
+        if k > gap + 10.0 {
+            let want = truth(k);
+            let err = (f64::from(r.own.position_m[1]) - want[1]).abs();
+            assert!(err < 10.0, "t {k}: own ship {err:.1} m off");
+            assert!(r.own.alarms().is_empty(), "t {k}: {:?}", r.own.alarms());
+            after += 1;
+        }
+    }
+    assert!(
+        scans > 3600 && unknown > 3000 && after > 40,
+        "{scans} {unknown} {after}"
+    );
+    let c = run.nmea_counts().unwrap();
+    assert!(c.time_jump >= 1, "{c}");
+    let events = run.report("inproc").events;
+    assert!(events.iter().any(|e| e.contains("restarted")), "{events:?}");
+}

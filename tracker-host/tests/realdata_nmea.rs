@@ -145,6 +145,8 @@ fn every_real_recording_drives_own_ship_and_the_picture() {
             "malformed",
             "void",
             "stale",
+            "time_jump",
+            "implausible",
             "out_of_range",
             "not_true",
             "no_variation",

@@ -39,6 +39,11 @@ pub struct Cli {
     #[arg(long, global = true)]
     pub mcu_log: bool,
 
+    /// How long to wait for the device's answer before asking again, s (default 5; each
+    /// request is asked up to 6 times).
+    #[arg(long, global = true, value_name = "SECONDS")]
+    pub link_timeout: Option<f64>,
+
     /// Damage the link on purpose: this probability per byte, both ways, of a flipped bit
     /// (80 %), a lost byte (10 %) or a repeated one (10 %). For testing; the host retries.
     #[arg(long, global = true, value_name = "RATE")]
@@ -235,6 +240,12 @@ impl Cli {
             client.timeout = t;
             client.retries = 50;
         }
+        if let Some(s) = self.link_timeout {
+            if !(s.is_finite() && (0.01..=600.0).contains(&s)) {
+                anyhow::bail!("--link-timeout {s}: expected 0.01 to 600 seconds");
+            }
+            client.timeout = std::time::Duration::from_secs_f64(s);
+        }
         Ok(client)
     }
 }
@@ -314,9 +325,9 @@ where
                     seed: *seed,
                 },
             )?;
-            println!("{}", report.summary());
+            say(&format!("{}\n", report.summary()));
             for f in &report.failures {
-                println!("failure: {f}");
+                say(&format!("failure: {f}\n"));
             }
             Ok(exit(report.passed()))
         }
@@ -371,21 +382,21 @@ where
         }
         Command::Compare { runs, sigma } => {
             let (scores, detector) = compare::run(*runs, *sigma)?;
-            print!("{}", compare::report(*runs, *sigma, &scores, &detector));
+            say(&compare::report(*runs, *sigma, &scores, &detector));
             Ok(ExitCode::SUCCESS)
         }
         Command::Arpa { runs } => {
             let table = arpa::run(*runs)?;
-            print!("{}", arpa::report(*runs, &table));
+            say(&arpa::report(*runs, &table));
             let missed = arpa::missed(&table);
             for m in &missed {
-                println!("{m}");
+                say(&format!("{m}\n"));
             }
             Ok(exit(missed.iter().all(|m| m.out_of_reach())))
         }
         Command::Reproduce { names, out } => {
             let report = reproduce::run(names, out)?;
-            print!("{report}");
+            say(&report);
             eprintln!("written: {}", out.join("report.md").display());
             Ok(ExitCode::SUCCESS)
         }
@@ -398,10 +409,18 @@ where
         }
         Command::BenchMcu { elf } => {
             let rows = bench_mcu::run(elf.as_deref().or(cli.firmware.as_deref()))?;
-            print!("{}", bench_mcu::to_csv(&rows));
+            say(&bench_mcu::to_csv(&rows));
             Ok(ExitCode::SUCCESS)
         }
     }
+}
+
+/// Writes to standard output; a closed one (`| head`) is not a failure of the command
+/// (`println!` would panic on it).
+pub fn say(text: &str) {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
 }
 
 /// Now, s since 1970 UTC.

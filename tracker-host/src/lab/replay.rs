@@ -385,6 +385,12 @@ pub fn parse_measurements<R: std::io::Read>(
             .ok_or_else(|| anyhow!("{name}: the header has no `{c}` column (need t,x,y)"))
     };
     let (ti, xi, yi) = (col("t")?, col("x")?, col("y")?);
+    // A column twice would silently read the first; refuse it instead.
+    for c in ["t", "x", "y"] {
+        if headers.iter().filter(|h| *h == c).count() > 1 {
+            bail!("{name}: line 1: column `{c}` appears twice");
+        }
+    }
     let mut out: Vec<TimedPosition> = Vec::new();
     for (i, rec) in rdr.records().enumerate() {
         let line = i + 2;
@@ -618,6 +624,7 @@ mod tests {
         assert!(e("t,x,y\n0,1,2\n0,1,3\n").contains("does not increase"));
         assert!(e("t,x,y\n0,NaN,2\n").contains("not finite"));
         assert!(e("t,x,y\n").contains("no measurements"));
+        assert!(e("t,x,y,x\n0,1,2,3\n").contains("`x` appears twice"));
         let ok = parse_measurements("x,extra,t,y\n1,q,0,2\n3,r,1.5,4\n".as_bytes(), "in").unwrap();
         assert_eq!(
             ok[1],

@@ -13,6 +13,7 @@
 
 use std::path::Path;
 
+use crate::csv_input;
 use anyhow::{anyhow, bail, Context};
 use tracker_core::nav::drkf::{Drkf, DrkfConfig, NavFix};
 use tracker_core::nav::ttkf::{OwnShipEstimate, Ttkf, TtkfConfig};
@@ -38,64 +39,44 @@ pub struct Polar {
     pub bearing_deg: f64,
 }
 
-/// Rows of a CSV as optional numbers per named column; `required` columns must be present
-/// and filled, t must increase.
+/// Rows of a CSV as optional numbers per named column (`names`, in that order); the file
+/// may have only those columns (a misspelled one is an error naming it, not a sensor
+/// silently missing), each once; `required` ones must be filled; t must increase. Errors
+/// name the file, line and column.
 fn read_columns(
     path: &Path,
     names: &[&str],
     required: &[&str],
 ) -> anyhow::Result<Vec<Vec<Option<f64>>>> {
-    let name = path.display().to_string();
-    let file = std::fs::File::open(path).with_context(|| format!("opening {name}"))?;
-    let mut rdr = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(file);
-    let headers = rdr
-        .headers()
-        .with_context(|| format!("{name}: reading the header"))?
-        .clone();
-    let idx: Vec<Option<usize>> = names
+    let optional: Vec<&str> = names
         .iter()
-        .map(|c| headers.iter().position(|h| h == *c))
+        .copied()
+        .filter(|n| !required.contains(n))
         .collect();
-    for r in required {
-        if !headers.iter().any(|h| h == *r) {
-            bail!("{name}: the header has no `{r}` column");
-        }
-    }
+    let (mut reader, header) = csv_input::open(path, required, &optional)?;
     let mut rows = Vec::new();
     let mut last_t = f64::NEG_INFINITY;
-    for (i, rec) in rdr.records().enumerate() {
-        let line = i + 2;
-        let rec = rec.with_context(|| format!("{name} line {line}"))?;
+    let mut record = csv::StringRecord::new();
+    while csv_input::read(&mut reader, &header, &mut record)? {
+        let row_in = header.row(&record);
         let mut row = Vec::with_capacity(names.len());
-        for (c, ix) in names.iter().zip(&idx) {
-            let cell = ix.and_then(|ix| rec.get(ix)).unwrap_or("");
-            let v = if cell.is_empty() {
-                None
+        for c in names {
+            let v = if required.contains(c) {
+                Some(row_in.required_number(c)?)
             } else {
-                let v: f64 = cell
-                    .parse()
-                    .map_err(|_| anyhow!("{name} line {line}: `{c}` = `{cell}` is not a number"))?;
-                if !v.is_finite() {
-                    bail!("{name} line {line}: `{c}` = `{cell}` is not finite");
-                }
-                Some(v)
+                row_in.number(c)?
             };
-            if v.is_none() && required.contains(c) {
-                bail!("{name} line {line}: no `{c}` value");
-            }
             row.push(v);
         }
         let t = row[0].unwrap_or(f64::NAN);
         if t <= last_t {
-            bail!("{name} line {line}: t = {t} does not increase (previous {last_t})");
+            return Err(row_in.error("t", &format!("{t} does not increase (previous {last_t})")));
         }
         last_t = t;
         rows.push(row);
     }
     if rows.is_empty() {
-        bail!("{name}: no rows");
+        bail!("{}: no rows", header.file());
     }
     Ok(rows)
 }
@@ -138,7 +119,12 @@ pub fn run(
     nav: &[Vec<Option<f64>>],
     noise: RadarNoise,
 ) -> anyhow::Result<Vec<NavRow>> {
-    let err = |e: tracker_core::filter::FilterError| anyhow!("filter refused: {e:?}");
+    let err = |e: tracker_core::filter::FilterError| anyhow!("filter refused: {e}");
+    // Errors at a row name its line (the header is line 1).
+    let nav_err =
+        |i: usize| move |e: tracker_core::filter::FilterError| anyhow!("nav line {}: {e}", i + 2);
+    let input_err =
+        |i: usize| move |e: tracker_core::filter::FilterError| anyhow!("input line {}: {e}", i + 2);
     let first = nav.first().ok_or_else(|| anyhow!("no own-ship data"))?;
     let fix0 = nav_fix(first);
     let pos0 = fix0
@@ -199,9 +185,9 @@ pub fn run(
             now = t;
         }
         if is_nav {
-            drkf.update(&nav_fix(&nav[ni])).map_err(err)?;
+            drkf.update(&nav_fix(&nav[ni])).map_err(nav_err(ni))?;
             if let Some(f) = ttkf.as_mut() {
-                f.update_own_ship(&own(&drkf)).map_err(err)?;
+                f.update_own_ship(&own(&drkf)).map_err(nav_err(ni))?;
             }
             ni += 1;
             continue;
@@ -209,7 +195,7 @@ pub fn run(
         let b = p.bearing_deg.to_radians();
         let (pred, fixpos) = match ttkf.as_mut() {
             None => {
-                let f = Ttkf::new(config, &own(&drkf), p.range_m, b).map_err(err)?;
+                let f = Ttkf::new(config, &own(&drkf), p.range_m, b).map_err(input_err(pi))?;
                 let tp = f.target_position_m();
                 ttkf = Some(f);
                 (tp, tp)
@@ -218,7 +204,7 @@ pub fn run(
                 let pred = f.target_position_m();
                 let o = f.own_position_m();
                 let fixpos = [o[0] + p.range_m * b.sin(), o[1] + p.range_m * b.cos()];
-                f.update_radar(p.range_m, b).map_err(err)?;
+                f.update_radar(p.range_m, b).map_err(input_err(pi))?;
                 (pred, fixpos)
             }
         };

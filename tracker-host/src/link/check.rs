@@ -204,10 +204,10 @@ pub fn run(client: &mut Client, opts: &LinkCheckOptions) -> anyhow::Result<LinkC
     client.retries = 0;
 
     let info = client.hello().context("handshake")?;
-    println!(
-        "device: {} (protocol {}, max frame {} B, boot id {:#010x})",
+    crate::cli::say(&format!(
+        "device: {} (protocol {}, max frame {} B, boot id {:#010x})\n",
         info.firmware, info.protocol, info.max_frame_bytes, info.boot_id
-    );
+    ));
 
     // Sizes: the edges, then a spread over the whole range.
     let mut sizes = vec![0, 1, 253, 254, 255, MAX_ECHO_BYTES - 1, MAX_ECHO_BYTES];
@@ -255,8 +255,8 @@ pub fn run(client: &mut Client, opts: &LinkCheckOptions) -> anyhow::Result<LinkC
             report.bad_sent
         ));
     }
-    println!(
-        "device counters: {} frames ok, {} rejected (cobs {}, crc {}, oversize {}, malformed {}, unknown {}, version {}), {} frames out",
+    crate::cli::say(&format!(
+        "device counters: {} frames ok, {} rejected (cobs {}, crc {}, oversize {}, malformed {}, unknown {}, version {}), {} frames out\n",
         stats.frames_ok,
         stats.rejected(),
         stats.bad_cobs,
@@ -266,7 +266,7 @@ pub fn run(client: &mut Client, opts: &LinkCheckOptions) -> anyhow::Result<LinkC
         stats.unknown_message,
         stats.version_mismatch,
         stats.frames_out
-    );
+    ));
     let cs = client.stats();
     if cs.frames_damaged != 0 || cs.unmatched != 0 {
         report.failures.push(format!(

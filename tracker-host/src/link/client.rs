@@ -70,6 +70,9 @@ pub struct ClientStats {
     pub retries: u64,
     /// Resynchronisations of the line ([`Client::resync`]).
     pub resyncs: u64,
+    /// Answers that came after their request had timed out and been sent again: the device
+    /// is slower than [`Client::timeout`].
+    pub late_answers: u64,
     /// Bytes written to the link.
     pub bytes_sent: u64,
     /// Bytes read from the link.
@@ -89,6 +92,14 @@ pub struct Client {
     stats: ClientStats,
     scratch: Vec<u8>,
     out: Vec<u8>,
+    last_wait: LastWait,
+}
+
+/// How the last wait for an answer ended, when it did not end with one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LastWait {
+    TimedOut,
+    Damaged,
 }
 
 impl Client {
@@ -104,6 +115,7 @@ impl Client {
             stats: ClientStats::default(),
             scratch: vec![0; MAX_FRAME_BYTES],
             out: vec![0; MAX_ENCODED_FRAME_BYTES + 1],
+            last_wait: LastWait::Damaged,
         }
     }
 
@@ -179,14 +191,23 @@ impl Client {
         // parts from an earlier attempt still count.
         let mut parts: Vec<Option<DeviceToHost>> = Vec::new();
         let mut attempt = 0;
+        let mut timed_out = false;
         loop {
             self.send_raw(&bytes)?;
             match self.collect(id, &mut parts) {
                 Err(RequestError::Timeout | RequestError::Lost) if attempt < self.retries => {
                     attempt += 1;
                     self.stats.retries += 1;
+                    timed_out |= matches!(self.last_wait, LastWait::TimedOut);
                 }
-                other => return other,
+                Ok(answer) => {
+                    // An answer after a time-out: the device is slower than the time-out.
+                    if timed_out {
+                        self.stats.late_answers += 1;
+                    }
+                    return Ok(answer);
+                }
+                Err(e) => return Err(e),
             }
         }
     }
@@ -229,8 +250,14 @@ impl Client {
                     return Err(RequestError::Lost);
                 }
                 Incoming::Frame(..) => self.stats.unmatched += 1,
-                Incoming::Damaged => return Err(RequestError::Lost),
-                Incoming::Timeout => return Err(RequestError::Timeout),
+                Incoming::Damaged => {
+                    self.last_wait = LastWait::Damaged;
+                    return Err(RequestError::Lost);
+                }
+                Incoming::Timeout => {
+                    self.last_wait = LastWait::TimedOut;
+                    return Err(RequestError::Timeout);
+                }
             }
         }
     }
@@ -367,5 +394,65 @@ mod tests {
             unreachable!()
         };
         assert_eq!(c.request(&body).unwrap(), DeviceToHost::Echo(sent));
+    }
+
+    /// The device in this process, answering `delay` late.
+    struct Slow {
+        inner: InprocTransport,
+        delay: Duration,
+        held: Vec<(Instant, u8)>,
+    }
+
+    impl Transport for Slow {
+        fn write_all(&mut self, bytes: &[u8]) -> std::io::Result<()> {
+            self.inner.write_all(bytes)
+        }
+        fn read(&mut self, buf: &mut [u8], timeout: Duration) -> std::io::Result<usize> {
+            let mut tmp = [0u8; 4096];
+            let n = self.inner.read(&mut tmp, timeout)?;
+            let due = Instant::now() + self.delay;
+            self.held.extend(tmp[..n].iter().map(|&b| (due, b)));
+            std::thread::sleep(Duration::from_millis(1));
+            let ready = self
+                .held
+                .iter()
+                .take_while(|(t, _)| *t <= Instant::now())
+                .count();
+            let n = ready.min(buf.len());
+            for (d, (_, b)) in buf.iter_mut().zip(self.held.drain(..n)) {
+                *d = b;
+            }
+            Ok(n)
+        }
+    }
+
+    /// Never answers.
+    struct Silent;
+
+    impl Transport for Silent {
+        fn write_all(&mut self, _: &[u8]) -> std::io::Result<()> {
+            Ok(())
+        }
+        fn read(&mut self, _: &mut [u8], timeout: Duration) -> std::io::Result<usize> {
+            std::thread::sleep(timeout.min(Duration::from_millis(5)));
+            Ok(0)
+        }
+    }
+
+    #[test]
+    fn a_slow_device_is_noticed_and_a_silent_one_is_a_clear_error() {
+        let mut c = Client::new(Box::new(Slow {
+            inner: InprocTransport::new(),
+            delay: Duration::from_millis(80),
+            held: Vec::new(),
+        }));
+        c.timeout = Duration::from_millis(30);
+        c.hello().unwrap();
+        assert!(c.request(&HostToDevice::GetStats).is_ok());
+        assert!(c.stats().late_answers >= 1, "{:?}", c.stats());
+        let mut c = Client::new(Box::new(Silent));
+        c.timeout = Duration::from_millis(20);
+        let err = c.hello().unwrap_err();
+        assert!(format!("{err:#}").contains("no reply"), "{err:#}");
     }
 }

@@ -105,19 +105,39 @@ impl Transport for InprocTransport {
     }
 }
 
+/// Longest a TCP connection to the device may take to open.
+pub const CONNECT_TIMEOUT: Duration = Duration::from_secs(5);
+
 /// A TCP socket (QEMU's `-serial tcp:` or a network bridge to a board).
 pub struct TcpTransport {
     stream: TcpStream,
 }
 
 impl TcpTransport {
-    /// Connects, with Nagle off: without it every small frame waits ~40 ms.
+    /// Connects within [`CONNECT_TIMEOUT`] (an address that never answers is an error in
+    /// seconds, not minutes), with Nagle off: without it every small frame waits ~40 ms.
     ///
     /// # Errors
-    /// The address does not resolve or the connection is refused.
+    /// The address does not resolve, the connection is refused, or nothing answers in time.
     pub fn connect(addr: &str) -> anyhow::Result<Self> {
-        let stream = TcpStream::connect(addr).with_context(|| format!("connecting to {addr}"))?;
-        Self::from_stream(stream)
+        use std::net::ToSocketAddrs;
+        let mut last = None;
+        for a in addr
+            .to_socket_addrs()
+            .with_context(|| format!("resolving {addr}"))?
+        {
+            match TcpStream::connect_timeout(&a, CONNECT_TIMEOUT) {
+                Ok(stream) => return Self::from_stream(stream),
+                Err(e) => last = Some(e),
+            }
+        }
+        Err(match last {
+            Some(e) => anyhow::Error::new(e).context(format!(
+                "connecting to {addr} (within {} s)",
+                CONNECT_TIMEOUT.as_secs()
+            )),
+            None => anyhow::anyhow!("{addr} resolves to no address"),
+        })
     }
 
     /// Wraps a connected stream.

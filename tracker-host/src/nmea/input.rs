@@ -330,6 +330,27 @@ fn connect(addr: &str) -> std::io::Result<TcpStream> {
     Err(last)
 }
 
+/// Opens a recorded NMEA file, refusing anything that is not a regular file: a serial device
+/// or a FIFO given as `file:` would block the reader for ever, and a recording is read twice
+/// (its first day, then its lines).
+///
+/// # Errors
+/// The path does not open, or is a device, FIFO or directory (the message names the live
+/// source to use instead).
+pub fn open_recording(path: &std::path::Path) -> anyhow::Result<std::fs::File> {
+    let meta =
+        std::fs::metadata(path).map_err(|e| anyhow::anyhow!("opening {}: {e}", path.display()))?;
+    if !meta.is_file() {
+        anyhow::bail!(
+            "{} is not a regular file: a recording is read with file:PATH; a live source is \
+             serial:DEVICE@BAUD, udp:PORT or tcp:HOST:PORT (a pipe can go through \
+             `socat - UDP:127.0.0.1:PORT`)",
+            path.display()
+        );
+    }
+    std::fs::File::open(path).map_err(|e| anyhow::anyhow!("opening {}: {e}", path.display()))
+}
+
 fn open_serial(device: &str, baud: u32) -> serialport::Result<Box<dyn serialport::SerialPort>> {
     serialport::new(device, baud)
         .timeout(std::time::Duration::from_millis(1))
@@ -353,7 +374,7 @@ impl NmeaIn {
         };
         Ok(match spec {
             InSpec::File(p) => {
-                let f = std::fs::File::open(p).with_context(|| format!("{}", p.display()))?;
+                let f = open_recording(p)?;
                 NmeaIn::File(FileLines {
                     reader: BufReader::new(f),
                     ahead: std::collections::VecDeque::new(),
@@ -390,6 +411,21 @@ mod tests {
     use crate::origin::Origin;
     use std::io::Write;
     use std::net::TcpListener;
+
+    #[test]
+    fn a_device_or_fifo_is_not_a_recording() {
+        for p in ["/dev/null", "/tmp"] {
+            let e = open_recording(std::path::Path::new(p)).unwrap_err();
+            assert!(e.to_string().contains("not a regular file"), "{p}: {e}");
+        }
+        let fifo = std::env::temp_dir().join(format!("nmea-fifo-{}", std::process::id()));
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        if made.is_ok_and(|s| s.success()) {
+            let e = NmeaIn::open(&InSpec::File(fifo.clone())).err().unwrap();
+            assert!(e.to_string().contains("serial:DEVICE@BAUD"), "{e}");
+            let _ = std::fs::remove_file(&fifo);
+        }
+    }
 
     #[test]
     fn out_and_in_over_loopback() {

@@ -6,7 +6,10 @@
 //! provisional day is used (the recording's first date when it has one, today's for a live
 //! source, else day 0): only differences between times matter then. A time earlier than
 //! the newest one used is a step backwards: refused (the caller counts it and skips the
-//! sentence), the clock unchanged.
+//! sentence), the clock unchanged. A time more than [`MAX_JUMP_S`] ahead is taken only when
+//! the next timed sentence confirms it (lands within [`MAX_JUMP_S`] after it): one sentence
+//! stamped an hour ahead (a corrupt time with a valid checksum) would otherwise make every
+//! later one a step back; a real gap (a receiver off for hours) costs one sentence.
 
 use super::sentences::{Day, Stamp};
 
@@ -17,21 +20,36 @@ pub const DAY_S: f64 = 86_400.0;
 /// share a time; receivers round it).
 const SAME_TIME_S: f64 = 1e-3;
 
+/// A jump forward longer than this needs a second sentence to confirm it, s.
+pub const MAX_JUMP_S: f64 = 60.0;
+
 /// The clock.
 #[derive(Clone, Debug, PartialEq)]
 pub struct UtcClock {
     day: Option<Day>,
     provisional_day: Day,
     newest_s: Option<f64>,
+    /// A jump ahead seen once (its time), waiting for a second sentence to confirm it.
+    jump_to: Option<f64>,
 }
 
-/// A time the clock refuses.
+/// Why the clock refuses a time.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Backwards {
-    /// The refused time, s.
-    pub time_s: f64,
-    /// The newest time used, s.
-    pub newest_s: f64,
+pub enum Refused {
+    /// Earlier than the newest time used.
+    Backwards {
+        /// The refused time, s.
+        time_s: f64,
+        /// The newest time used, s.
+        newest_s: f64,
+    },
+    /// Far ahead of the newest time, not (yet) confirmed.
+    Jump {
+        /// The refused time, s.
+        time_s: f64,
+        /// The newest time used, s.
+        newest_s: f64,
+    },
 }
 
 impl UtcClock {
@@ -41,6 +59,7 @@ impl UtcClock {
             day: None,
             provisional_day,
             newest_s: None,
+            jump_to: None,
         }
     }
 
@@ -75,14 +94,29 @@ impl UtcClock {
     /// Takes `stamp`'s time: returns it (`Ok(None)` for a stamp without a time).
     ///
     /// # Errors
-    /// [`Backwards`] when the time is earlier than the newest one used (nothing changes).
-    pub fn take(&mut self, stamp: &Stamp) -> Result<Option<f64>, Backwards> {
+    /// [`Refused::Backwards`] when the time is earlier than the newest one used;
+    /// [`Refused::Jump`] when it is more than [`MAX_JUMP_S`] ahead and no sentence confirmed
+    /// the jump yet (nothing changes but the note of the jump).
+    pub fn take(&mut self, stamp: &Stamp) -> Result<Option<f64>, Refused> {
         let Some((t, day)) = self.resolve(stamp) else {
             return Ok(None);
         };
         if let Some(newest) = self.newest_s {
-            if t < newest - SAME_TIME_S {
-                return Err(Backwards {
+            if t > newest + MAX_JUMP_S {
+                // Confirmed when a jump seen before lands within MAX_JUMP_S before this one.
+                let confirmed = self
+                    .jump_to
+                    .is_some_and(|j| (j..=j + MAX_JUMP_S).contains(&t));
+                if !confirmed {
+                    self.jump_to = Some(t);
+                    return Err(Refused::Jump {
+                        time_s: t,
+                        newest_s: newest,
+                    });
+                }
+                self.jump_to = None;
+            } else if t < newest - SAME_TIME_S {
+                return Err(Refused::Backwards {
                     time_s: t,
                     newest_s: newest,
                 });
@@ -124,7 +158,13 @@ mod tests {
         assert_eq!(c.take(&at(1.0, Some(d + 1))), Ok(Some(t + 1.0)));
         // 23:59:50 without a date, after 00:00:01: a step back over midnight, refused.
         let back = c.take(&at(DAY_S - 10.0, None)).unwrap_err();
-        assert_eq!(back.time_s, (d + 1) as f64 * DAY_S - 10.0);
+        assert_eq!(
+            back,
+            Refused::Backwards {
+                time_s: (d + 1) as f64 * DAY_S - 10.0,
+                newest_s: (d + 1) as f64 * DAY_S + 1.0
+            }
+        );
         // A step back of 13 s (Humminbird's log) is refused; the clock stays.
         let mut c = UtcClock::new(5);
         c.take(&at(70_000.0, None)).unwrap();
@@ -133,5 +173,24 @@ mod tests {
         // Sentences of one epoch share a time.
         assert!(c.take(&at(70_000.0, None)).is_ok());
         assert_eq!(c.take(&Stamp::default()), Ok(None));
+    }
+
+    #[test]
+    fn a_jump_ahead_needs_a_second_sentence() {
+        let mut c = UtcClock::new(100);
+        let t0 = 100.0 * DAY_S + 36_000.0;
+        assert!(c.take(&at(36_000.0, None)).is_ok());
+        // One sentence an hour ahead (a corrupt time): refused; the next ones are fine.
+        assert!(matches!(
+            c.take(&at(39_600.0, None)),
+            Err(Refused::Jump { .. })
+        ));
+        assert_eq!(c.take(&at(36_001.0, None)), Ok(Some(t0 + 1.0)));
+        assert_eq!(c.take(&at(36_002.0, None)), Ok(Some(t0 + 2.0)));
+        // A receiver back after 2.5 hours: the first sentence is refused, the second confirms.
+        let later = 36_002.0 + 9_000.0;
+        assert!(c.take(&at(later, None)).is_err());
+        assert_eq!(c.take(&at(later + 1.0, None)), Ok(Some(t0 + 9_003.0)));
+        assert_eq!(c.newest_s(), Some(t0 + 9_003.0));
     }
 }

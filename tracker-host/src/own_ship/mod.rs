@@ -44,6 +44,8 @@ pub struct OwnShipQuality {
     pub heading_lost: bool,
     /// No position yet: own ship is taken at the origin, stopped.
     pub no_fix_yet: bool,
+    /// A position fix was refused as implausible lately (far from where own ship can be).
+    pub implausible_fix: bool,
 }
 
 impl Default for OwnShipQuality {
@@ -54,6 +56,7 @@ impl Default for OwnShipQuality {
             motion_known: true,
             heading_lost: false,
             no_fix_yet: false,
+            implausible_fix: false,
         }
     }
 }
@@ -113,6 +116,9 @@ impl OwnShip {
         }
         if q.heading_lost {
             a.push("OWN SHIP: heading lost".to_string());
+        }
+        if q.implausible_fix {
+            a.push("OWN SHIP: implausible position fix refused".to_string());
         }
         a
     }

@@ -19,10 +19,10 @@
 
 use std::collections::BTreeMap;
 
-use tracker_core::nav::drkf::{Drkf, DrkfConfig, NavFix, SpeedlogMode};
+use tracker_core::nav::drkf::{ix, Drkf, DrkfConfig, NavFix, SpeedlogMode};
 use tracker_core::nav::GaussMarkov;
 
-use super::clock::UtcClock;
+use super::clock::{self, UtcClock};
 use super::select::Selector;
 use super::sentences::{decode, Decoded, Reading, Rejection};
 use super::{OwnShip, OwnShipQuality};
@@ -38,6 +38,21 @@ pub const MAX_DEAD_RECKONING_S: f64 = 300.0;
 
 /// A heading silent this long (after one was received) is an alarm, s.
 pub const HEADING_LOST_S: f64 = 10.0;
+
+/// A position fix further than this from the dead-reckoned position, plus three standard
+/// deviations of it and [`MAX_UNMODELLED_SPEED_MPS`] for every second since the last fix, is
+/// implausible, m.
+pub const PLAUSIBLE_M: f64 = 200.0;
+
+/// How fast own ship may have gone where the filter did not see it, m/s (about 30 kn).
+pub const MAX_UNMODELLED_SPEED_MPS: f64 = 15.0;
+
+/// Implausible fixes, consistent with each other, that are believed: own ship really is
+/// there (a receiver restarting far away, a wrong first fix); the filter starts again.
+pub const CONSISTENT_FIXES_TO_JUMP: usize = 5;
+
+/// An implausible fix is an alarm for this long, s.
+pub const IMPLAUSIBLE_ALARM_S: f64 = 30.0;
 
 /// What became of the lines.
 #[derive(Clone, Debug, Default, PartialEq, Eq, serde::Serialize)]
@@ -61,6 +76,10 @@ pub struct NavCounts {
     pub void: u64,
     /// Rejected: a time earlier than the newest one used.
     pub stale: u64,
+    /// Rejected: a time far ahead of the newest, not (yet) confirmed by the next sentence.
+    pub time_jump: u64,
+    /// Rejected: a position fix too far from where own ship can be (a receiver gone wrong).
+    pub implausible: u64,
     /// Rejected: a value out of range.
     pub out_of_range: u64,
     /// Rejected: a heading that should be true is magnetic (`HDT,…,M`).
@@ -78,6 +97,8 @@ impl NavCounts {
             + self.malformed
             + self.void
             + self.stale
+            + self.time_jump
+            + self.implausible
             + self.out_of_range
             + self.not_true
             + self.no_variation
@@ -107,7 +128,7 @@ impl std::fmt::Display for NavCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} lines: {} used, {} ignored ({} of another talker), {} rejected (bad checksum {}, malformed {}, void {}, stale {}, out of range {}, not true {}, no variation {}), {} annotations",
+            "{} lines: {} used, {} ignored ({} of another talker), {} rejected (bad checksum {}, malformed {}, void {}, stale {}, time jump {}, implausible {}, out of range {}, not true {}, no variation {}), {} annotations",
             self.lines,
             self.used,
             self.ignored,
@@ -117,6 +138,8 @@ impl std::fmt::Display for NavCounts {
             self.malformed,
             self.void,
             self.stale,
+            self.time_jump,
+            self.implausible,
             self.out_of_range,
             self.not_true,
             self.no_variation,
@@ -155,6 +178,9 @@ pub struct OwnShipNav {
     heading_deg: Option<f64>,
     counts: NavCounts,
     events: Vec<String>,
+    /// Implausible fixes in a row (time, local position), to believe a real jump.
+    implausible: Vec<(f64, [f64; 2])>,
+    last_implausible_s: Option<f64>,
     /// The position fixes used (time, latitude, longitude), when asked to keep them.
     fixes: Option<Vec<(f64, f64, f64)>>,
 }
@@ -187,6 +213,8 @@ impl OwnShipNav {
             heading_deg: None,
             counts: NavCounts::default(),
             events: Vec::new(),
+            implausible: Vec::new(),
+            last_implausible_s: None,
             fixes: None,
         }
     }
@@ -273,8 +301,12 @@ impl OwnShipNav {
         let now = match self.clock.take(&stamp) {
             Ok(Some(t)) => t,
             Ok(None) => self.clock.newest_s().unwrap_or(self.time_s),
-            Err(_) => {
+            Err(clock::Refused::Backwards { .. }) => {
                 self.counts.stale += 1;
+                return;
+            }
+            Err(clock::Refused::Jump { .. }) => {
+                self.counts.time_jump += 1;
                 return;
             }
         };
@@ -368,6 +400,50 @@ impl OwnShipNav {
         deg.to_radians()
     }
 
+    /// Whether a position fix at `at` is where own ship can be; `false` when it is not. A run
+    /// of implausible fixes consistent with each other is believed: the filter starts again
+    /// there (an event).
+    fn plausible(&mut self, at: f64, p: [f64; 2]) -> bool {
+        let Some(drkf) = self.drkf.as_ref() else {
+            return true;
+        };
+        let mut predicted = drkf.clone();
+        let dt = (at - self.time_s).clamp(0.0, MAX_DEAD_RECKONING_S);
+        if dt > 0.0 && predicted.predict(dt).is_err() {
+            return true;
+        }
+        let q = predicted.position_m();
+        let c = predicted.covariance();
+        let sd = (c[(ix::X, ix::X)] + c[(ix::Y, ix::Y)]).max(0.0).sqrt();
+        let since_fix = self.last_position_s.map_or(0.0, |t| (at - t).max(0.0));
+        let allowed = PLAUSIBLE_M + 3.0 * sd + MAX_UNMODELLED_SPEED_MPS * since_fix;
+        let d = (p[0] - q[0]).hypot(p[1] - q[1]);
+        if d <= allowed {
+            self.implausible.clear();
+            return true;
+        }
+        // Consistent with the implausible ones before it?
+        let consistent = self.implausible.last().is_none_or(|&(t, r)| {
+            (p[0] - r[0]).hypot(p[1] - r[1])
+                <= PLAUSIBLE_M + MAX_UNMODELLED_SPEED_MPS * (at - t).max(0.0)
+        });
+        if !consistent {
+            self.implausible.clear();
+        }
+        self.implausible.push((at, p));
+        if self.implausible.len() >= CONSISTENT_FIXES_TO_JUMP {
+            self.events.push(format!(
+                "own ship jumped {:.1} km: {CONSISTENT_FIXES_TO_JUMP} consistent fixes there, filter restarted",
+                d / 1000.0
+            ));
+            self.implausible.clear();
+            self.drkf = None;
+            return true;
+        }
+        self.last_implausible_s = Some(at);
+        false
+    }
+
     fn apply(&mut self, at: f64, fix: &NavFix) {
         // A long gap: the filter's dead reckoning means nothing any more; start again.
         if let (Some(_), Some(last), Some(_)) =
@@ -379,6 +455,12 @@ impl OwnShipNav {
                     (at - last) / 60.0
                 ));
                 self.drkf = None;
+            }
+        }
+        if let Some(p) = fix.gps_position_m {
+            if !self.plausible(at, p) {
+                self.counts.implausible += 1;
+                return;
             }
         }
         let Some(drkf) = self.drkf.as_mut() else {
@@ -455,6 +537,9 @@ impl OwnShipNav {
                 motion_known: since_fix <= MAX_DEAD_RECKONING_S,
                 heading_lost: heading_age.is_some_and(|a| a > HEADING_LOST_S),
                 no_fix_yet: false,
+                implausible_fix: self
+                    .last_implausible_s
+                    .is_some_and(|t| (0.0..=IMPLAUSIBLE_ALARM_S).contains(&(time_s - t))),
             },
         })
     }
@@ -533,6 +618,8 @@ mod tests {
         nav.feed("# recorded on a Tuesday");
         // A magnetic heading with no variation known.
         nav.feed(&sentence("HCHDM,120.0,M"));
+        // 1,000 kn over the ground.
+        nav.feed(&sentence("GPVTG,010.0,T,,M,1000.0,N,1852.0,K,A"));
         let c = nav.counts();
         assert_eq!(c.used, 1);
         assert_eq!(c.bad_checksum, 1, "{c}");
@@ -542,10 +629,65 @@ mod tests {
         assert_eq!(c.ignored, 1, "{c}");
         assert_eq!(c.ignored_by_type.get("TTM"), Some(&1));
         assert_eq!((c.annotations, c.no_variation), (1, 1), "{c}");
+        assert_eq!(c.out_of_range, 1, "{c}");
         assert_eq!(nav.own_ship_at(T0 + 100.0), before);
         // With a variation the magnetic heading is used.
         nav.feed(&sentence("HCHDG,120.0,,,2.5,W"));
         assert_eq!(nav.counts().used, 2);
         assert_eq!(nav.counts().blank(), 0);
+    }
+
+    #[test]
+    fn implausible_fixes_are_refused_and_a_real_jump_is_believed() {
+        let origin = Origin::default();
+        let mut nav = OwnShipNav::new(origin, DAY0, None);
+        let v = [0.0, 5.0];
+        let feed = |nav: &mut OwnShipNav, k: f64, p: [f64; 2]| {
+            for s in own_ship_sentences(p, v, &origin, T0 + k) {
+                nav.feed(&s);
+            }
+        };
+        for k in 0..60 {
+            let k = f64::from(k);
+            feed(&mut nav, k, [0.0, 5.0 * k]);
+        }
+        let before = nav.own_ship_at(T0 + 60.0).unwrap();
+        // A fix 100 NM away, then one at 89°59'S: refused, alarmed; own ship goes on.
+        feed(&mut nav, 60.0, [0.0, 185_200.0]);
+        let far_south = origin.to_local(-89.99, -1.0);
+        feed(&mut nav, 61.0, far_south);
+        let own = nav.own_ship_at(T0 + 61.0).unwrap();
+        assert!(own.quality.implausible_fix);
+        assert!(
+            (own.position_m[1] - before.position_m[1] - 5.0).abs() < 5.0,
+            "{own:?}"
+        );
+        // Each set has two fixes (GGA, RMC).
+        assert_eq!(nav.counts().implausible, 4, "{}", nav.counts());
+        for k in 62..70 {
+            let k = f64::from(k);
+            feed(&mut nav, k, [0.0, 5.0 * k]);
+        }
+        assert!(!nav.own_ship_at(T0 + 100.0).unwrap().quality.implausible_fix);
+        // The receiver restarts with the ship 30 km east (a wrong first fix corrected, say):
+        // five consistent fixes there are believed.
+        for k in 70..80 {
+            let k = f64::from(k);
+            feed(&mut nav, k, [30_000.0, 5.0 * k]);
+        }
+        let own = nav.own_ship_at(T0 + 80.0).unwrap();
+        assert!(
+            (f64::from(own.position_m[0]) - 30_000.0).abs() < 50.0,
+            "{own:?}"
+        );
+        assert!(
+            nav.events().iter().any(|e| e.contains("jumped")),
+            "{:?}",
+            nav.events()
+        );
+        assert_eq!(
+            nav.counts().implausible,
+            4 + CONSISTENT_FIXES_TO_JUMP as u64 - 1
+        );
     }
 }

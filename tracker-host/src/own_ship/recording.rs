@@ -26,11 +26,7 @@ impl RecordedTrack {
     /// # Errors
     /// The file does not open, or holds no position fix.
     pub fn read(path: &Path, o: &NmeaOptions) -> anyhow::Result<Self> {
-        let open = || {
-            std::fs::File::open(path)
-                .map(std::io::BufReader::new)
-                .map_err(|e| anyhow::anyhow!("opening {}: {e}", path.display()))
-        };
+        let open = || crate::nmea::input::open_recording(path).map(std::io::BufReader::new);
         let provisional_day = first_day(open()?).unwrap_or(o.provisional_day);
         let mut reader = open()?;
         let mut nav = OwnShipNav::with_selector(

@@ -126,6 +126,7 @@ pub struct Session {
     numbers: TargetNumbers,
     events: Vec<String>,
     skipped: u64,
+    warned_slow: bool,
 }
 
 impl Session {
@@ -143,6 +144,7 @@ impl Session {
             numbers: TargetNumbers::new(numbers::MAX_TARGET_NUMBER),
             events: Vec::new(),
             skipped: 0,
+            warned_slow: false,
         })
     }
 
@@ -188,6 +190,15 @@ impl Session {
                 associate::associate(gates, &plots_m, gate)
             });
         self.last_time_ms = Some(time_ms);
+        let stats = self.device.client().stats();
+        if stats.late_answers > 0 && !self.warned_slow {
+            self.warned_slow = true;
+            self.events.push(format!(
+                "scan {}: the device answers more slowly than the link's {:.1} s time-out (raise it with --link-timeout)",
+                radar.scan,
+                self.device.client().timeout.as_secs_f64()
+            ));
+        }
         let (association, tracks) = match done {
             Ok(done) => done,
             // A refusal, a report not believed or an answer that never came whole costs this
