@@ -7,6 +7,7 @@
 //! | [`link`] | the link to the device: transports (in-process, TCP, serial, QEMU), the request client, `link-check` |
 //! | [`source`] | where plots come from: the simulator, a recorded plots file (and its truth file) |
 //! | [`own_ship`] | where own ship comes from: the plot source, NMEA through the dead-reckoning filter |
+//! | [`radar`] | radar spokes from a network capture or live multicast (Navico, Garmin), for plot extraction |
 //! | [`session`] | the host half of a scan: the device over the link, refined gate, association, target data, alarms |
 //! | [`sink`], [`record`], [`score`] | where scan reports go: recordings, the scorer |
 //! | [`nmea`], [`origin`] | NMEA 0183 in and out, the local frame on the globe |
@@ -29,6 +30,7 @@ pub mod link;
 pub mod nmea;
 pub mod origin;
 pub mod own_ship;
+pub mod radar;
 pub mod record;
 pub mod score;
 pub mod session;

@@ -1,0 +1,243 @@
+//! Live radar data: the spoke multicast groups joined on an interface, datagrams received
+//! with the time they arrived.
+//!
+//! One socket (and one thread) per group and port, each bound to the port on all addresses
+//! with `SO_REUSEADDR` (so a chart plotter on the same machine can listen too) and a 4 MiB
+//! receive buffer (a radar sends 0.4–0.6 MB/s; the kernel reassembles the fragments). The
+//! threads hand datagrams to the reader through a bounded queue; a datagram that finds it
+//! full is dropped and counted, so a reader that stalls costs data, never memory.
+
+use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4, UdpSocket};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::mpsc::{self, Receiver, RecvTimeoutError, SyncSender, TrySendError};
+use std::sync::Arc;
+use std::thread::JoinHandle;
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+use anyhow::Context;
+use socket2::{Domain, Protocol, Socket, Type};
+
+use super::capture::Datagram;
+
+/// A multicast group and the UDP port its data goes to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Endpoint {
+    /// The group (or, for a test, any address: the socket receives all datagrams to the port).
+    pub group: Ipv4Addr,
+    /// The port.
+    pub port: u16,
+}
+
+/// Navico spoke groups seen in the captures: 3G/4G (236.6.7.8:6678) and HALO
+/// (236.6.9.51:7059). A radar announces its own in a beacon; these are the usual ones.
+pub const NAVICO_SPOKE_GROUPS: [Endpoint; 2] = [
+    Endpoint {
+        group: Ipv4Addr::new(236, 6, 7, 8),
+        port: 6678,
+    },
+    Endpoint {
+        group: Ipv4Addr::new(236, 6, 9, 51),
+        port: 7059,
+    },
+];
+
+/// The Garmin xHD spoke group (fixed).
+pub const GARMIN_SPOKE_GROUPS: [Endpoint; 1] = [Endpoint {
+    group: Ipv4Addr::new(239, 254, 2, 0),
+    port: 50102,
+}];
+
+/// Datagrams waiting for the reader.
+const QUEUE: usize = 4096;
+/// How often a receiving thread looks whether it should stop.
+const POLL: Duration = Duration::from_millis(200);
+/// Receive buffer asked of the kernel, bytes.
+const RECV_BUFFER: usize = 4 << 20;
+
+/// What the receiver has seen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LiveStats {
+    /// Datagrams received.
+    pub received: u64,
+    /// Datagrams dropped because the reader was behind.
+    pub dropped: u64,
+}
+
+#[derive(Debug, Default)]
+struct Counters {
+    received: AtomicU64,
+    dropped: AtomicU64,
+}
+
+/// One received datagram.
+struct Received {
+    time_s: f64,
+    src: SocketAddrV4,
+    dst: SocketAddrV4,
+    payload: Vec<u8>,
+}
+
+/// Receives the datagrams of a set of multicast groups.
+pub struct LiveReceiver {
+    rx: Receiver<anyhow::Result<Received>>,
+    stop: Arc<AtomicBool>,
+    threads: Vec<JoinHandle<()>>,
+    counters: Arc<Counters>,
+    current: Option<Received>,
+}
+
+impl std::fmt::Debug for LiveReceiver {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("LiveReceiver")
+            .field("stats", &self.stats())
+            .finish_non_exhaustive()
+    }
+}
+
+impl LiveReceiver {
+    /// Joins `endpoints` on the interface with address `interface` (`0.0.0.0`: the one the
+    /// system routes multicast to).
+    ///
+    /// # Errors
+    /// A socket cannot be made, bound (the port in use without address reuse) or joined to
+    /// its group (no such interface, no multicast route).
+    pub fn open(endpoints: &[Endpoint], interface: Ipv4Addr) -> anyhow::Result<Self> {
+        let (tx, rx) = mpsc::sync_channel(QUEUE);
+        let stop = Arc::new(AtomicBool::new(false));
+        let counters = Arc::new(Counters::default());
+        let mut receiver = LiveReceiver {
+            rx,
+            stop: Arc::clone(&stop),
+            threads: Vec::new(),
+            counters: Arc::clone(&counters),
+            current: None,
+        };
+        for e in endpoints {
+            let socket = join(e, interface)
+                .with_context(|| format!("joining {}:{} on {interface}", e.group, e.port))?;
+            let (tx, stop, counters) = (tx.clone(), Arc::clone(&stop), Arc::clone(&counters));
+            let dst = SocketAddrV4::new(e.group, e.port);
+            let thread = std::thread::Builder::new()
+                .name(format!("radar {dst}"))
+                .spawn(move || receive(&socket, dst, &tx, &stop, &counters))
+                .context("starting a receiving thread")?;
+            receiver.threads.push(thread);
+        }
+        Ok(receiver)
+    }
+
+    /// The next datagram, waiting for it up to `wait` (`None`: as long as it takes);
+    /// `Ok(None)` when none came in time.
+    ///
+    /// # Errors
+    /// A socket failed (its error), or every receiving thread has ended.
+    pub fn next_datagram(
+        &mut self,
+        wait: Option<Duration>,
+    ) -> anyhow::Result<Option<Datagram<'_>>> {
+        let got = match wait {
+            Some(w) => match self.rx.recv_timeout(w) {
+                Ok(r) => Some(r),
+                Err(RecvTimeoutError::Timeout) => None,
+                Err(RecvTimeoutError::Disconnected) => anyhow::bail!("no radar socket is open"),
+            },
+            None => Some(self.rx.recv().context("no radar socket is open")?),
+        };
+        let Some(r) = got else {
+            self.current = None;
+            return Ok(None);
+        };
+        let r = self.current.insert(r?);
+        Ok(Some(Datagram {
+            time_s: r.time_s,
+            src: r.src,
+            dst: r.dst,
+            payload: &r.payload,
+        }))
+    }
+
+    /// What has been received.
+    pub fn stats(&self) -> LiveStats {
+        LiveStats {
+            received: self.counters.received.load(Ordering::Relaxed),
+            dropped: self.counters.dropped.load(Ordering::Relaxed),
+        }
+    }
+}
+
+impl Drop for LiveReceiver {
+    fn drop(&mut self) {
+        self.stop.store(true, Ordering::Relaxed);
+        for t in self.threads.drain(..) {
+            // A thread that panicked has nothing left to clean up.
+            let _ = t.join();
+        }
+    }
+}
+
+fn join(e: &Endpoint, interface: Ipv4Addr) -> anyhow::Result<UdpSocket> {
+    let socket = Socket::new(Domain::IPV4, Type::DGRAM, Some(Protocol::UDP))?;
+    socket.set_reuse_address(true)?;
+    // Best effort: the kernel may cap it (net.core.rmem_max).
+    let _ = socket.set_recv_buffer_size(RECV_BUFFER);
+    let any = SocketAddr::from((Ipv4Addr::UNSPECIFIED, e.port));
+    socket.bind(&any.into())?;
+    if e.group.is_multicast() {
+        socket.join_multicast_v4(&e.group, &interface)?;
+    }
+    socket.set_read_timeout(Some(POLL))?;
+    Ok(socket.into())
+}
+
+fn receive(
+    socket: &UdpSocket,
+    dst: SocketAddrV4,
+    tx: &SyncSender<anyhow::Result<Received>>,
+    stop: &AtomicBool,
+    counters: &Counters,
+) {
+    // The largest UDP payload.
+    let mut buf = vec![0u8; 65536];
+    while !stop.load(Ordering::Relaxed) {
+        let (n, from) = match socket.recv_from(&mut buf) {
+            Ok(r) => r,
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    std::io::ErrorKind::WouldBlock
+                        | std::io::ErrorKind::TimedOut
+                        | std::io::ErrorKind::Interrupted
+                ) =>
+            {
+                continue
+            }
+            Err(e) => {
+                let _ = tx.send(Err(
+                    anyhow::Error::new(e).context(format!("receiving on {dst}"))
+                ));
+                return;
+            }
+        };
+        let time_s = SystemTime::now()
+            .duration_since(UNIX_EPOCH)
+            .map_or(0.0, |d| d.as_secs_f64());
+        let src = match from {
+            SocketAddr::V4(a) => a,
+            SocketAddr::V6(_) => continue,
+        };
+        counters.received.fetch_add(1, Ordering::Relaxed);
+        let payload = buf.get(..n).unwrap_or(&buf).to_vec();
+        match tx.try_send(Ok(Received {
+            time_s,
+            src,
+            dst,
+            payload,
+        })) {
+            Ok(()) => {}
+            Err(TrySendError::Full(_)) => {
+                counters.dropped.fetch_add(1, Ordering::Relaxed);
+            }
+            Err(TrySendError::Disconnected(_)) => return,
+        }
+    }
+}

@@ -1,0 +1,298 @@
+//! [`SpokeSource`]: spokes with their time, from a capture file or from the radar live.
+//!
+//! ```no_run
+//! use tracker_host::radar::{RadarSpec, SpokeSource};
+//!
+//! let spec: RadarSpec = "pcap:radar.pcap.gz".parse().map_err(anyhow::Error::msg)?;
+//! let mut source = SpokeSource::open(&spec)?;
+//! while let Some((spoke, time_s)) = source.next_spoke()? {
+//!     // spoke.samples borrows the source's buffer: use or copy it before the next call.
+//!     let _ = (spoke.angle, spoke.range_m, time_s);
+//! }
+//! for (time_s, line) in source.nmea_lines() {
+//!     let _ = (time_s, line); // own ship from the same capture
+//! }
+//! println!("{}", source.stats().navico_spokes.rotations);
+//! # Ok::<(), anyhow::Error>(())
+//! ```
+//!
+//! Datagrams are told apart by structure (a Navico frame's length and header byte, a
+//! Garmin packet type) and, for the spoke ports, by port: so a capture's other traffic
+//! (state reports, NMEA, anything) passes as "other", while a damaged packet on a spoke port
+//! is counted as the decoder's fault. A Navico scanner-type report in a capture sets the
+//! model the Navico ranges are read with.
+
+use std::net::Ipv4Addr;
+use std::path::Path;
+use std::time::Duration;
+
+use anyhow::bail;
+use tracker_core::radar::Spoke;
+
+use super::capture::{CaptureOptions, CaptureReader, CaptureStats};
+use super::garmin::{self, GarminCounts, GarminDecoder};
+use super::live::{Endpoint, LiveReceiver, LiveStats, GARMIN_SPOKE_GROUPS, NAVICO_SPOKE_GROUPS};
+use super::navico::{self, NavicoCounts, NavicoDecoder};
+use super::spec::{RadarKind, RadarSpec};
+use super::stats::{SpokeMeta, SpokeStats};
+
+/// Everything a [`SpokeSource`] has counted.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RadarStats {
+    /// The capture's packets, fragments, reassemblies, datagrams and NMEA (capture only).
+    pub capture: Option<CaptureStats>,
+    /// Datagrams received and dropped (live only).
+    pub live: Option<LiveStats>,
+    /// UDP datagrams looked at.
+    pub datagrams: u64,
+    /// Datagrams that were neither brand's spokes (state reports, NMEA, other traffic).
+    pub other_datagrams: u64,
+    /// Navico scanner-type reports taken.
+    pub navico_reports: u64,
+    /// The Navico decoder's counts: frames, spokes, faults by kind, headings.
+    pub navico: NavicoCounts,
+    /// The Navico spoke stream: rotations, ranges, order.
+    pub navico_spokes: SpokeStats,
+    /// The Garmin decoder's counts: spokes, faults by kind.
+    pub garmin: GarminCounts,
+    /// The Garmin spoke stream.
+    pub garmin_spokes: SpokeStats,
+}
+
+impl RadarStats {
+    /// Datagrams refused as spoke packets (unknown, truncated or inconsistent), both brands.
+    pub fn bad_packets(&self) -> u64 {
+        self.navico.frame_faults.total() + self.garmin.faults.total()
+    }
+
+    /// Spokes skipped inside accepted Navico frames (status 0x82, bad header, no range).
+    pub fn skipped_spokes(&self) -> u64 {
+        self.navico.spoke_faults.total()
+    }
+
+    /// One brand's spoke stream.
+    pub fn spokes(&self, kind: RadarKind) -> &SpokeStats {
+        match kind {
+            RadarKind::Navico => &self.navico_spokes,
+            RadarKind::Garmin => &self.garmin_spokes,
+        }
+    }
+}
+
+enum Input {
+    Capture(Box<CaptureReader>),
+    Live(LiveReceiver),
+}
+
+/// Spokes from a capture file or the radar, one at a time. See the module documentation.
+pub struct SpokeSource {
+    input: Input,
+    navico: NavicoDecoder,
+    garmin: GarminDecoder,
+    /// The decoder holding the datagram being handed out.
+    active: Option<RadarKind>,
+    time_s: f64,
+    navico_spokes: SpokeStats,
+    garmin_spokes: SpokeStats,
+    datagrams: u64,
+    other_datagrams: u64,
+    navico_reports: u64,
+    last: Option<(RadarKind, SpokeMeta)>,
+    live_wait: Option<Duration>,
+}
+
+impl std::fmt::Debug for SpokeSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("SpokeSource")
+            .field("stats", &self.stats())
+            .finish_non_exhaustive()
+    }
+}
+
+impl SpokeSource {
+    /// Opens the source a [`RadarSpec`] names: a capture with the default
+    /// [`CaptureOptions`], or the brand's spoke groups joined live.
+    ///
+    /// # Errors
+    /// The capture cannot be opened or is not one; a live socket cannot be bound or joined.
+    pub fn open(spec: &RadarSpec) -> anyhow::Result<Self> {
+        match spec {
+            RadarSpec::Capture(path) => Self::from_capture(path, CaptureOptions::default()),
+            RadarSpec::Live { kind, interface } => {
+                Self::from_live(kind.spoke_endpoints(), *interface)
+            }
+        }
+    }
+
+    /// Reads a capture file.
+    ///
+    /// # Errors
+    /// As [`CaptureReader::open`].
+    pub fn from_capture(path: &Path, options: CaptureOptions) -> anyhow::Result<Self> {
+        let reader = CaptureReader::open(path, options)?;
+        Ok(Self::with_input(Input::Capture(Box::new(reader))))
+    }
+
+    /// Receives live from these groups on the interface with address `interface`.
+    ///
+    /// # Errors
+    /// As [`LiveReceiver::open`].
+    pub fn from_live(endpoints: &[Endpoint], interface: Ipv4Addr) -> anyhow::Result<Self> {
+        Ok(Self::with_input(Input::Live(LiveReceiver::open(
+            endpoints, interface,
+        )?)))
+    }
+
+    fn with_input(input: Input) -> Self {
+        SpokeSource {
+            input,
+            navico: NavicoDecoder::new(),
+            garmin: GarminDecoder::new(),
+            active: None,
+            time_s: 0.0,
+            navico_spokes: SpokeStats::default(),
+            garmin_spokes: SpokeStats::default(),
+            datagrams: 0,
+            other_datagrams: 0,
+            navico_reports: 0,
+            last: None,
+            live_wait: None,
+        }
+    }
+
+    /// How long [`next_spoke`](Self::next_spoke) waits for live data before it returns `Ok(None)`;
+    /// `None` (the default): until a spoke comes. A capture never waits.
+    pub fn set_live_wait(&mut self, wait: Option<Duration>) {
+        self.live_wait = wait;
+    }
+
+    /// True for a live source (where `Ok(None)` from [`next_spoke`](Self::next_spoke) means "nothing
+    /// yet", not the end).
+    pub fn is_live(&self) -> bool {
+        matches!(self.input, Input::Live(_))
+    }
+
+    /// The next spoke and its time (capture or arrival time, s since 1970; the spoke's
+    /// `time_ms` is the same in ms). The spoke borrows the source until the next call.
+    /// `Ok(None)`: the capture has ended, or (live, with a wait set) nothing came in time.
+    ///
+    /// # Errors
+    /// The capture cannot be read further (see [`CaptureReader::next_datagram`]); a live
+    /// socket failed.
+    pub fn next_spoke(&mut self) -> anyhow::Result<Option<(Spoke<'_>, f64)>> {
+        loop {
+            let ready = match self.active {
+                Some(RadarKind::Navico) => self.navico.advance(),
+                Some(RadarKind::Garmin) => self.garmin.advance(),
+                None => false,
+            };
+            if ready {
+                break;
+            }
+            self.active = None;
+            let datagram = match &mut self.input {
+                Input::Capture(c) => c.next_datagram()?,
+                Input::Live(l) => l.next_datagram(self.live_wait)?,
+            };
+            let Some(d) = datagram else {
+                self.last = None;
+                return Ok(None);
+            };
+            self.datagrams += 1;
+            // Saturating: a time before 1970 becomes 0.
+            let time_ms = (d.time_s * 1000.0).round() as u64;
+            let kind = route(d.payload, d.dst.port());
+            let fed = match kind {
+                Some(RadarKind::Navico) => self.navico.feed(d.payload, time_ms).is_ok(),
+                Some(RadarKind::Garmin) => self.garmin.feed(d.payload, time_ms).is_ok(),
+                None => {
+                    self.other_datagrams += 1;
+                    self.navico_reports += u64::from(self.navico.note_report(d.payload));
+                    false
+                }
+            };
+            if fed {
+                self.active = kind;
+                self.time_s = d.time_s;
+            }
+        }
+        let (kind, spoke, stream) = match self.active {
+            Some(RadarKind::Navico) => (
+                RadarKind::Navico,
+                self.navico.spoke(),
+                &mut self.navico_spokes,
+            ),
+            Some(RadarKind::Garmin) => (
+                RadarKind::Garmin,
+                self.garmin.spoke(),
+                &mut self.garmin_spokes,
+            ),
+            None => bail!("radar source: no decoder holds a spoke"),
+        };
+        let Some(spoke) = spoke else {
+            bail!("radar source: the {kind} decoder lost its spoke");
+        };
+        self.last = Some((kind, stream.observe(&spoke, self.time_s)));
+        Ok(Some((spoke, self.time_s)))
+    }
+
+    /// The brand of the spoke [`next_spoke`](Self::next_spoke) gave last, and what it meant for its
+    /// stream (a new rotation, a range change, out of order).
+    pub fn last_spoke(&self) -> Option<(RadarKind, SpokeMeta)> {
+        self.last
+    }
+
+    /// The NMEA lines met in the capture since the last call (capture time s since 1970,
+    /// line without its end of line), oldest first; empty for a live source. Lines come
+    /// as the capture is read, so a line is met about when the spokes around its time are.
+    pub fn nmea_lines(&mut self) -> Vec<(f64, String)> {
+        match &mut self.input {
+            Input::Capture(c) => c
+                .take_nmea_lines()
+                .into_iter()
+                .map(|l| (l.time_s, l.text))
+                .collect(),
+            Input::Live(_) => Vec::new(),
+        }
+    }
+
+    /// True once a capture has been read to its end (never for a live source).
+    pub fn is_finished(&self) -> bool {
+        match &self.input {
+            Input::Capture(c) => c.is_done() && self.active.is_none(),
+            Input::Live(_) => false,
+        }
+    }
+
+    /// Everything counted so far.
+    pub fn stats(&self) -> RadarStats {
+        let (capture, live) = match &self.input {
+            Input::Capture(c) => (Some(c.stats()), None),
+            Input::Live(l) => (None, Some(l.stats())),
+        };
+        RadarStats {
+            capture,
+            live,
+            datagrams: self.datagrams,
+            other_datagrams: self.other_datagrams,
+            navico_reports: self.navico_reports,
+            navico: *self.navico.counts(),
+            navico_spokes: self.navico_spokes.clone(),
+            garmin: *self.garmin.counts(),
+            garmin_spokes: self.garmin_spokes.clone(),
+        }
+    }
+}
+
+/// Which decoder a datagram goes to: by structure, or by a spoke port (where a datagram
+/// of the wrong shape is a fault to count, not other traffic).
+fn route(payload: &[u8], dst_port: u16) -> Option<RadarKind> {
+    let on = |groups: &[Endpoint]| groups.iter().any(|e| e.port == dst_port);
+    if navico::looks_like_frame(payload) || on(&NAVICO_SPOKE_GROUPS) {
+        Some(RadarKind::Navico)
+    } else if garmin::looks_like_spoke(payload) || on(&GARMIN_SPOKE_GROUPS) {
+        Some(RadarKind::Garmin)
+    } else {
+        None
+    }
+}
