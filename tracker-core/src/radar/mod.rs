@@ -1,7 +1,23 @@
-//! A radar's raw picture: spokes, one line of echo strengths per antenna angle, as a
-//! navigator's radar sends them; and (in the modules that grow here) the plot extraction
-//! that turns them into the tracker's plots.
+//! A radar's raw picture and the plot extraction that turns it into the tracker's plots.
+//!
+//! - [`spoke`]: one line of echo strengths per antenna angle, as a navigator's radar sends
+//!   them;
+//! - [`cfar`]: the detector along one spoke (ordered-statistic CFAR);
+//! - [`blob`]: detections connected across spokes, and the plot a closed one measures;
+//! - [`extract`]: the [`Extractor`], spokes in, plots and extended returns out;
+//! - [`config`]: its settings, with defaults per radar;
+//! - `synthetic` (feature `sim`): a synthetic radar that paints the simulator's targets,
+//!   noise, sea clutter and rain into spokes, for tests and the host.
 
+pub mod blob;
+pub mod cfar;
+pub mod config;
+pub mod extract;
 pub mod spoke;
+#[cfg(feature = "sim")]
+pub mod synthetic;
 
+pub use blob::RadarPlot;
+pub use config::{ConfigError, ExtractorConfig, ReturnClass};
+pub use extract::{Event, Extractor, ExtractorStats};
 pub use spoke::Spoke;
