@@ -23,7 +23,7 @@ use tracker_host::radar::capture::{CaptureOptions, CaptureReader};
 use tracker_host::radar::garmin::GarminDecoder;
 use tracker_host::radar::live::Endpoint;
 use tracker_host::radar::navico::NavicoDecoder;
-use tracker_host::radar::{Fault, RadarKind, RadarSpec, RadarStats, SpokeSource};
+use tracker_host::radar::{Fault, RadarKind, RadarSpec, RadarStats, SpokeDecoder, SpokeSource};
 
 fn realdata() -> PathBuf {
     std::env::var_os("TRACKER_REALDATA").map_or_else(

@@ -19,6 +19,7 @@
 
 use tracker_core::radar::Spoke;
 
+use super::decoder::SpokeDecoder;
 use super::fault::{le_u16, le_u32, Fault, FaultCounts};
 
 /// The xHD spoke packet type.
@@ -186,26 +187,19 @@ impl GarminDecoder {
             max_sample: MAX_SAMPLE,
         })
     }
+}
 
-    /// Feeds a datagram and hands its spoke to `f`; returns how many (1).
-    ///
-    /// # Errors
-    /// As [`feed`](Self::feed).
-    pub fn decode(
-        &mut self,
-        payload: &[u8],
-        time_ms: u64,
-        mut f: impl FnMut(Spoke<'_>),
-    ) -> Result<usize, Fault> {
-        self.feed(payload, time_ms)?;
-        let mut n = 0;
-        while self.advance() {
-            if let Some(s) = self.spoke() {
-                f(s);
-                n += 1;
-            }
-        }
-        Ok(n)
+impl SpokeDecoder for GarminDecoder {
+    fn feed(&mut self, payload: &[u8], time_ms: u64) -> Result<usize, Fault> {
+        GarminDecoder::feed(self, payload, time_ms)
+    }
+
+    fn advance(&mut self) -> bool {
+        GarminDecoder::advance(self)
+    }
+
+    fn spoke(&self) -> Option<Spoke<'_>> {
+        GarminDecoder::spoke(self)
     }
 }
 

@@ -7,6 +7,7 @@
 //! | [`capture`] | pcap/pcapng (plain or gzip) → UDP datagrams, IPv4 fragments reassembled |
 //! | [`nmea_text`] | the NMEA 0183 lines inside a capture (UDP 10110, TCP 2000 and 2599) |
 //! | [`live`] | the spoke multicast groups joined on an interface |
+//! | [`decoder`] | [`SpokeDecoder`]: what the decoders below share |
 //! | [`navico`] | Navico BR24/3G/4G/HALO frames of 32 spokes, 2,048 a rotation, 4-bit samples |
 //! | [`garmin`] | Garmin xHD, one spoke a datagram, 1,440 a rotation, 8-bit samples |
 //! | [`stats`] | a spoke stream followed: rotations, range changes, order |
@@ -21,6 +22,7 @@
 //! `tests/radar_captures.rs`): Navico HALO (two), 4G and 3G, Garmin xHD.
 
 pub mod capture;
+pub mod decoder;
 pub mod fault;
 pub mod garmin;
 pub mod live;
@@ -31,6 +33,7 @@ pub mod spec;
 pub mod stats;
 
 pub use capture::{CaptureOptions, CaptureReader, CaptureStats, Datagram};
+pub use decoder::SpokeDecoder;
 pub use fault::{Fault, FaultCounts};
 pub use source::{RadarStats, SpokeSource};
 pub use spec::{RadarKind, RadarSpec};

@@ -31,6 +31,7 @@ use std::f64::consts::SQRT_2;
 
 use tracker_core::radar::Spoke;
 
+use super::decoder::SpokeDecoder;
 use super::fault::{le_u16, le_u32, Fault, FaultCounts};
 
 /// Bytes before the first spoke.
@@ -435,26 +436,19 @@ impl NavicoDecoder {
             max_sample: MAX_SAMPLE,
         })
     }
+}
 
-    /// Feeds a frame and hands each usable spoke to `f`; returns how many.
-    ///
-    /// # Errors
-    /// As [`feed`](Self::feed).
-    pub fn decode(
-        &mut self,
-        payload: &[u8],
-        time_ms: u64,
-        mut f: impl FnMut(Spoke<'_>),
-    ) -> Result<usize, Fault> {
-        self.feed(payload, time_ms)?;
-        let mut n = 0;
-        while self.advance() {
-            if let Some(s) = self.spoke() {
-                f(s);
-                n += 1;
-            }
-        }
-        Ok(n)
+impl SpokeDecoder for NavicoDecoder {
+    fn feed(&mut self, payload: &[u8], time_ms: u64) -> Result<usize, Fault> {
+        NavicoDecoder::feed(self, payload, time_ms)
+    }
+
+    fn advance(&mut self) -> bool {
+        NavicoDecoder::advance(self)
+    }
+
+    fn spoke(&self) -> Option<Spoke<'_>> {
+        NavicoDecoder::spoke(self)
     }
 }
 
