@@ -21,6 +21,9 @@ pub struct Run {
     score: ScoreSink,
     scans: u64,
     finished: bool,
+    /// Tracks shown as targets now (by track id), and how many ever were.
+    shown: std::collections::HashSet<u16>,
+    targets_seen: u64,
 }
 
 impl Run {
@@ -40,6 +43,8 @@ impl Run {
             score: ScoreSink::new(scan_s),
             scans: 0,
             finished: false,
+            shown: std::collections::HashSet::new(),
+            targets_seen: 0,
         }
     }
 
@@ -78,6 +83,12 @@ impl Run {
             sink.scan(&scan, &report)?;
         }
         self.score.scan(&scan, &report)?;
+        for t in &report.ended {
+            self.shown.remove(&t.track);
+        }
+        for t in &report.targets {
+            self.targets_seen += u64::from(self.shown.insert(t.track));
+        }
         self.scans += 1;
         Ok(Some(report))
     }
@@ -176,7 +187,9 @@ impl Run {
                 .name()
                 .to_string(),
             scans: self.scans,
+            targets_seen: self.targets_seen,
             scores: self.summary(),
+            radar: self.plots.radar_counts(),
             host_ms_per_scan_mean: ms(mean),
             host_ms_per_scan_max: ms(times.last().copied().unwrap_or_default()),
             link_frames_sent: stats.frames_sent,
@@ -206,6 +219,11 @@ pub struct RunReport {
     pub filter: String,
     /// Scans tracked.
     pub scans: u64,
+    /// Targets shown over the run (tracks that were confirmed), each counted once.
+    pub targets_seen: u64,
+    /// What the radar source counted, when the plots came from a radar.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub radar: Option<crate::source::radar::RadarCounts>,
     /// Scores against the truth.
     #[serde(flatten)]
     pub scores: Option<Summary>,
@@ -241,9 +259,17 @@ impl RunReport {
         );
         match &self.scores {
             Some(scores) => s += &scores.report(),
-            None => s += &format!("scans: {} (no truth to score against)", self.scans),
+            None => {
+                s += &format!(
+                    "scans: {}, {} targets shown over the run (no truth to score against)",
+                    self.scans, self.targets_seen
+                )
+            }
         }
         s.push('\n');
+        if let Some(r) = &self.radar {
+            s += &format!("radar: {r}\n");
+        }
         if let Some(c) = &self.own_ship_nmea {
             s += &format!("own-ship NMEA: {c}\n");
         }

@@ -1,6 +1,6 @@
 //! `tracker-host track`: the tracker on recorded plots (a plots file, and beside it a
-//! truth file to score against), with the same session, display, table and outputs as
-//! `demo`.
+//! truth file to score against) or on a radar (spokes from a capture or live, plots
+//! extracted), with the same session, display, table and outputs as `demo`.
 
 use std::path::PathBuf;
 
@@ -9,20 +9,37 @@ use tracker_core::filter::FilterKind;
 use super::run::Run;
 use super::{own_ship_source, sinks, Outputs, OwnShipOptions};
 use crate::link::Client;
-use crate::session::{Session, SessionConfig};
+use crate::origin::Origin;
+use crate::radar::RadarSpec;
+use crate::session::{Session, SessionConfig, PLOT_SIGMA_M};
 use crate::source::plots_file::PlotsFileSource;
+use crate::source::radar::{plot_sigma_m, CaptureSurvey, RadarOptions, RadarPlotSource};
 use crate::source::truth_file::TruthFile;
+use crate::source::PlotSource;
+
+/// Where `track`'s plots come from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TrackInput {
+    /// A plots file, and a truth file for a scored summary.
+    Plots {
+        /// The plots file.
+        plots: PathBuf,
+        /// The truth file.
+        truth: Option<PathBuf>,
+    },
+    /// A radar's spokes, plots extracted.
+    Radar(RadarOptions),
+}
 
 /// What `track` runs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrackOptions {
-    /// The plots file.
-    pub plots: PathBuf,
-    /// The truth file, for a scored summary.
-    pub truth: Option<PathBuf>,
+    /// The plots.
+    pub input: TrackInput,
     /// The filter every track runs.
     pub filter: FilterKind,
-    /// Where own ship comes from (by default the plots file's own-ship columns).
+    /// Where own ship comes from (by default the plot source's: a plots file's own-ship
+    /// columns, a capture's NMEA).
     pub own_ship: OwnShipOptions,
     /// Where results go.
     pub outputs: Outputs,
@@ -31,18 +48,40 @@ pub struct TrackOptions {
 /// Wires `track`: the files are checked before the device is touched or anything written.
 ///
 /// # Errors
-/// A file breaks its format (the error names the line and column), the device does not
-/// attach, or an own-ship source or output does not open.
+/// A file breaks its format (the error names the line and column), a capture does not
+/// open, the device does not attach, or an own-ship source or output does not open.
 pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
-    let mut source = PlotsFileSource::open(&o.plots)?;
-    if let Some(truth) = &o.truth {
-        source = source.with_truth(TruthFile::open(truth)?);
-    }
-    let origin = o.own_ship.origin();
+    let (source, origin, sigma_m): (Box<dyn PlotSource>, Origin, f32) = match &o.input {
+        TrackInput::Plots { plots, truth } => {
+            let mut source = PlotsFileSource::open(plots)?;
+            if let Some(truth) = truth {
+                source = source.with_truth(TruthFile::open(truth)?);
+            }
+            (Box::new(source), o.own_ship.origin(), PLOT_SIGMA_M)
+        }
+        TrackInput::Radar(radar) => {
+            // A capture's own frame is around its first fix, wherever on earth it was made;
+            // its plots are as accurate as its range scale allows.
+            let survey = match &radar.spec {
+                RadarSpec::Capture(path) => CaptureSurvey::of(path)?,
+                RadarSpec::Live { .. } => CaptureSurvey::default(),
+            };
+            let origin = o.own_ship.origin.or(survey.first_fix).unwrap_or_default();
+            let sigma_m = radar
+                .plot_sigma_m
+                .or(survey.first_range_m.map(plot_sigma_m))
+                .unwrap_or(PLOT_SIGMA_M);
+            (
+                Box::new(RadarPlotSource::open(radar, origin)?),
+                origin,
+                sigma_m,
+            )
+        }
+    };
     let own_ship = own_ship_source(&o.own_ship, origin)?;
-    let session = Session::start(client, SessionConfig::tracking(o.filter))?;
+    let session = Session::start(client, SessionConfig::tracking_plots_of(o.filter, sigma_m))?;
     Ok(Run::new(
-        Box::new(source),
+        source,
         own_ship,
         session,
         sinks(&o.outputs, origin)?,

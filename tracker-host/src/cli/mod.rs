@@ -18,6 +18,7 @@ use crate::lab::{arpa, bench_mcu, compare, precision, replay, replay_nav, reprod
 use crate::link::faults::{FaultRates, FaultyTransport};
 use crate::link::qemu::{self, QemuOptions};
 use crate::link::{self, check, Client, LinkSpec};
+use crate::source::radar::RadarOptions;
 use crate::source::simulator::SimulatorOptions;
 use args::RunArgs;
 
@@ -80,16 +81,30 @@ pub enum Command {
         #[command(flatten)]
         run: RunArgs,
     },
-    /// The tracker on recorded plots (a plots file; see the README for its columns), with
-    /// the same display, table and outputs as `demo`; given the truth, the same scored
-    /// summary.
+    /// The tracker on recorded plots (a plots file; see the README for its columns) or on
+    /// a radar (spokes from a capture or live, plots extracted), with the same display,
+    /// table and outputs as `demo`; given the truth, the same scored summary.
+    #[command(group = clap::ArgGroup::new("input").required(true).args(["plots", "radar"]))]
     Track {
         /// The plots file.
         #[arg(long, value_name = "PATH")]
-        plots: PathBuf,
+        plots: Option<PathBuf>,
         /// The truth file, to score the tracks against.
-        #[arg(long, value_name = "PATH")]
+        #[arg(long, value_name = "PATH", requires = "plots")]
         truth: Option<PathBuf>,
+        /// A radar: `pcap:PATH` (a capture, pcap or pcapng, gzip too), `navico[@IFACE_IP]`
+        /// or `garmin[@IFACE_IP]` (live, the spoke multicast joined on the interface with
+        /// that address). Own ship from the capture's NMEA unless --nmea-in.
+        #[arg(long, value_name = "pcap:PATH|navico[@IP]|garmin[@IP]")]
+        radar: Option<crate::radar::RadarSpec>,
+        /// With --radar: own ship's heading, degrees true, when neither the radar nor NMEA
+        /// gives one (a moored ship); without any heading, plots are not tracked.
+        #[arg(long, value_name = "DEG", requires = "radar")]
+        heading_deg: Option<f64>,
+        /// With --radar: the plots' accuracy, m (one axis), for the filters and gates; by
+        /// default 1 % of a capture's range scale, 5 to 40 m (40 m live).
+        #[arg(long, value_name = "M", requires = "radar")]
+        plot_sigma_m: Option<f32>,
         /// How the run is shown, own ship, outputs.
         #[command(flatten)]
         run: RunArgs,
@@ -305,10 +320,30 @@ where
             let tracking = demo::start(cli.connect()?, &options)?;
             track_to_end(&cli, tracking, run)
         }
-        Command::Track { plots, truth, run } => {
+        Command::Track {
+            plots,
+            truth,
+            radar,
+            heading_deg,
+            plot_sigma_m,
+            run,
+        } => {
+            let input = match (plots, radar) {
+                (Some(plots), _) => track::TrackInput::Plots {
+                    plots: plots.clone(),
+                    truth: truth.clone(),
+                },
+                (None, Some(spec)) => {
+                    let mut o = RadarOptions::new(spec.clone());
+                    o.fixed_heading_rad =
+                        heading_deg.map(|d| tracker_core::geo::wrap_2pi(d.to_radians() as f32));
+                    o.plot_sigma_m = *plot_sigma_m;
+                    track::TrackInput::Radar(o)
+                }
+                (None, None) => anyhow::bail!("track: --plots or --radar"),
+            };
             let options = track::TrackOptions {
-                plots: plots.clone(),
-                truth: truth.clone(),
+                input,
                 filter: run.filter,
                 own_ship: run.own_ship(),
                 outputs: run.outputs(None),

@@ -58,13 +58,20 @@ impl SessionConfig {
     /// [`PLOT_SIGMA_M`], the device's default gates, the χ² 99 % refined gate and the
     /// default alarm limits.
     pub fn tracking(filter: FilterKind) -> Self {
+        Self::tracking_plots_of(filter, PLOT_SIGMA_M)
+    }
+
+    /// As [`SessionConfig::tracking`], for plots of `plot_sigma_m` (m, one axis): a radar
+    /// on a short range scale measures to metres, and gates sized for 40 m would join the
+    /// echoes of a harbour's moored boats into tracks that wander between them.
+    pub fn tracking_plots_of(filter: FilterKind, plot_sigma_m: f32) -> Self {
         let tracker = TrackerConfig {
-            plot_sigma_m: PLOT_SIGMA_M,
+            plot_sigma_m,
             ..TrackerConfig::DEFAULT
         };
         SessionConfig {
             tracker: TrackerConfig {
-                filter: FilterConfig::tracking(filter, PLOT_SIGMA_M, tracker.max_speed_mps),
+                filter: FilterConfig::tracking(filter, plot_sigma_m, tracker.max_speed_mps),
                 ..tracker
             },
             refined_gate_d2: CHI2_2DOF_99,

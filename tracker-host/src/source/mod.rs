@@ -5,6 +5,7 @@
 //! |---|---|
 //! | the scenario simulator (IMO sensor model, clutter) | [`simulator`] |
 //! | a recorded plots file (CSV, documented in the README) | [`plots_file`] |
+//! | a radar: spokes from a capture or live, plots extracted | [`radar`] |
 //!
 //! and [`truth_file`] reads the truth beside a plots file, for scoring.
 //!
@@ -13,6 +14,7 @@
 //! session ignores both; own-ship sources and the scorer use them.
 
 pub mod plots_file;
+pub mod radar;
 pub mod simulator;
 pub mod truth_file;
 
@@ -62,4 +64,9 @@ pub trait PlotSource {
     /// Own ship as the session used it for the scan just given (a simulator that follows a
     /// live own-ship source takes it; others ignore it).
     fn own_ship_estimate(&mut self, _own: &OwnShip) {}
+
+    /// What a radar source counted (scans, plots, extended returns), for the summary.
+    fn radar_counts(&self) -> Option<radar::RadarCounts> {
+        None
+    }
 }

@@ -1,0 +1,537 @@
+//! A radar as a plot source: spokes ([`SpokeSource`]: a capture or the radar live) through
+//! the core's plot extractor ([`Extractor`]: CFAR, blobs, point vs extended), one scan per
+//! antenna rotation.
+//!
+//! - **Scan**: the plots of the blobs that closed between two passes of the antenna through
+//!   the bow (north when north-up); the scan's time is the time of the spoke after the wrap,
+//!   so the rotation period comes from the data (2.0–2.8 s on the real captures), not from a
+//!   setting. A blob across the wrap closes a few spokes later and goes with the next scan.
+//! - **Plot time**: a plot is measured at its own time (its spokes' mean time), up to a
+//!   rotation before the scan's. Own ship moves meanwhile, so the plot's offset from own ship
+//!   is moved by own ship's displacement from the plot's time to the scan's; the target's
+//!   own motion over that interval is the tracker's to absorb (as with any radar's plots).
+//! - **Heading**: a head-up spoke takes the heading the radar sent with it (flagged true),
+//!   else own ship's heading from the NMEA in the same capture (`HDT`, or `HDG`/`HDM` with
+//!   variation), else from the own-ship source of the run (the previous scan's), else the
+//!   fixed heading set for a moored ship ([`RadarOptions::fixed_heading_rad`]). Without any,
+//!   the blobs' bearings are relative and their plots are not tracked (counted).
+//! - **Own ship**: from the NMEA lines found in the capture, through the same dead-reckoning
+//!   filter as `--nmea-in` (their UTC tied to the capture clock by the lines' capture
+//!   times); without a fix, own ship is at the origin, stopped, and the display says so.
+//!   `--nmea-in` replaces it.
+//! - **Capacity**: at most [`MAX_PLOTS_PER_SCAN`] plots a scan, the device's limit; past it
+//!   the nearest are kept (the dangerous ones) and the rest counted.
+
+use std::collections::VecDeque;
+
+use tracker_core::icd::Plot;
+use tracker_core::radar::{Event, Extractor, ExtractorConfig, ExtractorStats, RadarPlot, Spoke};
+use tracker_core::tracker::MAX_PLOTS_PER_SCAN;
+
+use super::{PlotSource, RadarScan, SourceScan};
+use crate::origin::Origin;
+use crate::own_ship::nav::OwnShipNav;
+use crate::own_ship::OwnShip;
+use crate::radar::{CaptureOptions, RadarKind, RadarSpec, RadarStats, SpokeSource};
+
+/// How a radar is read.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RadarOptions {
+    /// Where the spokes come from.
+    pub spec: RadarSpec,
+    /// The extractor's settings for Navico spokes.
+    pub navico: ExtractorConfig,
+    /// … and for Garmin spokes.
+    pub garmin: ExtractorConfig,
+    /// Own ship's heading, rad true, when neither the radar nor NMEA gives one (a moored
+    /// ship, a radar without a heading sensor).
+    pub fixed_heading_rad: Option<f32>,
+    /// The plots' accuracy, m (one axis), for the tracker's filters and gates; by default
+    /// [`plot_sigma_m`] of a capture's first range, 40 m live.
+    pub plot_sigma_m: Option<f32>,
+}
+
+impl RadarOptions {
+    /// The defaults per brand for `spec`.
+    pub fn new(spec: RadarSpec) -> Self {
+        RadarOptions {
+            spec,
+            navico: ExtractorConfig::navico_4bit(),
+            garmin: ExtractorConfig::garmin_xhd(),
+            fixed_heading_rad: None,
+            plot_sigma_m: None,
+        }
+    }
+}
+
+/// What the radar source has counted, for the summary.
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
+pub struct RadarCounts {
+    /// Scans handed to the tracker (rotations, the first and last partial ones included).
+    pub scans: u64,
+    /// Plots handed to the tracker.
+    pub plots: u64,
+    /// Point plots with a relative bearing only (no heading): not tracked.
+    pub plots_without_heading: u64,
+    /// Point plots past the per-scan limit (the farthest), not tracked.
+    pub plots_over_limit: u64,
+    /// Extended returns (coast, jetties, rain): shown, not tracked.
+    pub extended: u64,
+    /// Spokes given a heading from NMEA, the run's own ship or the fixed heading.
+    pub spokes_heading_added: u64,
+    /// NMEA lines found in the capture.
+    pub nmea_lines: u64,
+    /// Spokes of a second brand in the same capture (only the first brand met is read).
+    pub other_brand_spokes: u64,
+    /// Spokes pushed through the extractor.
+    pub spokes: u64,
+    /// Detected cells.
+    pub detections: u64,
+    /// Blobs too small to be a plot (noise).
+    pub too_small: u64,
+    /// Blobs dropped: the extractor's open blobs were full.
+    pub blobs_dropped: u64,
+    /// Range changes and out-of-order spokes that restarted extraction.
+    pub restarts: u64,
+}
+
+impl RadarCounts {
+    /// Point plots a scan, mean.
+    pub fn plots_per_scan(&self) -> f64 {
+        self.plots as f64 / self.scans.max(1) as f64
+    }
+
+    /// Extended returns a scan, mean.
+    pub fn extended_per_scan(&self) -> f64 {
+        self.extended as f64 / self.scans.max(1) as f64
+    }
+}
+
+impl std::fmt::Display for RadarCounts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} scans, {} spokes, {:.1} point plots and {:.1} extended returns a scan; {} plots without heading, {} over the {} limit, {} blobs dropped, {} restarts",
+            self.scans,
+            self.spokes,
+            self.plots_per_scan(),
+            self.extended_per_scan(),
+            self.plots_without_heading,
+            self.plots_over_limit,
+            MAX_PLOTS_PER_SCAN,
+            self.blobs_dropped,
+            self.restarts
+        )
+    }
+}
+
+/// One rotation's extracted returns, kept for the display and snapshots.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RotationPicture {
+    /// The scan they went with.
+    pub scan: u32,
+    /// Point plots (true bearing unless flagged relative).
+    pub plots: Vec<RadarPlot>,
+    /// Extended returns.
+    pub extended: Vec<RadarPlot>,
+}
+
+/// A radar, as a [`PlotSource`]. See the module documentation.
+pub struct RadarPlotSource {
+    spokes: SpokeSource,
+    options: RadarOptions,
+    extractor: Option<(RadarKind, Box<Extractor>)>,
+    nav: OwnShipNav,
+    /// Capture NMEA's UTC minus the capture clock, s (from the newest timed line).
+    nmea_offset_s: Option<f64>,
+    /// NMEA lines met, not yet due.
+    nmea: VecDeque<(f64, String)>,
+    /// Own ship as the run used it last (its heading, for spokes when NMEA has none).
+    run_own: Option<OwnShip>,
+    /// This rotation's returns so far.
+    current: RotationPicture,
+    /// The last complete rotation's.
+    last: RotationPicture,
+    scan: u32,
+    last_scan_s: Option<f64>,
+    counts: RadarCounts,
+    finished: bool,
+    /// The spoke being extracted's samples, copied out of the source's buffer.
+    samples: Vec<u8>,
+}
+
+/// A spoke without its samples (they stay in the source's buffer, borrowed).
+#[derive(Clone, Copy, Debug)]
+struct SpokeHeader {
+    angle: u16,
+    spokes_per_rotation: u16,
+    north_up: bool,
+    heading_rad: Option<f32>,
+    range_m: f32,
+    time_ms: u64,
+    max_sample: u8,
+}
+
+impl SpokeHeader {
+    fn of(s: &Spoke<'_>) -> Self {
+        SpokeHeader {
+            angle: s.angle,
+            spokes_per_rotation: s.spokes_per_rotation,
+            north_up: s.north_up,
+            heading_rad: s.heading_rad,
+            range_m: s.range_m,
+            time_ms: s.time_ms,
+            max_sample: s.max_sample,
+        }
+    }
+
+    fn with(self, heading_rad: Option<f32>, samples: &[u8]) -> Spoke<'_> {
+        Spoke {
+            angle: self.angle,
+            spokes_per_rotation: self.spokes_per_rotation,
+            north_up: self.north_up,
+            heading_rad,
+            range_m: self.range_m,
+            time_ms: self.time_ms,
+            samples,
+            max_sample: self.max_sample,
+        }
+    }
+}
+
+impl std::fmt::Debug for RadarPlotSource {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("RadarPlotSource")
+            .field("counts", &self.counts)
+            .finish_non_exhaustive()
+    }
+}
+
+impl RadarPlotSource {
+    /// Opens the radar `o` names; own ship from the capture's NMEA is in the frame of
+    /// `origin`.
+    ///
+    /// # Errors
+    /// The capture does not open or is not one; a live socket cannot be joined; an
+    /// extractor setting is out of range.
+    pub fn open(o: &RadarOptions, origin: Origin) -> anyhow::Result<Self> {
+        for c in [&o.navico, &o.garmin] {
+            c.validate()
+                .map_err(|e| anyhow::anyhow!("radar extractor settings: {e:?}"))?;
+        }
+        let spokes = SpokeSource::open(&o.spec)?;
+        Ok(RadarPlotSource {
+            spokes,
+            options: o.clone(),
+            extractor: None,
+            nav: OwnShipNav::new(origin, crate::app::today(), None),
+            nmea_offset_s: None,
+            nmea: VecDeque::new(),
+            run_own: None,
+            current: RotationPicture::default(),
+            last: RotationPicture::default(),
+            scan: 0,
+            last_scan_s: None,
+            counts: RadarCounts::default(),
+            finished: false,
+            samples: Vec::new(),
+        })
+    }
+
+    /// What has been counted so far.
+    pub fn counts(&self) -> RadarCounts {
+        let mut c = self.counts.clone();
+        if let Some((_, x)) = &self.extractor {
+            let s: &ExtractorStats = x.stats();
+            c.spokes = s.spokes;
+            c.detections = s.detections;
+            c.too_small = s.small_blobs;
+            c.blobs_dropped = s.blobs_dropped;
+            c.restarts = s.range_changes + s.out_of_order + s.format_changes;
+        }
+        c
+    }
+
+    /// The spoke source's counts (packets, faults, rotations).
+    pub fn spoke_stats(&self) -> RadarStats {
+        self.spokes.stats()
+    }
+
+    /// The last complete rotation's returns.
+    pub fn picture(&self) -> &RotationPicture {
+        &self.last
+    }
+
+    /// Own ship from the capture's NMEA at capture time `time_s`, if it has a fix.
+    fn nmea_own_ship(&self, time_s: f64) -> Option<OwnShip> {
+        self.nav
+            .own_ship_at(time_s + self.nmea_offset_s.unwrap_or(0.0))
+    }
+
+    /// Feeds the capture's NMEA lines due by capture time `time_s`.
+    fn feed_nmea(&mut self, time_s: f64) {
+        self.nmea.extend(self.spokes.nmea_lines());
+        while self.nmea.front().is_some_and(|(t, _)| *t <= time_s) {
+            let Some((t, line)) = self.nmea.pop_front() else {
+                break;
+            };
+            self.counts.nmea_lines += 1;
+            let newest = self.nav.newest_s();
+            self.nav.feed(&line);
+            if let Some(n) = self.nav.newest_s().filter(|n| Some(*n) != newest) {
+                self.nmea_offset_s = Some(n - t);
+            }
+        }
+    }
+
+    /// The heading for a head-up spoke without one, rad true.
+    fn heading_for(&self, time_s: f64) -> Option<f32> {
+        self.nmea_own_ship(time_s)
+            .and_then(|o| o.heading_rad)
+            .or_else(|| self.run_own.and_then(|o| o.heading_rad))
+            .or(self.options.fixed_heading_rad)
+    }
+
+    /// Pushes spokes until a rotation ends (`Some(scan time)`) or the input does (`None`).
+    fn pump(&mut self) -> anyhow::Result<Option<f64>> {
+        loop {
+            let (header, time_s) = {
+                let Some((spoke, time_s)) = self.spokes.next_spoke()? else {
+                    return Ok(None);
+                };
+                self.samples.clear();
+                self.samples.extend_from_slice(spoke.samples);
+                (SpokeHeader::of(&spoke), time_s)
+            };
+            let kind = self
+                .spokes
+                .last_spoke()
+                .map_or(RadarKind::Navico, |(k, _)| k);
+            self.feed_nmea(time_s);
+            let mut heading_rad = header.heading_rad;
+            if !header.north_up && heading_rad.is_none() {
+                heading_rad = self.heading_for(time_s);
+                self.counts.spokes_heading_added += u64::from(heading_rad.is_some());
+            }
+            match &self.extractor {
+                Some((k, _)) if *k != kind => {
+                    // One brand at a time: a capture with both is read for the first.
+                    self.counts.other_brand_spokes += 1;
+                    continue;
+                }
+                Some(_) => {}
+                None => {
+                    let config = match kind {
+                        RadarKind::Navico => self.options.navico,
+                        RadarKind::Garmin => self.options.garmin,
+                    };
+                    let x = Extractor::new(config)
+                        .map_err(|e| anyhow::anyhow!("radar extractor settings: {e:?}"))?;
+                    self.extractor = Some((kind, Box::new(x)));
+                }
+            }
+            let Some((_, extractor)) = &mut self.extractor else {
+                continue;
+            };
+            let spoke = header.with(heading_rad, &self.samples);
+            let mut wrapped = None;
+            let current = &mut self.current;
+            extractor.push(&spoke, |e| match e {
+                Event::Plot(p) => current.plots.push(p),
+                Event::Extended(p) => current.extended.push(p),
+                Event::Wrap { time_ms, .. } => wrapped = Some(time_ms as f64 / 1000.0),
+            });
+            if let Some(t) = wrapped {
+                // The wrap is reported before the spoke after it is processed: blobs closed
+                // by that spoke belong to the rotation that just ended.
+                return Ok(Some(t));
+            }
+        }
+    }
+
+    /// Closes the rotation gathered so far as a scan at `time_s`.
+    fn close_scan(&mut self, time_s: f64) -> SourceScan {
+        let picture = std::mem::take(&mut self.current);
+        let own_nmea = self.nmea_own_ship(time_s);
+        let velocity = own_nmea
+            .or(self.run_own)
+            .filter(|o| o.quality.motion_known)
+            .map_or([0.0, 0.0], |o| o.velocity_mps);
+        let mut plots: Vec<Plot> = Vec::with_capacity(picture.plots.len());
+        for p in &picture.plots {
+            let Some(plot) = p.to_icd() else {
+                self.counts.plots_without_heading += 1;
+                continue;
+            };
+            let dt = (time_s - p.time_ms as f64 / 1000.0) as f32;
+            plots.push(moved_by_own_ship(plot, velocity, dt));
+        }
+        if plots.len() > MAX_PLOTS_PER_SCAN {
+            plots.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+            self.counts.plots_over_limit += (plots.len() - MAX_PLOTS_PER_SCAN) as u64;
+            plots.truncate(MAX_PLOTS_PER_SCAN);
+        }
+        self.counts.scans += 1;
+        self.counts.plots += plots.len() as u64;
+        self.counts.extended += picture.extended.len() as u64;
+        self.scan += 1;
+        self.last = RotationPicture {
+            scan: self.scan,
+            ..picture
+        };
+        self.last_scan_s = Some(time_s);
+        let own_ship = own_nmea.or_else(|| {
+            let mut o = OwnShip::unknown();
+            o.heading_rad = self.heading_for(time_s);
+            Some(o)
+        });
+        SourceScan {
+            radar: RadarScan {
+                scan: self.scan,
+                time_s,
+                plots,
+            },
+            own_ship,
+            truth: None,
+        }
+    }
+}
+
+/// What a capture holds before it is tracked: the first position fix in its NMEA (the
+/// natural origin of its local frame) and the range of its first spoke.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct CaptureSurvey {
+    /// The first fix, if the capture's NMEA has one.
+    pub first_fix: Option<Origin>,
+    /// The first spoke's range, m, if it has spokes.
+    pub first_range_m: Option<f32>,
+}
+
+impl CaptureSurvey {
+    /// Reads a capture until both are found (through, when one is missing).
+    ///
+    /// # Errors
+    /// The capture does not open or cannot be read.
+    pub fn of(path: &std::path::Path) -> anyhow::Result<Self> {
+        let mut spokes = SpokeSource::from_capture(path, CaptureOptions::default())?;
+        let mut nav = OwnShipNav::new(Origin::default(), crate::app::today(), None).keep_fixes();
+        let mut survey = CaptureSurvey::default();
+        loop {
+            let spoke = spokes.next_spoke()?.map(|(s, _)| s.range_m);
+            survey.first_range_m = survey.first_range_m.or(spoke);
+            for (_, line) in spokes.nmea_lines() {
+                nav.feed(&line);
+                if let Some(&(_, lat_deg, lon_deg)) = nav.fixes().first() {
+                    survey.first_fix = Some(Origin { lat_deg, lon_deg });
+                    break;
+                }
+            }
+            if spoke.is_none() || (survey.first_fix.is_some() && survey.first_range_m.is_some()) {
+                return Ok(survey);
+            }
+        }
+    }
+}
+
+/// The accuracy of a radar's plots on a range scale of `range_m`, m (one axis): 1 % of the
+/// range, the IMO performance standard's figure (MSC.192(79) 5.34: 50 m or 1 % of range),
+/// at least 5 m (a ship's echo wanders over its hull) and at most the 40 m the session
+/// uses for plots of unknown origin.
+pub fn plot_sigma_m(range_m: f32) -> f32 {
+    (0.01 * range_m).clamp(5.0, crate::session::PLOT_SIGMA_M)
+}
+
+/// `plot` (measured `dt_s` before the scan, range m and true bearing rad from own ship
+/// then) as seen from own ship at the scan, own ship moving at `velocity_mps` (east, north).
+fn moved_by_own_ship(plot: Plot, velocity_mps: [f32; 2], dt_s: f32) -> Plot {
+    if dt_s <= 0.0 || velocity_mps == [0.0, 0.0] {
+        return plot;
+    }
+    let (s, c) = plot.bearing_rad.sin_cos();
+    let east = plot.range_m * s - velocity_mps[0] * dt_s;
+    let north = plot.range_m * c - velocity_mps[1] * dt_s;
+    Plot {
+        range_m: east.hypot(north),
+        bearing_rad: tracker_core::geo::wrap_2pi(east.atan2(north)),
+    }
+}
+
+impl PlotSource for RadarPlotSource {
+    fn next_scan(&mut self) -> anyhow::Result<Option<SourceScan>> {
+        if self.finished {
+            return Ok(None);
+        }
+        match self.pump()? {
+            Some(t) => Ok(Some(self.close_scan(t))),
+            None if self.spokes.is_live() => Ok(None),
+            None => {
+                // The capture ended mid-rotation: what closed is the last, partial scan.
+                self.finished = true;
+                if let Some((_, x)) = &mut self.extractor {
+                    let current = &mut self.current;
+                    x.flush(|e| match e {
+                        Event::Plot(p) => current.plots.push(p),
+                        Event::Extended(p) => current.extended.push(p),
+                        Event::Wrap { .. } => {}
+                    });
+                }
+                let time_s = self
+                    .current
+                    .plots
+                    .iter()
+                    .map(|p| p.time_ms as f64 / 1000.0)
+                    .fold(self.last_scan_s.unwrap_or(0.0), f64::max);
+                if self.current.plots.is_empty() || Some(time_s) <= self.last_scan_s {
+                    return Ok(None);
+                }
+                Ok(Some(self.close_scan(time_s)))
+            }
+        }
+    }
+
+    fn scan_period_s(&self) -> Option<f64> {
+        let s = self.spokes.stats();
+        s.navico_spokes
+            .mean_rotation_s()
+            .or(s.garmin_spokes.mean_rotation_s())
+    }
+
+    fn scans_left(&self) -> Option<u64> {
+        None
+    }
+
+    fn own_ship_estimate(&mut self, own: &OwnShip) {
+        self.run_own = Some(*own);
+    }
+
+    fn radar_counts(&self) -> Option<RadarCounts> {
+        Some(self.counts())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_plot_is_moved_back_by_own_ships_motion_since() {
+        // Own ship 10 m/s north for 2 s: a plot dead ahead at 1,000 m is 980 m ahead now.
+        let p = Plot {
+            range_m: 1000.0,
+            bearing_rad: 0.0,
+        };
+        let q = moved_by_own_ship(p, [0.0, 10.0], 2.0);
+        assert!((q.range_m - 980.0).abs() < 1e-3);
+        assert!(q.bearing_rad.abs() < 1e-6);
+        // Abeam to starboard, own ship east: the offset shrinks the same way.
+        let p = Plot {
+            range_m: 500.0,
+            bearing_rad: core::f32::consts::FRAC_PI_2,
+        };
+        let q = moved_by_own_ship(p, [5.0, 0.0], 4.0);
+        assert!((q.range_m - 480.0).abs() < 1e-3);
+        // Stopped, or a plot from the scan's own time: unchanged.
+        assert_eq!(moved_by_own_ship(p, [0.0, 0.0], 2.0), p);
+        assert_eq!(moved_by_own_ship(p, [3.0, 3.0], 0.0), p);
+    }
+}
