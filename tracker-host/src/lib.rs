@@ -21,6 +21,7 @@
 #![warn(missing_docs)]
 #![warn(clippy::missing_errors_doc)]
 
+pub mod ais;
 pub mod app;
 pub mod cli;
 pub mod csv_input;

@@ -1,0 +1,376 @@
+//! The AIS target table: one entry per MMSI, updated by its reports, extrapolated to the
+//! time it is looked at, and lost after IEC 62388's times (below), which depend on the
+//! class and how fast the ship goes (so on how often it reports).
+//!
+//! | station | lost after no report for |
+//! |---|---|
+//! | class A at anchor or moored, ≤ 3 kn | 18 min |
+//! | class A, ≤ 14 kn | 60 s |
+//! | class A, 14–23 kn | 36 s |
+//! | class A, > 23 kn | 30 s |
+//! | class B, ≤ 2 kn | 18 min |
+//! | class B (CS), > 2 kn | 180 s |
+//! | long range (27) | 18 min |
+//!
+//! (IEC 62388 Ed. 2, annex on AIS target presentation; the same table is printed in
+//! chart plotters' manuals, e.g. Icom IC-M510's "lost target" criteria.) A target is
+//! *sleeping* (a small triangle, no vector) until the operator activates it or it comes
+//! within the activation range ([`AIS_ACTIVATION_RANGE_M`]); CPA/TCPA are computed for all.
+//!
+//! Memory is bounded: at most [`MAX_AIS_TARGETS`]; a report from a new MMSI when the table
+//! is full pushes out the target heard from longest ago (counted).
+
+use std::collections::BTreeMap;
+
+use tracker_core::geo::{self, EastNorth};
+
+use super::report::{AisReport, StationClass};
+use crate::origin::Origin;
+use crate::own_ship::OwnShip;
+
+/// Most AIS targets held.
+pub const MAX_AIS_TARGETS: usize = 2_000;
+
+/// AIS targets nearer than this are activated (shown with vector and CPA), m: 6 NM.
+pub const AIS_ACTIVATION_RANGE_M: f32 = 6.0 * 1852.0;
+
+/// Positions are extrapolated at most this far past a report, s (a target is lost before
+/// that anyway, except a slow one).
+const MAX_EXTRAPOLATION_S: f64 = 180.0;
+
+const KNOT_MPS: f64 = 1852.0 / 3600.0;
+
+/// One AIS station, as last heard.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AisTarget {
+    /// MMSI.
+    pub mmsi: u32,
+    /// Class A, B or long range, once a report says.
+    pub class: Option<StationClass>,
+    /// Latitude and longitude at the last position report, degrees.
+    pub position_deg: (f64, f64),
+    /// The same in the local frame, m.
+    pub position_m: [f64; 2],
+    /// Speed over ground, kn.
+    pub sog_kn: Option<f64>,
+    /// Course over ground, degrees true.
+    pub cog_deg: Option<f64>,
+    /// True heading, degrees.
+    pub heading_deg: Option<u16>,
+    /// Rate of turn, degrees a minute.
+    pub rot_deg_min: Option<f64>,
+    /// Navigational status.
+    pub nav_status: Option<String>,
+    /// Name.
+    pub name: Option<String>,
+    /// Call sign.
+    pub call_sign: Option<String>,
+    /// Ship and cargo type.
+    pub ship_type: Option<u8>,
+    /// Length and beam, m.
+    pub size_m: Option<(u16, u16)>,
+    /// When its last position came, s (the session's clock).
+    pub position_time_s: f64,
+    /// When anything from it came last, s.
+    pub heard_s: f64,
+    /// Position reports taken.
+    pub reports: u64,
+}
+
+impl AisTarget {
+    /// Velocity over ground, m/s east and north (zero when SOG or COG is not available).
+    pub fn velocity_mps(&self) -> [f64; 2] {
+        match (self.sog_kn, self.cog_deg) {
+            (Some(sog), Some(cog)) => {
+                let (s, c) = cog.to_radians().sin_cos();
+                [sog * KNOT_MPS * s, sog * KNOT_MPS * c]
+            }
+            _ => [0.0, 0.0],
+        }
+    }
+
+    /// Position at `time_s`, extrapolated along COG at SOG from the last report (at most
+    /// 180 s on), m.
+    pub fn position_at(&self, time_s: f64) -> [f64; 2] {
+        let dt = (time_s - self.position_time_s).clamp(0.0, MAX_EXTRAPOLATION_S);
+        let v = self.velocity_mps();
+        [
+            self.position_m[0] + v[0] * dt,
+            self.position_m[1] + v[1] * dt,
+        ]
+    }
+
+    /// IEC 62388's lost-target time for this target, s (see the module documentation).
+    pub fn lost_after_s(&self) -> f64 {
+        let sog = self.sog_kn.unwrap_or(0.0);
+        let anchored = self
+            .nav_status
+            .as_deref()
+            .is_some_and(|s| s == "AtAnchor" || s == "Moored");
+        match self.class {
+            Some(StationClass::ClassB) if sog <= 2.0 => 1080.0,
+            Some(StationClass::ClassB) => 180.0,
+            Some(StationClass::LongRange) => 1080.0,
+            _ if anchored && sog <= 3.0 => 1080.0,
+            _ if sog <= 14.0 => 60.0,
+            _ if sog <= 23.0 => 36.0,
+            _ => 30.0,
+        }
+    }
+
+    /// The name if known, else the MMSI.
+    pub fn label(&self) -> String {
+        self.name.clone().unwrap_or_else(|| self.mmsi.to_string())
+    }
+}
+
+/// An AIS target as seen from own ship at one time.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AisTargetData {
+    /// MMSI.
+    pub mmsi: u32,
+    /// Name or MMSI.
+    pub label: String,
+    /// Position extrapolated to the time, local frame, m.
+    pub position_m: EastNorth,
+    /// Velocity over ground, m/s.
+    pub velocity_mps: EastNorth,
+    /// Range from own ship, m.
+    pub range_m: f32,
+    /// True bearing from own ship, rad.
+    pub bearing_rad: f32,
+    /// Closest point of approach, m.
+    pub cpa_m: f32,
+    /// Time to it, s (negative: passed).
+    pub tcpa_s: f32,
+    /// Heading, rad true.
+    pub heading_rad: Option<f32>,
+    /// Age of its last position, s.
+    pub age_s: f32,
+    /// Activated (inside the activation range): shown with its vector.
+    pub active: bool,
+}
+
+/// What the table has done.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct AisTableCounts {
+    /// Targets taken in (first heard).
+    pub targets: u64,
+    /// Targets lost (IEC 62388 times).
+    pub lost: u64,
+    /// Targets pushed out because the table was full.
+    pub crowded_out: u64,
+    /// Own ship's own reports (`VDO`), not targets.
+    pub own_reports: u64,
+}
+
+/// The table. See the module documentation.
+#[derive(Clone, Debug)]
+pub struct AisTargets {
+    origin: Origin,
+    targets: BTreeMap<u32, AisTarget>,
+    counts: AisTableCounts,
+}
+
+impl AisTargets {
+    /// An empty table in the local frame of `origin`.
+    pub fn new(origin: Origin) -> Self {
+        AisTargets {
+            origin,
+            targets: BTreeMap::new(),
+            counts: AisTableCounts::default(),
+        }
+    }
+
+    /// What the table has done.
+    pub fn counts(&self) -> AisTableCounts {
+        self.counts
+    }
+
+    /// The targets held, by MMSI.
+    pub fn targets(&self) -> impl Iterator<Item = &AisTarget> {
+        self.targets.values()
+    }
+
+    /// One target.
+    pub fn get(&self, mmsi: u32) -> Option<&AisTarget> {
+        self.targets.get(&mmsi)
+    }
+
+    /// Targets held.
+    pub fn len(&self) -> usize {
+        self.targets.len()
+    }
+
+    /// True when none is held.
+    pub fn is_empty(&self) -> bool {
+        self.targets.is_empty()
+    }
+
+    /// Takes a report heard at `time_s`. Own ship's (`VDO`) reports are counted, not held.
+    pub fn report(&mut self, time_s: f64, r: &AisReport) {
+        if r.own_ship {
+            self.counts.own_reports += 1;
+            return;
+        }
+        if !self.targets.contains_key(&r.mmsi) {
+            // A target exists once it has a position; static data alone waits for one.
+            let Some((lat, lon)) = r.position_deg else {
+                return;
+            };
+            if self.targets.len() >= MAX_AIS_TARGETS {
+                if let Some(oldest) = self
+                    .targets
+                    .values()
+                    .min_by(|a, b| a.heard_s.total_cmp(&b.heard_s))
+                    .map(|t| t.mmsi)
+                {
+                    self.targets.remove(&oldest);
+                    self.counts.crowded_out += 1;
+                }
+            }
+            self.counts.targets += 1;
+            self.targets.insert(
+                r.mmsi,
+                AisTarget {
+                    mmsi: r.mmsi,
+                    class: None,
+                    position_deg: (lat, lon),
+                    position_m: self.origin.to_local(lat, lon),
+                    sog_kn: None,
+                    cog_deg: None,
+                    heading_deg: None,
+                    rot_deg_min: None,
+                    nav_status: None,
+                    name: None,
+                    call_sign: None,
+                    ship_type: None,
+                    size_m: None,
+                    position_time_s: time_s,
+                    heard_s: time_s,
+                    reports: 0,
+                },
+            );
+        }
+        let Some(t) = self.targets.get_mut(&r.mmsi) else {
+            return;
+        };
+        t.heard_s = time_s;
+        t.class = r.class.or(t.class);
+        if let Some((lat, lon)) = r.position_deg {
+            t.position_deg = (lat, lon);
+            t.position_m = self.origin.to_local(lat, lon);
+            t.position_time_s = time_s;
+            t.sog_kn = r.sog_kn;
+            t.cog_deg = r.cog_deg;
+            t.heading_deg = r.heading_deg;
+            t.rot_deg_min = r.rot_deg_min;
+            t.reports += 1;
+        }
+        t.nav_status = r.nav_status.clone().or(t.nav_status.take());
+        t.name = r.name.clone().or(t.name.take());
+        t.call_sign = r.call_sign.clone().or(t.call_sign.take());
+        t.ship_type = r.ship_type.or(t.ship_type);
+        t.size_m = r.size_m.or(t.size_m);
+    }
+
+    /// Drops the targets lost by `time_s`; their MMSIs.
+    pub fn expire(&mut self, time_s: f64) -> Vec<u32> {
+        let lost: Vec<u32> = self
+            .targets
+            .values()
+            .filter(|t| time_s - t.heard_s > t.lost_after_s())
+            .map(|t| t.mmsi)
+            .collect();
+        for m in &lost {
+            self.targets.remove(m);
+        }
+        self.counts.lost += lost.len() as u64;
+        lost
+    }
+
+    /// Every target seen from `own` at `time_s`, nearest first.
+    pub fn picture(&self, own: &OwnShip, time_s: f64) -> Vec<AisTargetData> {
+        let f = |x: [f64; 2]| [x[0] as f32, x[1] as f32];
+        let mut v: Vec<AisTargetData> = self
+            .targets
+            .values()
+            .map(|t| {
+                let p = f(t.position_at(time_s));
+                let vel = f(t.velocity_mps());
+                let (range_m, bearing_rad) = geo::range_bearing(own.position_m, p);
+                let c = geo::cpa(own.position_m, own.velocity_mps, p, vel);
+                AisTargetData {
+                    mmsi: t.mmsi,
+                    label: t.label(),
+                    position_m: p,
+                    velocity_mps: vel,
+                    range_m,
+                    bearing_rad,
+                    cpa_m: c.cpa_m,
+                    tcpa_s: c.tcpa_s,
+                    heading_rad: t.heading_deg.map(|h| f32::from(h).to_radians()),
+                    age_s: (time_s - t.position_time_s) as f32,
+                    active: range_m <= AIS_ACTIVATION_RANGE_M,
+                }
+            })
+            .collect();
+        v.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+        v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn report(mmsi: u32, lat: f64, sog: f64, class: StationClass) -> AisReport {
+        AisReport {
+            msg_type: 1,
+            mmsi,
+            class: Some(class),
+            position_deg: Some((lat, -1.0)),
+            sog_kn: Some(sog),
+            cog_deg: Some(0.0),
+            ..AisReport::default()
+        }
+    }
+
+    #[test]
+    fn targets_are_extrapolated_lost_on_time_and_bounded() {
+        let origin = Origin {
+            lat_deg: 50.0,
+            lon_deg: -1.0,
+        };
+        let mut t = AisTargets::new(origin);
+        t.report(0.0, &report(1, 50.0, 10.0, StationClass::ClassA));
+        t.report(0.0, &report(2, 50.0, 1.0, StationClass::ClassB));
+        // 10 kn north for 30 s: 154 m.
+        let p = t.get(1).unwrap().position_at(30.0);
+        assert!((p[1] - 10.0 * KNOT_MPS * 30.0).abs() < 1e-6);
+        // Class A at 10 kn lost after 60 s, class B at 1 kn after 18 min.
+        assert!(t.expire(59.0).is_empty());
+        assert_eq!(t.expire(61.0), vec![1]);
+        assert!(t.expire(1079.0).is_empty());
+        assert_eq!(t.expire(1081.0), vec![2]);
+        // Static data alone makes no target; a flood is bounded.
+        t.report(
+            0.0,
+            &AisReport {
+                mmsi: 9,
+                msg_type: 5,
+                ..AisReport::default()
+            },
+        );
+        assert!(t.is_empty());
+        for m in 0..10_000u32 {
+            t.report(
+                f64::from(m),
+                &report(100 + m, 50.0, 5.0, StationClass::ClassA),
+            );
+        }
+        assert_eq!(t.len(), MAX_AIS_TARGETS);
+        assert_eq!(t.counts().crowded_out, 10_000 - MAX_AIS_TARGETS as u64);
+        assert!(t.get(100 + 9_999).is_some() && t.get(100).is_none());
+    }
+}

@@ -1,0 +1,156 @@
+//! AIS in on every real recording with AIVDM/AIVDO in `../shared/realdata/ais/` and
+//! `../shared/realdata/nmea/` (read where CI has them, or where `TRACKER_REALDATA` says),
+//! checked against an independent decoder: `tools/ais_reference.py` (pyais 3.3.1, its own
+//! reassembly). Every message of a type the table uses (1–3, 5, 18, 19, 24, 27) that pyais
+//! decodes, we decode from the same line with the same type, MMSI and position (1e-5°);
+//! no sentence of the recordings that pyais takes is refused by us; each file's counts are
+//! printed.
+
+use std::collections::HashMap;
+use std::io::BufRead;
+use std::path::{Path, PathBuf};
+
+use tracker_host::ais::AisDecoder;
+
+fn realdata() -> PathBuf {
+    std::env::var_os("TRACKER_REALDATA").map_or_else(
+        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/realdata"),
+        PathBuf::from,
+    )
+}
+
+const FILES: [&str; 10] = [
+    "ais/gpsd-ais-nmea.log",
+    "ais/signalk-nais300-merrimac.log",
+    "ais/signalk-nais400-merrimac.log",
+    "ais/pyais-nmea_data_sample.txt",
+    "ais/gpsd-sample.aivdm",
+    "nmea/gpsd-saab-r4.log",
+    "nmea/mayara-halo_and_0183-nmea.log",
+    "nmea/radar_pi-3g-trueheading-udp10110.log",
+    "nmea/radar_pi-4g-noheading-merrimac-tcp2000.log",
+    "nmea/signalk-gofree-merrimac.log",
+];
+
+const USED_TYPES: [u8; 8] = [1, 2, 3, 5, 18, 19, 24, 27];
+
+/// (file name, line) → (type, MMSI, position) as pyais decodes it.
+type Reference = HashMap<(String, usize), (u8, u32, Option<(f64, f64)>)>;
+
+fn reference(paths: &[PathBuf]) -> Option<Reference> {
+    let python = std::env::var("TRACKER_PYTHON").unwrap_or_else(|_| "python3".to_string());
+    let have = std::process::Command::new(&python)
+        .args(["-c", "import pyais"])
+        .status()
+        .is_ok_and(|s| s.success());
+    if !have {
+        assert!(
+            std::env::var_os("TRACKER_REQUIRE_TOOLS").is_none(),
+            "pyais is required (TRACKER_REQUIRE_TOOLS is set): scripts/setup installs it"
+        );
+        eprintln!("pyais not installed: the comparison is skipped");
+        return None;
+    }
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tools/ais_reference.py");
+    let out = std::process::Command::new(&python)
+        .arg(script)
+        .args(paths)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut r = Reference::new();
+    let mut csv = csv::Reader::from_reader(out.stdout.as_slice());
+    for row in csv.records() {
+        let row = row.unwrap();
+        let num = |i: usize| row.get(i).unwrap_or("").parse::<f64>().ok();
+        let position = num(5).zip(num(6));
+        r.insert(
+            (row[0].to_string(), row[1].parse().unwrap()),
+            (row[3].parse().unwrap(), row[4].parse().unwrap(), position),
+        );
+    }
+    Some(r)
+}
+
+#[test]
+fn every_real_ais_message_decodes_as_pyais_decodes_it() {
+    let paths: Vec<PathBuf> = FILES.iter().map(|f| realdata().join(f)).collect();
+    for p in &paths {
+        assert!(
+            p.is_file(),
+            "{}: missing (set TRACKER_REALDATA)",
+            p.display()
+        );
+    }
+    let reference = reference(&paths);
+    println!("| file | AIS sentences | decoded | types not used | refused | undecodable | incomplete | pyais messages of used types | same |");
+    println!("|---|---|---|---|---|---|---|---|---|");
+    for p in &paths {
+        let name = p.file_name().unwrap().to_string_lossy().to_string();
+        let mut ours = HashMap::new();
+        let mut d = AisDecoder::new();
+        let reader = std::io::BufReader::new(std::fs::File::open(p).unwrap());
+        for (i, line) in reader.split(b'\n').enumerate() {
+            let line = String::from_utf8_lossy(&line.unwrap()).to_string();
+            if let Some(r) = d.feed(&line) {
+                ours.insert(i + 1, (r.msg_type, r.mmsi, r.position_deg));
+            }
+        }
+        let c = d.counts();
+        let (mut expected, mut same) = (0, 0);
+        let mut missing = Vec::new();
+        if let Some(reference) = &reference {
+            for ((file, line), (msg_type, mmsi, position)) in reference {
+                if *file != name || !USED_TYPES.contains(msg_type) {
+                    continue;
+                }
+                expected += 1;
+                let Some(&(t, m, pos)) = ours.get(line) else {
+                    missing.push(format!("{line}: type {msg_type} MMSI {mmsi}"));
+                    continue;
+                };
+                assert_eq!((t, m), (*msg_type, *mmsi), "{name}:{line}");
+                match (pos, position) {
+                    (Some(a), Some(b)) => assert!(
+                        (a.0 - b.0).abs() < 1e-5 && (a.1 - b.1).abs() < 1e-5,
+                        "{name}:{line}: {a:?} against pyais {b:?}"
+                    ),
+                    (None, None) => {}
+                    (a, b) => panic!("{name}:{line}: position {a:?} against pyais {b:?}"),
+                }
+                same += 1;
+            }
+        }
+        println!(
+            "| {name} | {} | {} | {} | {} | {} | {} | {expected} | {same} |",
+            c.sentences,
+            c.decoded(),
+            c.ignored,
+            c.rejected_total(),
+            c.undecodable.values().sum::<u64>(),
+            c.assembly.incomplete
+        );
+        assert!(
+            missing.is_empty(),
+            "{name}: pyais decodes, we do not ({c}): {missing:?}"
+        );
+        // Only the pyais sample (100 sentences with an empty payload, 20 lone first
+        // fragments) and gpsd's annotated corpus (types 37 and 41 in comments) hold
+        // sentences pyais refuses too.
+        if !name.starts_with("pyais") && !name.starts_with("gpsd-sample") {
+            assert_eq!(c.rejected_total(), 0, "{name}: {c} {:?}", c.rejected);
+            assert_eq!(
+                c.undecodable.values().sum::<u64>(),
+                0,
+                "{name}: {:?}",
+                c.undecodable
+            );
+            assert_eq!(c.assembly.incomplete, 0, "{name}: {c}");
+        }
+        assert!(c.decoded() > 0, "{name}: nothing decoded");
+    }
+}
