@@ -282,7 +282,7 @@ impl Tracker {
 /// Plain arithmetic (no `div_ceil`/`clamp`, whose checks would leave a panic path).
 fn parts_for(items: usize, per_part: usize) -> u8 {
     let per_part = per_part.max(1);
-    let parts = items / per_part + usize::from(items % per_part != 0);
+    let parts = items / per_part + usize::from(!items.is_multiple_of(per_part));
     parts.max(1).min(usize::from(u8::MAX)) as u8
 }
 

@@ -149,3 +149,72 @@ fn every_capture_is_tracked_to_its_end() {
         assert!(report.targets_seen > 0, "{name}: no target tracked");
     }
 }
+
+/// For the AIS targets under way (over 2 kn, a position under 30 s old) inside the radar's
+/// range, the distance from each one's position (extrapolated to the scan) to the nearest
+/// extracted plot, as a fraction of its range, every whole rotation.
+fn ais_to_plot_distances(reports: &[ScanReport]) -> Vec<f32> {
+    let mut d = Vec::new();
+    // The first and last scans are partial rotations (the capture starts and ends
+    // mid-rotation): a ship in the part not swept has no plot.
+    let whole = reports
+        .get(1..reports.len().saturating_sub(1))
+        .unwrap_or(&[]);
+    for r in whole {
+        let reach = r.plots.iter().map(|p| p.range_m).fold(0.0f32, f32::max);
+        for a in &r.ais {
+            let speed = a.velocity_mps[0].hypot(a.velocity_mps[1]);
+            if speed < 2.0 * KNOT_MPS || a.range_m > reach || a.age_s > 30.0 {
+                continue;
+            }
+            let nearest = r
+                .plots_m
+                .iter()
+                .map(|p| (p[0] - a.position_m[0]).hypot(p[1] - a.position_m[1]))
+                .fold(f32::INFINITY, f32::min);
+            d.push(nearest / a.range_m.max(1.0));
+        }
+    }
+    d.sort_by(f32::total_cmp);
+    d
+}
+
+#[test]
+fn ais_ships_under_way_in_the_captures_have_a_plot_near_them() {
+    println!("| capture | AIS targets | AIS ship-scans under way in range | plot within 2 % of range | within 5 % | median distance, % of range | pairs made |");
+    println!("|---|---|---|---|---|---|---|");
+    for name in [
+        "mayara-halo_and_0183.pcap",
+        "radar_pi-4g-noheading-merrimac.pcap.gz",
+    ] {
+        let t = track(name, None);
+        let d = ais_to_plot_distances(&t.reports);
+        let within = |m: f32| d.iter().filter(|x| **x <= m).count();
+        let report = t.run.report("inproc");
+        let ais = report.ais.clone().expect("AIS heard in the capture");
+        println!(
+            "| {name} | {} | {} | {} | {} | {:.1} | {} |",
+            ais.table.targets,
+            d.len(),
+            within(0.02),
+            within(0.05),
+            100.0 * d.get(d.len() / 2).copied().unwrap_or(f32::NAN),
+            ais.pairing.paired
+        );
+        assert!(ais.sentences.decoded() > 100, "{name}: {}", ais.sentences);
+        assert_eq!(
+            ais.sentences.rejected_total(),
+            0,
+            "{name}: {}",
+            ais.sentences
+        );
+        // A guard against a wrong heading, range scale or frame (which put the ships tens of
+        // per cent of their range from any plot), not a measure of extraction quality: the
+        // HALO's figures (measured: 55 % of the ships under way within 5 % of their range,
+        // median 4 %) are printed above and discussed in the README.
+        if name.starts_with("mayara") {
+            assert!(within(0.05) * 10 >= d.len() * 4, "{name}: {d:?}");
+            assert!(d[d.len() / 2] < 0.1, "{name}: {d:?}");
+        }
+    }
+}

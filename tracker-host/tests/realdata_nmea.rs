@@ -156,9 +156,16 @@ fn every_real_recording_drives_own_ship_and_the_picture() {
         .sum();
         let lines = text.lines().count() as u64;
         let blank = text.lines().filter(|l| l.trim().is_empty()).count() as u64;
-        assert_eq!(n("lines"), lines, "{name}: every line read");
+        // AIS sentences go to the AIS decoder, the rest to own ship's; none refused.
+        let ais = &summary["ais"]["sentences"];
+        let ais_lines = ais["sentences"].as_u64().unwrap_or(0);
+        let ais_refused: u64 = ais["rejected"]
+            .as_object()
+            .map_or(0, |m| m.values().filter_map(|v| v.as_u64()).sum());
+        assert_eq!(ais_refused, 0, "{name}: AIS sentences refused: {ais}");
+        assert_eq!(n("lines") + ais_lines, lines, "{name}: every line read");
         assert_eq!(
-            n("used") + n("ignored") + rejected + n("annotations") + blank,
+            n("used") + n("ignored") + rejected + n("annotations") + blank + ais_lines,
             lines,
             "{name}: {c}"
         );

@@ -100,7 +100,7 @@ impl<T: RealField + Copy, const N: usize, A: Algebra> Coupled<T, N, A> {
     ) -> Result<Self, FilterError> {
         FilterError::check(
             N >= drkf::STATES
-                && (N - drkf::STATES) % TARGET_STATES == 0
+                && (N - drkf::STATES).is_multiple_of(TARGET_STATES)
                 && plots.len() == Self::TARGETS,
         )?;
         target.validate()?;

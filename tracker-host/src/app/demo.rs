@@ -97,10 +97,5 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
     let source = SimulatorSource::with_own_ship(&simulator, truth);
     let own = own_ship_source(&own_ship, origin)?;
     let session = Session::start(client, SessionConfig::tracking(o.filter))?;
-    Ok(Run::new(
-        Box::new(source),
-        own,
-        session,
-        sinks(&o.outputs, origin)?,
-    ))
+    Ok(Run::new(Box::new(source), own, session, sinks(&o.outputs, origin)?).with_origin(origin))
 }

@@ -8,6 +8,7 @@ use serde::Serialize;
 use crate::own_ship::nav::NavCounts;
 use crate::own_ship::OwnShipSource;
 use crate::score::{ScoreSink, Summary};
+use crate::session::ais::{AisPicture, PairingCounts, PairingGates};
 use crate::session::{ScanReport, Session};
 use crate::sink::ScanSink;
 use crate::source::PlotSource;
@@ -24,6 +25,9 @@ pub struct Run {
     /// Tracks shown as targets now (by track id), and how many ever were.
     shown: std::collections::HashSet<u16>,
     targets_seen: u64,
+    /// AIS targets and their pairing with radar targets, once AIS is heard.
+    ais: Option<AisPicture>,
+    origin: crate::origin::Origin,
 }
 
 impl Run {
@@ -45,7 +49,20 @@ impl Run {
             finished: false,
             shown: std::collections::HashSet::new(),
             targets_seen: 0,
+            ais: None,
+            origin: crate::origin::Origin::default(),
         }
+    }
+
+    /// AIS heard by the sources is placed in the local frame of `origin`.
+    pub fn with_origin(mut self, origin: crate::origin::Origin) -> Self {
+        self.origin = origin;
+        self
+    }
+
+    /// The AIS picture, once AIS has been heard.
+    pub fn ais(&self) -> Option<&AisPicture> {
+        self.ais.as_ref()
     }
 
     /// Adds a sink.
@@ -78,7 +95,15 @@ impl Run {
         before(scan.radar.time_s);
         let own = self.own_ship.own_ship(&scan)?;
         self.plots.own_ship_estimate(&own);
-        let report = self.session.scan(&scan.radar, &own)?;
+        let mut report = self.session.scan(&scan.radar, &own)?;
+        let mut heard = self.plots.take_ais();
+        heard.extend(self.own_ship.take_ais());
+        if !heard.is_empty() || self.ais.is_some() {
+            let origin = self.origin;
+            self.ais
+                .get_or_insert_with(|| AisPicture::new(origin, PairingGates::default()))
+                .scan(&mut report, &heard);
+        }
         for sink in &mut self.sinks {
             sink.scan(&scan, &report)?;
         }
@@ -190,6 +215,7 @@ impl Run {
             targets_seen: self.targets_seen,
             scores: self.summary(),
             radar: self.plots.radar_counts(),
+            ais: self.ais_summary(),
             host_ms_per_scan_mean: ms(mean),
             host_ms_per_scan_max: ms(times.last().copied().unwrap_or_default()),
             link_frames_sent: stats.frames_sent,
@@ -202,9 +228,61 @@ impl Run {
             events: {
                 let mut e = self.session.events();
                 e.extend(self.own_ship.events());
+                if let Some(a) = &self.ais {
+                    e.extend(a.events().iter().cloned());
+                }
                 e
             },
         }
+    }
+}
+
+/// What AIS came to in a run.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct AisSummary {
+    /// The sentences read (from the plot source and the own-ship source together).
+    pub sentences: crate::ais::AisCounts,
+    /// AIS targets held at the end.
+    pub targets_now: usize,
+    /// The table's counts (targets, lost, crowded out, own ship's reports).
+    pub table: crate::ais::targets::AisTableCounts,
+    /// Radar/AIS pairs made and parted.
+    pub pairing: PairingCounts,
+}
+
+impl Run {
+    fn ais_summary(&self) -> Option<AisSummary> {
+        let counts = [self.plots.ais_counts(), self.own_ship.ais_counts()];
+        let mut sentences: Option<crate::ais::AisCounts> = None;
+        for c in counts.into_iter().flatten() {
+            let s = sentences.get_or_insert_with(Default::default);
+            s.sentences += c.sentences;
+            s.ignored += c.ignored;
+            s.off_the_globe += c.off_the_globe;
+            s.short_payloads += c.short_payloads;
+            s.assembly.incomplete += c.assembly.incomplete;
+            s.assembly.fragments_dropped += c.assembly.fragments_dropped;
+            for (k, v) in c.rejected {
+                *s.rejected.entry(k).or_default() += v;
+            }
+            for (k, v) in c.undecodable {
+                *s.undecodable.entry(k).or_default() += v;
+            }
+            for (k, v) in c.messages {
+                *s.messages.entry(k).or_default() += v;
+            }
+        }
+        let sentences = sentences.filter(|s| s.sentences > 0)?;
+        Some(AisSummary {
+            sentences,
+            targets_now: self.ais.as_ref().map_or(0, |a| a.table().len()),
+            table: self
+                .ais
+                .as_ref()
+                .map(|a| a.table().counts())
+                .unwrap_or_default(),
+            pairing: self.ais.as_ref().map(|a| a.counts()).unwrap_or_default(),
+        })
     }
 }
 
@@ -224,6 +302,9 @@ pub struct RunReport {
     /// What the radar source counted, when the plots came from a radar.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub radar: Option<crate::source::radar::RadarCounts>,
+    /// What AIS came to, when AIS was heard.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ais: Option<AisSummary>,
     /// Scores against the truth.
     #[serde(flatten)]
     pub scores: Option<Summary>,
@@ -269,6 +350,12 @@ impl RunReport {
         s.push('\n');
         if let Some(r) = &self.radar {
             s += &format!("radar: {r}\n");
+        }
+        if let Some(a) = &self.ais {
+            s += &format!(
+                "AIS: {}; {} targets taken, {} lost, {} held at the end; {} radar/AIS pairs made, {} parted\n",
+                a.sentences, a.table.targets, a.table.lost, a.targets_now, a.pairing.paired, a.pairing.parted
+            );
         }
         if let Some(c) = &self.own_ship_nmea {
             s += &format!("own-ship NMEA: {c}\n");

@@ -80,10 +80,5 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     };
     let own_ship = own_ship_source(&o.own_ship, origin)?;
     let session = Session::start(client, SessionConfig::tracking_plots_of(o.filter, sigma_m))?;
-    Ok(Run::new(
-        source,
-        own_ship,
-        session,
-        sinks(&o.outputs, origin)?,
-    ))
+    Ok(Run::new(source, own_ship, session, sinks(&o.outputs, origin)?).with_origin(origin))
 }

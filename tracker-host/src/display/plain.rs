@@ -63,7 +63,7 @@ impl ScanSink for Plain {
         }
         let text = match self.mode {
             PlainMode::Table => format!("{}\n{}", header(r), table(&r.targets, &self.limits)),
-            PlainMode::Progress { every } if r.scan % every.max(1) == 0 => {
+            PlainMode::Progress { every } if r.scan.is_multiple_of(every.max(1)) => {
                 format!("{}\n", header(r))
             }
             PlainMode::Progress { .. } => return Ok(()),

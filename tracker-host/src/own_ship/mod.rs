@@ -142,6 +142,17 @@ pub trait OwnShipSource {
     fn events(&self) -> Vec<String> {
         Vec::new()
     }
+
+    /// The AIS reports among the sentences read since the last call, each with its time
+    /// (s, the session's clock).
+    fn take_ais(&mut self) -> Vec<(f64, crate::ais::AisReport)> {
+        Vec::new()
+    }
+
+    /// What became of the AIS sentences, for sources that read NMEA.
+    fn ais_counts(&self) -> Option<crate::ais::AisCounts> {
+        None
+    }
 }
 
 /// Own ship as the plot source knows it.
@@ -183,6 +194,8 @@ const LOOK_AHEAD_LINES: usize = 64;
 pub struct NmeaOwnShip {
     input: NmeaIn,
     nav: OwnShipNav,
+    ais: crate::ais::AisDecoder,
+    heard: Vec<(f64, crate::ais::AisReport)>,
 }
 
 impl NmeaOwnShip {
@@ -199,6 +212,8 @@ impl NmeaOwnShip {
                 o.variation_deg,
                 Selector::new(o.priority.clone()),
             ),
+            ais: crate::ais::AisDecoder::new(),
+            heard: Vec::new(),
         })
     }
 
@@ -212,7 +227,7 @@ impl NmeaOwnShip {
         while let Some(line) = file.peek(0) {
             let Some(t) = self.nav.time_of(line) else {
                 if let Some(line) = file.next_line() {
-                    self.nav.feed(&line);
+                    take(&mut self.nav, &mut self.ais, &mut self.heard, &line, time_s);
                 }
                 continue;
             };
@@ -233,7 +248,7 @@ impl NmeaOwnShip {
                 break;
             }
             if let Some(line) = file.next_line() {
-                self.nav.feed(&line);
+                take(&mut self.nav, &mut self.ais, &mut self.heard, &line, time_s);
             }
         }
     }
@@ -246,7 +261,7 @@ impl OwnShipSource for NmeaOwnShip {
             NmeaIn::File(_) => self.replay_until(t),
             NmeaIn::Live(live) => {
                 for line in live.available() {
-                    self.nav.feed(&line);
+                    take(&mut self.nav, &mut self.ais, &mut self.heard, &line, t);
                 }
             }
         }
@@ -255,6 +270,14 @@ impl OwnShipSource for NmeaOwnShip {
 
     fn nmea_counts(&self) -> Option<NavCounts> {
         Some(self.nav.counts().clone())
+    }
+
+    fn take_ais(&mut self) -> Vec<(f64, crate::ais::AisReport)> {
+        std::mem::take(&mut self.heard)
+    }
+
+    fn ais_counts(&self) -> Option<crate::ais::AisCounts> {
+        Some(self.ais.counts())
     }
 
     fn events(&self) -> Vec<String> {
@@ -268,6 +291,24 @@ impl OwnShipSource for NmeaOwnShip {
             }
         }
         e
+    }
+}
+
+/// One line: AIS sentences to the AIS decoder (heard at `time_s`), the rest to the
+/// dead-reckoning filter.
+fn take(
+    nav: &mut OwnShipNav,
+    ais: &mut crate::ais::AisDecoder,
+    heard: &mut Vec<(f64, crate::ais::AisReport)>,
+    line: &str,
+    time_s: f64,
+) {
+    if crate::ais::fragment::is_ais(line) {
+        if let Some(r) = ais.feed(line) {
+            heard.push((time_s, r));
+        }
+    } else {
+        nav.feed(line);
     }
 }
 

@@ -239,7 +239,7 @@ pub fn expand_nibbles(packed: &[u8], out: &mut Vec<u8>) {
 /// structure rather than port.
 pub fn looks_like_frame(payload: &[u8]) -> bool {
     payload.len() >= FRAME_HEADER_LEN + SPOKE_LEN
-        && (payload.len() - FRAME_HEADER_LEN) % SPOKE_LEN == 0
+        && (payload.len() - FRAME_HEADER_LEN).is_multiple_of(SPOKE_LEN)
         && payload.get(FRAME_HEADER_LEN) == Some(&(SPOKE_HEADER_LEN as u8))
 }
 
@@ -361,7 +361,7 @@ impl NavicoDecoder {
         self.current = None;
         let fault = if payload.len() < FRAME_HEADER_LEN + SPOKE_LEN {
             Some(Fault::Truncated)
-        } else if (payload.len() - FRAME_HEADER_LEN) % SPOKE_LEN != 0 {
+        } else if !(payload.len() - FRAME_HEADER_LEN).is_multiple_of(SPOKE_LEN) {
             Some(Fault::BadLength)
         } else {
             None

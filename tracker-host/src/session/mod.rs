@@ -18,6 +18,7 @@
 //! | [`target`] | range, bearing, course, speed, CPA, TCPA, alarms |
 //! | [`numbers`] | the target numbers (01–99) the navigator and plotters know targets by |
 
+pub mod ais;
 pub mod associate;
 pub mod device;
 pub mod numbers;
@@ -110,6 +111,12 @@ pub struct ScanReport {
     /// Why the scan was not tracked, when it was not: the device refused it or reported
     /// something that cannot be right (the session goes on with the next scan).
     pub skipped: Option<String>,
+    /// AIS targets at the scan's time, nearest first, when AIS is read
+    /// ([`ais::AisPicture`]); those paired with a radar target are in `paired` and shown
+    /// once, as the radar target.
+    pub ais: Vec<crate::ais::AisTargetData>,
+    /// Radar targets and the AIS targets of the same ship.
+    pub paired: Vec<ais::Pairing>,
 }
 
 impl ScanReport {
@@ -234,6 +241,8 @@ impl Session {
                     association: Association::default(),
                     host_time: started.elapsed(),
                     skipped: Some(why),
+                    ais: Vec::new(),
+                    paired: Vec::new(),
                 });
             }
             Err(e) => return Err(e),
@@ -254,6 +263,8 @@ impl Session {
             association,
             host_time,
             skipped: None,
+            ais: Vec::new(),
+            paired: Vec::new(),
         })
     }
 

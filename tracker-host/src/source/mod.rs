@@ -65,6 +65,17 @@ pub trait PlotSource {
     /// live own-ship source takes it; others ignore it).
     fn own_ship_estimate(&mut self, _own: &OwnShip) {}
 
+    /// The AIS reports found with the plots since the last call (a capture's AIVDM), each
+    /// with its time (s, the scans' clock).
+    fn take_ais(&mut self) -> Vec<(f64, crate::ais::AisReport)> {
+        Vec::new()
+    }
+
+    /// What became of the AIS sentences found with the plots.
+    fn ais_counts(&self) -> Option<crate::ais::AisCounts> {
+        None
+    }
+
     /// What a radar source counted (scans, plots, extended returns), for the summary.
     fn radar_counts(&self) -> Option<radar::RadarCounts> {
         None

@@ -158,6 +158,9 @@ pub struct RadarPlotSource {
     finished: bool,
     /// The spoke being extracted's samples, copied out of the source's buffer.
     samples: Vec<u8>,
+    /// The capture's AIS sentences.
+    ais: crate::ais::AisDecoder,
+    heard: Vec<(f64, crate::ais::AisReport)>,
 }
 
 /// A spoke without its samples (they stay in the source's buffer, borrowed).
@@ -235,6 +238,8 @@ impl RadarPlotSource {
             counts: RadarCounts::default(),
             finished: false,
             samples: Vec::new(),
+            ais: crate::ais::AisDecoder::new(),
+            heard: Vec::new(),
         })
     }
 
@@ -276,6 +281,12 @@ impl RadarPlotSource {
                 break;
             };
             self.counts.nmea_lines += 1;
+            if crate::ais::fragment::is_ais(&line) {
+                if let Some(r) = self.ais.feed(&line) {
+                    self.heard.push((t, r));
+                }
+                continue;
+            }
             let newest = self.nav.newest_s();
             self.nav.feed(&line);
             if let Some(n) = self.nav.newest_s().filter(|n| Some(*n) != newest) {
@@ -506,6 +517,14 @@ impl PlotSource for RadarPlotSource {
 
     fn radar_counts(&self) -> Option<RadarCounts> {
         Some(self.counts())
+    }
+
+    fn take_ais(&mut self) -> Vec<(f64, crate::ais::AisReport)> {
+        std::mem::take(&mut self.heard)
+    }
+
+    fn ais_counts(&self) -> Option<crate::ais::AisCounts> {
+        (self.ais.counts().sentences > 0).then(|| self.ais.counts())
     }
 }
 

@@ -1,0 +1,244 @@
+//! The AIS half of the picture: the AIS target table fed with the reports heard, and each
+//! radar target paired with the AIS target of the same ship (IMO MSC.192(79) §5.31: one
+//! ship is shown once), so the radar target keeps its number and takes the AIS name.
+//!
+//! Pairing is time-aligned (the AIS position is extrapolated along its COG at its SOG to
+//! the scan's time) and held with hysteresis, so a pair does not flicker:
+//!
+//! - a radar target (confirmed) and an AIS target are *candidates* when their positions are
+//!   within [`PairingGates::position_m`] and their velocities over ground within
+//!   [`PairingGates::velocity_mps`] of each other (the vector difference, which holds both
+//!   course and speed, and does not make a course of a stopped ship matter), and each is
+//!   the other's nearest candidate;
+//! - candidates for [`PairingGates::scans_to_pair`] scans in a row are paired (an event);
+//! - a pair outside gates [`PairingGates::keep_factor`] times as wide for
+//!   [`PairingGates::scans_to_part`] scans in a row is parted (an event), as is one whose
+//!   track or AIS target is lost.
+
+use std::collections::BTreeMap;
+
+use crate::ais::{AisReport, AisTargets};
+use crate::origin::Origin;
+use crate::session::ScanReport;
+
+/// When a radar target and an AIS target are taken for one ship.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PairingGates {
+    /// Largest distance between the radar target and the extrapolated AIS position, m.
+    pub position_m: f32,
+    /// Largest difference of their velocities over ground, m/s.
+    pub velocity_mps: f32,
+    /// Scans in a row as candidates before they are paired.
+    pub scans_to_pair: u32,
+    /// A pair is kept while within gates this many times as wide.
+    pub keep_factor: f32,
+    /// Scans in a row outside the wide gates before a pair is parted.
+    pub scans_to_part: u32,
+}
+
+impl Default for PairingGates {
+    /// 150 m and 1.5 m/s (3 kn): about three times a tracked target's position and
+    /// velocity error at mid range (plots of 40 m), plus an AIS antenna's offset from the
+    /// hull's centre; three scans to pair, three outside 1.5× the gates to part.
+    fn default() -> Self {
+        PairingGates {
+            position_m: 150.0,
+            velocity_mps: 1.5,
+            scans_to_pair: 3,
+            keep_factor: 1.5,
+            scans_to_part: 3,
+        }
+    }
+}
+
+/// A radar target and the AIS target of the same ship.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pairing {
+    /// The radar track.
+    pub track: u16,
+    /// Its target number, when it has one.
+    pub number: Option<u8>,
+    /// The AIS target's MMSI.
+    pub mmsi: u32,
+    /// Its name, or the MMSI.
+    pub label: String,
+    /// Distance between the two at the scan, m.
+    pub distance_m: f32,
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    mmsi: u32,
+    outside: u32,
+}
+
+/// What the AIS picture has done.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct PairingCounts {
+    /// Pairs made.
+    pub paired: u64,
+    /// Pairs parted (gates, or a track or AIS target lost).
+    pub parted: u64,
+}
+
+/// The AIS table and the pairs. See the module documentation.
+#[derive(Clone, Debug)]
+pub struct AisPicture {
+    table: AisTargets,
+    gates: PairingGates,
+    pairs: BTreeMap<u16, Pair>,
+    streaks: BTreeMap<(u16, u32), u32>,
+    events: Vec<String>,
+    counts: PairingCounts,
+}
+
+impl AisPicture {
+    /// An empty picture in the local frame of `origin`.
+    pub fn new(origin: Origin, gates: PairingGates) -> Self {
+        AisPicture {
+            table: AisTargets::new(origin),
+            gates,
+            pairs: BTreeMap::new(),
+            streaks: BTreeMap::new(),
+            events: Vec::new(),
+            counts: PairingCounts::default(),
+        }
+    }
+
+    /// The AIS table.
+    pub fn table(&self) -> &AisTargets {
+        &self.table
+    }
+
+    /// What pairing has done.
+    pub fn counts(&self) -> PairingCounts {
+        self.counts
+    }
+
+    /// Pairings and partings so far, as the log reads them.
+    pub fn events(&self) -> &[String] {
+        &self.events
+    }
+
+    /// Takes the AIS reports heard since the last scan (each with its time, s) and fills
+    /// `report.ais` and `report.paired` for the scan.
+    pub fn scan(&mut self, report: &mut ScanReport, heard: &[(f64, AisReport)]) {
+        let t = report.time_s;
+        for (time_s, r) in heard {
+            self.table.report(*time_s, r);
+        }
+        for mmsi in self.table.expire(t) {
+            self.part_where(|p| p.mmsi == mmsi, t, "AIS target lost");
+        }
+        let ais = self.table.picture(&report.own, t);
+        let targets: BTreeMap<u16, &crate::session::target::TargetData> =
+            report.targets.iter().map(|x| (x.track, x)).collect();
+        self.part_where_track(|track| !targets.contains_key(&track), t);
+        let gap = |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+        let gates = self.gates;
+        let within = |track: u16, mmsi: u32, factor: f32| -> Option<f32> {
+            let x = targets.get(&track)?;
+            let a = ais.iter().find(|a| a.mmsi == mmsi)?;
+            let d = gap(x.position_m, a.position_m);
+            let dv = gap(x.velocity_mps, a.velocity_mps);
+            (d <= gates.position_m * factor && dv <= gates.velocity_mps * factor)
+                .then_some(d / gates.position_m + dv / gates.velocity_mps)
+        };
+        // Pairs held: within the wide gates, or outside for too long.
+        let mut parted = Vec::new();
+        for (track, pair) in &mut self.pairs {
+            if within(*track, pair.mmsi, self.gates.keep_factor).is_some() {
+                pair.outside = 0;
+            } else {
+                pair.outside += 1;
+                if pair.outside >= self.gates.scans_to_part {
+                    parted.push(*track);
+                }
+            }
+        }
+        for track in parted {
+            self.part_where_track(|x| x == track, t);
+        }
+        // Candidates: mutual nearest within the gates, among the unpaired.
+        let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
+        let mut costs = Vec::new();
+        for x in targets
+            .values()
+            .filter(|x| !self.pairs.contains_key(&x.track))
+        {
+            for a in ais.iter().filter(|a| !paired_mmsi.contains(&a.mmsi)) {
+                if let Some(c) = within(x.track, a.mmsi, 1.0) {
+                    costs.push((c, x.track, a.mmsi));
+                }
+            }
+        }
+        costs.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut streaks = BTreeMap::new();
+        let (mut used_tracks, mut used_mmsi) = (Vec::new(), Vec::new());
+        for (_, track, mmsi) in costs {
+            if used_tracks.contains(&track) || used_mmsi.contains(&mmsi) {
+                continue;
+            }
+            used_tracks.push(track);
+            used_mmsi.push(mmsi);
+            let n = self.streaks.get(&(track, mmsi)).copied().unwrap_or(0) + 1;
+            if n >= self.gates.scans_to_pair {
+                self.pairs.insert(track, Pair { mmsi, outside: 0 });
+                self.counts.paired += 1;
+                let label = self.table.get(mmsi).map_or(mmsi.to_string(), |a| a.label());
+                let number = targets.get(&track).map_or("--".to_string(), |x| x.label());
+                self.events.push(format!(
+                    "{t:.1} s: radar target {number} (track {track}) paired with AIS {label} (MMSI {mmsi})"
+                ));
+            } else {
+                streaks.insert((track, mmsi), n);
+            }
+        }
+        self.streaks = streaks;
+        report.paired = self
+            .pairs
+            .iter()
+            .filter_map(|(track, p)| {
+                let x = targets.get(track)?;
+                let a = ais.iter().find(|a| a.mmsi == p.mmsi)?;
+                Some(Pairing {
+                    track: *track,
+                    number: x.number,
+                    mmsi: p.mmsi,
+                    label: a.label.clone(),
+                    distance_m: gap(x.position_m, a.position_m),
+                })
+            })
+            .collect();
+        report.ais = ais;
+    }
+
+    fn part_where(&mut self, f: impl Fn(&Pair) -> bool, t: f64, why: &str) {
+        let gone: Vec<(u16, u32)> = self
+            .pairs
+            .iter()
+            .filter(|(_, p)| f(p))
+            .map(|(k, p)| (*k, p.mmsi))
+            .collect();
+        for (track, mmsi) in gone {
+            self.pairs.remove(&track);
+            self.counts.parted += 1;
+            self.events.push(format!(
+                "{t:.1} s: track {track} and AIS {mmsi} parted ({why})"
+            ));
+        }
+    }
+
+    fn part_where_track(&mut self, f: impl Fn(u16) -> bool, t: f64) {
+        let gone: Vec<u16> = self.pairs.keys().copied().filter(|k| f(*k)).collect();
+        for track in gone {
+            if let Some(p) = self.pairs.remove(&track) {
+                self.counts.parted += 1;
+                self.events.push(format!(
+                    "{t:.1} s: track {track} and AIS {} parted (track lost or out of the gates)",
+                    p.mmsi
+                ));
+            }
+        }
+    }
+}
