@@ -25,21 +25,10 @@ use tracker_host::radar::live::Endpoint;
 use tracker_host::radar::navico::NavicoDecoder;
 use tracker_host::radar::{Fault, RadarKind, RadarSpec, RadarStats, SpokeDecoder, SpokeSource};
 
-fn realdata() -> PathBuf {
-    std::env::var_os("TRACKER_REALDATA").map_or_else(
-        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/realdata"),
-        PathBuf::from,
-    )
-}
+mod realdata;
 
 fn capture(name: &str) -> PathBuf {
-    let p = realdata().join("radar").join(name);
-    assert!(
-        p.is_file(),
-        "{}: missing (set TRACKER_REALDATA)",
-        p.display()
-    );
-    p
+    realdata::file(&format!("radar/{name}"))
 }
 
 /// What the research measured on a capture.
@@ -419,7 +408,7 @@ fn nmea_in_the_captures_is_the_extracted_text() {
         ),
     ] {
         let got = nmea_lines(capture_file, port);
-        let text = std::fs::read_to_string(realdata().join("nmea").join(extract)).unwrap();
+        let text = std::fs::read_to_string(realdata::dir().join("nmea").join(extract)).unwrap();
         let want: Vec<&str> = text
             .lines()
             .map(str::trim)

@@ -9,7 +9,7 @@
 //! many of them are boats in a row along a pontoon, whose echoes break up and join
 //! differently scan to scan, and a track slides along the row (see the README).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use tracker_core::filter::FilterKind;
 use tracker_host::app::run::Run;
@@ -20,21 +20,10 @@ use tracker_host::radar::RadarSpec;
 use tracker_host::session::ScanReport;
 use tracker_host::source::radar::RadarOptions;
 
-fn realdata() -> PathBuf {
-    std::env::var_os("TRACKER_REALDATA").map_or_else(
-        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/realdata"),
-        PathBuf::from,
-    )
-}
+mod realdata;
 
 fn capture(name: &str) -> PathBuf {
-    let p = realdata().join("radar").join(name);
-    assert!(
-        p.is_file(),
-        "{}: missing (set TRACKER_REALDATA)",
-        p.display()
-    );
-    p
+    realdata::file(&format!("radar/{name}"))
 }
 
 const KNOT_MPS: f32 = 1852.0 / 3600.0;

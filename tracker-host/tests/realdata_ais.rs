@@ -12,12 +12,7 @@ use std::path::{Path, PathBuf};
 
 use tracker_host::ais::AisDecoder;
 
-fn realdata() -> PathBuf {
-    std::env::var_os("TRACKER_REALDATA").map_or_else(
-        || Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/realdata"),
-        PathBuf::from,
-    )
-}
+mod realdata;
 
 const FILES: [&str; 10] = [
     "ais/gpsd-ais-nmea.log",
@@ -78,7 +73,7 @@ fn reference(paths: &[PathBuf]) -> Option<Reference> {
 
 #[test]
 fn every_real_ais_message_decodes_as_pyais_decodes_it() {
-    let paths: Vec<PathBuf> = FILES.iter().map(|f| realdata().join(f)).collect();
+    let paths: Vec<PathBuf> = FILES.iter().map(|f| realdata::dir().join(f)).collect();
     for p in &paths {
         assert!(
             p.is_file(),

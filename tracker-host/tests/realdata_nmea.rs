@@ -13,7 +13,7 @@
 //! The files are read where CI has them (`../shared/realdata/` beside the checkout); a
 //! missing file fails the test.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 
 use tracker_host::own_ship::recording::RecordedTrack;
@@ -35,8 +35,10 @@ const FILES: [&str; 13] = [
     "signalk-plaka.log",
 ];
 
-fn realdata() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/realdata/nmea")
+mod realdata;
+
+fn nmea_dir() -> PathBuf {
+    realdata::dir().join("nmea")
 }
 
 /// A position fix as the recording states it: time of day (s, if the sentence has one),
@@ -102,7 +104,7 @@ fn every_real_recording_drives_own_ship_and_the_picture() {
     let dir = tempfile::tempdir().unwrap();
     let mut table = String::new();
     for name in FILES {
-        let path = realdata().join(name);
+        let path = nmea_dir().join(name);
         let text = std::fs::read_to_string(&path).unwrap_or_else(|e| {
             panic!(
                 "{}: {e} (CI has ../shared beside the checkout)",

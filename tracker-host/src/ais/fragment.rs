@@ -1,5 +1,5 @@
 //! One `!xxVDM`/`!xxVDO` sentence as a fragment of an AIS message (IEC 61162-1 §8.3.92–93):
-//! framing and checksum by [`crate::nmea::sentence`], the fields read here.
+//! framing and checksum by [`crate::nmea::sentence`](mod@crate::nmea::sentence), the fields read here.
 //!
 //! Fields after the address: fragment count (1–9), fragment number, sequential message id
 //! (0–9, empty for a one-fragment message), channel (`A`/`B`, `1`/`2`, or empty), the

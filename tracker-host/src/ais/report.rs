@@ -58,10 +58,11 @@ impl AisReport {
             let t = s.trim_end_matches(['@', ' ']).trim();
             (!t.is_empty()).then(|| t.to_string())
         };
-        let size = |bow: u16, stern: u16, port: u8, star: u8| {
-            let l = bow + stern;
-            let b = u16::from(port) + u16::from(star);
-            (l > 0 && b > 0).then_some((l, b))
+        // Ship type and size, as 5, 19 and 24 part B give them.
+        let hull = |r: &mut AisReport, ship_type: u8, bow: u16, stern: u16, port: u8, star: u8| {
+            r.ship_type = Some(ship_type);
+            let (l, b) = (bow + stern, u16::from(port) + u16::from(star));
+            r.size_m = (l > 0 && b > 0).then_some((l, b));
         };
         let mut r = AisReport {
             mmsi: m.mmsi().raw(),
@@ -87,10 +88,12 @@ impl AisReport {
                 r.class = Some(StationClass::ClassA);
                 r.name = text(s.name.as_str());
                 r.call_sign = text(s.call_sign.as_str());
-                r.ship_type = Some(s.ship_type);
-                r.size_m = size(
-                    s.dimension_to_bow,
-                    s.dimension_to_stern,
+                let (bow, stern) = (s.dimension_to_bow, s.dimension_to_stern);
+                hull(
+                    &mut r,
+                    s.ship_type,
+                    bow,
+                    stern,
                     s.dimension_to_port,
                     s.dimension_to_starboard,
                 );
@@ -103,10 +106,12 @@ impl AisReport {
                 r.msg_type = 19;
                 r.class = Some(StationClass::ClassB);
                 r.name = text(s.name.as_str());
-                r.ship_type = Some(s.ship_type);
-                r.size_m = size(
-                    s.dimension_to_bow,
-                    s.dimension_to_stern,
+                let (bow, stern) = (s.dimension_to_bow, s.dimension_to_stern);
+                hull(
+                    &mut r,
+                    s.ship_type,
+                    bow,
+                    stern,
                     s.dimension_to_port,
                     s.dimension_to_starboard,
                 );
@@ -120,10 +125,12 @@ impl AisReport {
                 r.msg_type = 24;
                 r.class = Some(StationClass::ClassB);
                 r.call_sign = text(b.call_sign.as_str());
-                r.ship_type = Some(b.ship_type);
-                r.size_m = size(
-                    b.dimension_to_bow,
-                    b.dimension_to_stern,
+                let (bow, stern) = (b.dimension_to_bow, b.dimension_to_stern);
+                hull(
+                    &mut r,
+                    b.ship_type,
+                    bow,
+                    stern,
                     b.dimension_to_port,
                     b.dimension_to_starboard,
                 );
