@@ -181,6 +181,7 @@ fn positions_are_valid_in_every_hemisphere_and_across_the_antimeridian() {
         ),
     ] {
         let t = tracker_host::nmea::targets::PlotterTarget {
+            name: None,
             number: 1,
             status: 'T',
             data: target(east, north),
@@ -265,6 +266,7 @@ fn tracker_host_tools_check() {
                 hit_history: 0x3ff,
             };
             let p = tracker_host::nmea::targets::PlotterTarget {
+                name: None,
                 number: 42,
                 status: 'T',
                 data: tracker_host::session::target::TargetData::new(&own, &t),

@@ -64,7 +64,13 @@
 //! - Sea clutter and near range: the CFAR adapts to the clutter's local level, and GO keeps
 //!   it on the high side of the clutter's steep fall with range; the first samples are
 //!   blanked ([`super::config::ExtractorConfig::min_range_m`]: the main bang and own ship
-//!   saturate them) and take no part in any estimate; an absolute floor
+//!   saturate them) and are never tested, but the nearest of them serve as the near
+//!   reference cells of the first cells tested. Without them those cells would have the far
+//!   side only, which on clutter falling with range sits below the cell under test and
+//!   calls it a target: on the synthetic radar at 12 NM (21.7 m samples, blanking to
+//!   0.2 NM) that edge gave 10 of the 12 false plots a rotation. With them, the strong
+//!   clutter just inside the blanking raises the first cells' threshold, as a radar's
+//!   sensitivity time control does. An absolute floor
 //!   ([`CfarConfig::min_level`]) keeps quiet stretches (a radar's own noise rejection leaves
 //!   zeros) from detecting every ripple. Real sea clutter is spikier than Rayleigh
 //!   (K-distributed) and would raise P_fa near own ship; a range-dependent floor for it is
@@ -266,7 +272,7 @@ struct RankWindow {
 }
 
 impl RankWindow {
-    fn new() -> Self {
+    const fn new() -> Self {
         RankWindow {
             hist: [0; LEVELS],
             occupied: [0; WORDS],
@@ -398,6 +404,18 @@ impl Cfar {
         })
     }
 
+    /// A detector that detects nothing (infinite thresholds) until replaced by one from
+    /// [`Cfar::new`]: for a `static` built at compile time.
+    pub const fn unconfigured(config: CfarConfig) -> Self {
+        Cfar {
+            config,
+            both_sides: f32::INFINITY,
+            one_side: f32::INFINITY,
+            near: RankWindow::new(),
+            far: RankWindow::new(),
+        }
+    }
+
     /// The settings.
     pub fn config(&self) -> &CfarConfig {
         &self.config
@@ -415,10 +433,11 @@ impl Cfar {
         x >= self.config.min_level && power(x) as f32 > noise
     }
 
-    /// Detects along `samples[first..]` (the first samples blanked), calling `on_run` for
-    /// each run of adjacent detections, nearest first; returns the cells detected, or
-    /// `None` when fewer than 2(n + guard) + 1 samples remain to test. Samples beyond index
-    /// 65,535 are ignored. O(samples), no allocation.
+    /// Detects along `samples[first..]` (the first samples blanked: not tested, but the
+    /// nearest n + guard of them are the first tested cells' near reference), calling
+    /// `on_run` for each run of adjacent detections, nearest first; returns the cells
+    /// detected, or `None` when fewer than 2(n + guard) + 1 samples remain to test. Samples
+    /// beyond index 65,535 are ignored. O(samples), no allocation.
     pub fn detect(
         &mut self,
         samples: &[u8],
@@ -426,14 +445,17 @@ impl Cfar {
         mut on_run: impl FnMut(Run),
     ) -> Option<u32> {
         let end = samples.len().min(usize::from(u16::MAX));
-        let xs = samples.get(first..end)?;
-        let len = xs.len();
         let g = usize::from(self.config.guard_cells);
         let n = usize::from(self.config.reference_cells);
         let k = self.config.rank;
-        if len < 2 * (n + g) + 1 {
+        if end.saturating_sub(first) < 2 * (n + g) + 1 {
             return None;
         }
+        // Windows run over the blanked samples nearest the first tested cell too.
+        let base = first.saturating_sub(n + g);
+        let xs = samples.get(base..end)?;
+        let len = xs.len();
+        let tested = first - base;
         self.near.clear();
         self.far.clear();
         // The sides are [near_a, near_b) and [far_a, far_b), clipped to the spoke; every
@@ -442,7 +464,7 @@ impl Cfar {
         let (mut near_a, mut near_b, mut far_a, mut far_b) = (0usize, 0usize, 0usize, 0usize);
         let mut run: Option<Run> = None;
         let mut detected = 0u32;
-        for (i, &x) in xs.iter().enumerate() {
+        for (i, &x) in xs.iter().enumerate().skip(tested) {
             let to_near_b = i.saturating_sub(g);
             let to_near_a = to_near_b.saturating_sub(n);
             let to_far_a = (i + g + 1).min(len);
@@ -460,7 +482,7 @@ impl Cfar {
                 continue;
             }
             detected += 1;
-            let index = u16::try_from(first + i).unwrap_or(u16::MAX);
+            let index = u16::try_from(base + i).unwrap_or(u16::MAX);
             let weight = u32::from(x);
             match run.as_mut() {
                 Some(open) => {
@@ -600,19 +622,20 @@ mod tests {
                 assert_eq!(fast, [], "trial {trial}: too short to test");
                 continue;
             }
-            for i in 0..m {
-                let near = if i >= g + n {
-                    trimmed(&body[i - g - n..i - g])
+            // Tested from `first` on; the near side reaches into the blanked samples.
+            for j in first..xs.len() {
+                let near = if j >= g + n {
+                    trimmed(&xs[j - g - n..j - g])
                 } else {
                     None
                 };
-                let far = if i + g + n < m {
-                    trimmed(&body[i + g + 1..i + g + 1 + n])
+                let far = if j + g + n < xs.len() {
+                    trimmed(&xs[j + g + 1..j + g + 1 + n])
                 } else {
                     None
                 };
-                if cfar.detects(body[i], near, far) {
-                    slow.push(first + i);
+                if cfar.detects(xs[j], near, far) {
+                    slow.push(j);
                 }
             }
             let fast_cells: std::vec::Vec<usize> = fast

@@ -112,7 +112,7 @@ impl ExtractorConfig {
     /// trimmed means are those of zeros and any level 1 or 2 would cross their threshold.
     /// With noise of σ 1.5 levels or more (the synthetic radar's 2) the floor is below the
     /// CFAR's threshold (about 8) and changes nothing.
-    pub fn navico_4bit() -> Self {
+    pub const fn navico_4bit() -> Self {
         ExtractorConfig {
             cfar: CfarConfig {
                 guard_cells: 3,

@@ -100,7 +100,7 @@ pub enum Event {
 }
 
 /// The extractor's counters, from its creation.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct ExtractorStats {
     /// Spokes pushed, every one.
     pub spokes: u64,
@@ -142,6 +142,37 @@ pub struct ExtractorStats {
     pub short_spokes: u64,
 }
 
+impl ExtractorStats {
+    /// Nothing counted yet.
+    pub const ZERO: ExtractorStats = ExtractorStats {
+        spokes: 0,
+        rotations: 0,
+        detections: 0,
+        runs: 0,
+        runs_dropped: 0,
+        blobs: 0,
+        blobs_dropped: 0,
+        merges: 0,
+        small_blobs: 0,
+        plots: 0,
+        extended: 0,
+        partial: 0,
+        out_of_order: 0,
+        range_changes: 0,
+        format_changes: 0,
+        missing_heading: 0,
+        missing_spokes: 0,
+        bad_spokes: 0,
+        short_spokes: 0,
+    };
+}
+
+impl Default for ExtractorStats {
+    fn default() -> Self {
+        Self::ZERO
+    }
+}
+
 /// A run kept for the next spoke to join: its cells and its blob.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Link {
@@ -180,19 +211,35 @@ struct Grower<const BLOBS: usize, const RUNS: usize> {
 
 impl<const BLOBS: usize, const RUNS: usize> Grower<BLOBS, RUNS> {
     fn new() -> Self {
-        let mut free = Vec::new();
-        // Slots handed out from 0 up (popped from the end).
-        for slot in (0..BLOBS).rev() {
-            let _ = free.push(u16::try_from(slot).unwrap_or(NO_BLOB));
-        }
+        let mut g = Self::empty();
+        g.reset();
+        g
+    }
+
+    /// No slot free: [`Grower::reset`] hands them out.
+    const fn empty() -> Self {
         Grower {
             slots: [None; BLOBS],
-            free,
+            free: Vec::new(),
             prev: Vec::new(),
             cur: Vec::new(),
             next: Vec::new(),
             scan: 0,
         }
+    }
+
+    /// Every slot free, nothing open, in place.
+    fn reset(&mut self) {
+        self.slots.iter_mut().for_each(|s| *s = None);
+        self.free.clear();
+        // Slots handed out from 0 up (popped from the end).
+        for slot in (0..BLOBS).rev() {
+            let _ = self.free.push(u16::try_from(slot).unwrap_or(NO_BLOB));
+        }
+        self.prev.clear();
+        self.cur.clear();
+        self.next.clear();
+        self.scan = 0;
     }
 
     fn open(&self) -> usize {
@@ -414,6 +461,38 @@ impl<const BLOBS: usize, const RUNS: usize> Extractor<BLOBS, RUNS> {
             stream: None,
             stats: ExtractorStats::default(),
         })
+    }
+
+    /// An extractor that extracts nothing until [`Extractor::configure`]d, built at
+    /// compile time: a `static` of it is placed in RAM at reset and never passes through a
+    /// board's stack (which may be smaller than the extractor's 8.4 KiB).
+    pub const fn unconfigured() -> Self {
+        const {
+            assert!(BLOBS > 0 && BLOBS < NO_BLOB as usize && RUNS > 0);
+        }
+        let config = ExtractorConfig::navico_4bit();
+        Extractor {
+            config,
+            cfar: Cfar::unconfigured(config.cfar),
+            grower: Grower::empty(),
+            stream: None,
+            stats: ExtractorStats::ZERO,
+        }
+    }
+
+    /// Takes `config` in place (no extractor-sized temporary): open blobs are dropped and
+    /// the stream forgotten, as at a start; the counters go on.
+    ///
+    /// # Errors
+    /// The first setting out of range ([`ExtractorConfig::validate`]); the extractor is
+    /// left as it was.
+    pub fn configure(&mut self, config: ExtractorConfig) -> Result<(), ConfigError> {
+        config.validate()?;
+        self.cfar = Cfar::new(&config.cfar)?;
+        self.config = config;
+        self.grower.reset();
+        self.stream = None;
+        Ok(())
     }
 
     /// The settings.
@@ -696,6 +775,42 @@ mod tests {
             (1, 0, 0, 0)
         );
         assert_eq!(s.spokes, u64::from(N));
+    }
+
+    #[test]
+    fn built_in_place_it_extracts_as_one_built_by_new() {
+        let targets = [
+            Echo {
+                angle: 700.3,
+                cell: 400.6,
+                peak: 14.0,
+            },
+            Echo {
+                angle: 2040.0,
+                cell: 90.0,
+                peak: 15.0,
+            },
+        ];
+        let c = ExtractorConfig::navico_4bit();
+        let mut a: Extractor = Extractor::new(c).unwrap();
+        let mut b: Extractor = Extractor::unconfigured();
+        // Unconfigured, it extracts nothing.
+        let mut none = StdVec::new();
+        Feed::new().push(&mut b, rotation(), &echoes(&targets), &mut none);
+        assert!(plots(&none).is_empty() && b.stats().detections == 0);
+        b.configure(c).unwrap();
+        let (mut ea, mut eb) = (StdVec::new(), StdVec::new());
+        for _ in 0..2 {
+            Feed::new().push(&mut a, rotation(), &echoes(&targets), &mut ea);
+            Feed::new().push(&mut b, rotation(), &echoes(&targets), &mut eb);
+        }
+        assert_eq!(plots(&ea), plots(&eb));
+        assert!(plots(&ea).len() >= 3, "{ea:?}");
+        // A bad setting leaves it as it was.
+        let mut bad = c;
+        bad.min_spokes = 0;
+        assert_eq!(b.configure(bad), Err(ConfigError::MinimumSize));
+        assert_eq!(b.config(), &c);
     }
 
     #[test]

@@ -39,6 +39,8 @@ pub struct DemoOptions {
     pub own_ship: OwnShipOptions,
     /// Where results go.
     pub outputs: Outputs,
+    /// Plots from synthetic spokes through the plot extractor instead of the plot model.
+    pub video: bool,
 }
 
 impl DemoOptions {
@@ -63,6 +65,7 @@ impl DemoOptions {
             filter,
             own_ship: OwnShipOptions::default(),
             outputs: Outputs::default(),
+            video: false,
         }
     }
 }
@@ -94,7 +97,10 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
         None => OwnShipTruth::Scenario,
     };
     let origin = own_ship.origin();
-    let source = SimulatorSource::with_own_ship(&simulator, truth);
+    let mut source = SimulatorSource::with_own_ship(&simulator, truth);
+    if o.video {
+        source = source.with_video(simulator.seed)?;
+    }
     let own = own_ship_source(&own_ship, origin)?;
     let session = Session::start(client, SessionConfig::tracking(o.filter))?;
     Ok(Run::new(Box::new(source), own, session, sinks(&o.outputs, origin)?).with_origin(origin))

@@ -55,6 +55,8 @@ pub struct Outputs {
     pub record_truth: Option<PathBuf>,
     /// Every track every scan.
     pub record_tracks: Option<PathBuf>,
+    /// A PNG of the last scan (echoes, plots, targets, AIS) when the run ends.
+    pub snapshot: Option<PathBuf>,
 }
 
 /// The own-ship source `o` asks for, in the frame of `origin`.
@@ -104,6 +106,12 @@ pub fn sinks(o: &Outputs, origin: Origin) -> anyhow::Result<Vec<Box<dyn ScanSink
     }
     if let Some(p) = &o.record_tracks {
         sinks.push(Box::new(TracksRecorder::create(p)?));
+    }
+    if let Some(p) = &o.snapshot {
+        sinks.push(Box::new(crate::record::snapshot::Snapshot::new(
+            p.clone(),
+            crate::session::target::AlarmLimits::default(),
+        )));
     }
     Ok(sinks)
 }

@@ -96,6 +96,7 @@ impl Run {
         let own = self.own_ship.own_ship(&scan)?;
         self.plots.own_ship_estimate(&own);
         let mut report = self.session.scan(&scan.radar, &own)?;
+        report.echoes = scan.echoes.clone();
         let mut heard = self.plots.take_ais();
         heard.extend(self.own_ship.take_ais());
         if !heard.is_empty() || self.ais.is_some() {

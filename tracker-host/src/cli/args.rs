@@ -87,6 +87,10 @@ pub struct RunArgs {
     /// (`scan,t_s,track,status,east_m,north_m,vx_mps,vy_mps`).
     #[arg(long, value_name = "PATH")]
     pub record_tracks: Option<PathBuf>,
+    /// Draw the last scan to this PNG when the run ends: a radar's echoes, the plots, the
+    /// targets with numbers and vectors, AIS targets (to check extraction by eye).
+    #[arg(long, value_name = "PATH")]
+    pub snapshot: Option<PathBuf>,
     /// Write the end-of-run summary to this file as one JSON object.
     #[arg(long, value_name = "PATH")]
     pub summary_json: Option<PathBuf>,
@@ -149,6 +153,7 @@ impl RunArgs {
             record_plots: self.record_plots.clone(),
             record_truth,
             record_tracks: self.record_tracks.clone(),
+            snapshot: self.snapshot.clone(),
         }
     }
 }

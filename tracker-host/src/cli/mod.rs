@@ -77,6 +77,11 @@ pub enum Command {
         /// reads: `t_s,target,east_m,north_m,vx_mps,vy_mps,detected`, own ship as target 0).
         #[arg(long, value_name = "PATH")]
         record_truth: Option<PathBuf>,
+        /// See the ships through a synthetic radar (spokes: beam, pulse, noise, sea clutter)
+        /// and the plot extractor instead of the plot model; the summary adds the plots'
+        /// detection probability, false plots and position error.
+        #[arg(long)]
+        video: bool,
         /// How the run is shown, own ship, outputs.
         #[command(flatten)]
         run: RunArgs,
@@ -290,6 +295,7 @@ where
             seed,
             duration,
             record_truth,
+            video,
             run,
         } => {
             if let Some(d) = duration {
@@ -316,6 +322,7 @@ where
                 filter: run.filter,
                 own_ship: run.own_ship(),
                 outputs: run.outputs(record_truth.clone()),
+                video: *video,
             };
             let tracking = demo::start(cli.connect()?, &options)?;
             track_to_end(&cli, tracking, run)

@@ -4,7 +4,8 @@
 //!
 //! Keys: `+`/`-` range scale, `v` relative/true vectors, `[`/`]` vector length, `↑`/`↓`
 //! select a target, `a` acquire the nearest untracked plot, `c` cancel the selected target,
-//! `C` cancel all, `p` pause, `q` quit.
+//! `C` cancel all, `e` radar echoes on/off (a radar source's last rotation, under the plots
+//! and tracks), `p` pause, `q` quit.
 //!
 //! [`render`] draws one frame from plain data, so tests drive it headless with ratatui's
 //! `TestBackend` and read the screen back. [`plain`] prints the target table as text
@@ -34,6 +35,9 @@ pub const RANGE_SCALES_NM: [f32; 6] = [0.75, 1.5, 3.0, 6.0, 12.0, 24.0];
 
 /// Vector lengths, minutes.
 pub const VECTOR_MINUTES: [f32; 4] = [3.0, 6.0, 12.0, 30.0];
+
+/// Echoes drawn: cells at or above this fraction of full scale.
+pub const ECHO_FRACTION: f32 = 0.25;
 
 /// Past positions kept per track.
 const HISTORY: usize = 12;
@@ -81,6 +85,8 @@ pub struct DisplayState {
     pub link: String,
     /// The last operator command's refusal, shown until the next command.
     pub message: Option<String>,
+    /// Draw the radar's echoes under the plots (when the source is a radar).
+    pub echoes: bool,
     trails: BTreeMap<u16, VecDeque<EastNorth>>,
     lost: Vec<String>,
 }
@@ -97,6 +103,7 @@ impl DisplayState {
             limits: AlarmLimits::default(),
             link,
             message: None,
+            echoes: true,
             trails: BTreeMap::new(),
             lost: Vec::new(),
         }
@@ -148,6 +155,7 @@ impl DisplayState {
             ']' => self.vector_length = (self.vector_length + 1).min(VECTOR_MINUTES.len() - 1),
             '[' => self.vector_length = self.vector_length.saturating_sub(1),
             'p' => self.paused = !self.paused,
+            'e' => self.echoes = !self.echoes,
             'C' => return Action::CancelAll,
             'c' => {
                 if let Some(id) = self.selected {
@@ -183,6 +191,11 @@ impl DisplayState {
             });
         self.selected = ids.get(at).copied();
     }
+}
+
+/// True when an AIS target will pass closer than the alarm limits, as for radar targets.
+pub fn ais_dangerous(a: &crate::ais::AisTargetData, limits: &AlarmLimits) -> bool {
+    a.cpa_m < limits.cpa_m && a.tcpa_s >= 0.0 && a.tcpa_s < limits.tcpa_s
 }
 
 /// The plot nearest own ship that no confirmed or tentative track is close to (500 m).
@@ -303,6 +316,18 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
         )
     };
     let plots: Vec<(f64, f64)> = view.plots_m.iter().map(|p| rel(*p)).collect();
+    // Echoes of a quarter of full scale and more (level 4 of a Navico's 15), within the scale.
+    let echoes: Vec<(f64, f64)> = match (&view.echoes, state.echoes) {
+        (Some(image), true) => image
+            .echoes(ECHO_FRACTION)
+            .map(|(b, r, _)| {
+                let r = f64::from(r) / f64::from(METRES_PER_NM);
+                (r * f64::from(b.sin()), r * f64::from(b.cos()))
+            })
+            .filter(|(x, y)| x.abs() <= scale && y.abs() <= scale)
+            .collect(),
+        _ => Vec::new(),
+    };
     let trails: Vec<(f64, f64)> = state
         .trails
         .values()
@@ -319,6 +344,8 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
         .x_bounds([-scale, scale])
         .y_bounds([-scale, scale])
         .paint(|ctx| {
+            ctx.draw(&Points::new(&echoes, Color::Blue));
+            ctx.layer();
             for ring in [scale / 2.0, scale] {
                 ctx.draw(&Circle::new(0.0, 0.0, ring, Color::DarkGray));
             }
@@ -345,6 +372,50 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
                 ctx.draw(&CanvasLine::new(x, y, x + to(v[0]), y + to(v[1]), colour));
                 ctx.draw(&Circle::new(x, y, scale / 60.0, colour));
             }
+            // AIS targets not paired with a radar target: a triangle pointing along the
+            // heading (else the course), with a vector when activated.
+            for a in view
+                .ais
+                .iter()
+                .filter(|a| !view.paired.iter().any(|p| p.mmsi == a.mmsi))
+            {
+                let (x, y) = rel(a.position_m);
+                if x.abs() > scale || y.abs() > scale {
+                    continue;
+                }
+                let colour = if a.active && ais_dangerous(a, &state.limits) {
+                    Color::Red
+                } else {
+                    Color::Magenta
+                };
+                let course = a
+                    .heading_rad
+                    .unwrap_or_else(|| a.velocity_mps[0].atan2(a.velocity_mps[1]));
+                let size = scale / 40.0;
+                let corner = |angle: f32, length: f64| {
+                    (
+                        x + length * f64::from(angle.sin()),
+                        y + length * f64::from(angle.cos()),
+                    )
+                };
+                let tip = corner(course, size);
+                let left = corner(course + 2.5, size * 0.7);
+                let right = corner(course - 2.5, size * 0.7);
+                for (a0, b0) in [(tip, left), (left, right), (right, tip)] {
+                    ctx.draw(&CanvasLine::new(a0.0, a0.1, b0.0, b0.1, colour));
+                }
+                if a.active {
+                    let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
+                    let v = match state.vectors {
+                        VectorMode::Relative => [
+                            a.velocity_mps[0] - view.own.velocity_mps[0],
+                            a.velocity_mps[1] - view.own.velocity_mps[1],
+                        ],
+                        VectorMode::True => a.velocity_mps,
+                    };
+                    ctx.draw(&CanvasLine::new(x, y, x + to(v[0]), y + to(v[1]), colour));
+                }
+            }
             // Own ship and its heading line.
             let hv = view.own.velocity_mps;
             let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
@@ -367,7 +438,7 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
 fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
     let header = Row::new(
         [
-            "TGT", "STATUS", "RNG NM", "BRG °T", "CRS °T", "SPD kn", "CPA NM", "TCPA min",
+            "TGT", "STATUS", "RNG NM", "BRG °T", "CRS °T", "SPD kn", "CPA NM", "TCPA min", "AIS",
         ]
         .map(|h| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD))),
     );
@@ -388,10 +459,14 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             format!("{:.1}", t.speed_mps / MPS_PER_KNOT),
             format!("{:.2}", t.cpa_m / METRES_PER_NM),
             format!("{:.1}", t.tcpa_s / 60.0),
+            view.paired
+                .iter()
+                .find(|p| p.track == t.track)
+                .map_or(String::new(), |p| p.label.clone()),
         ])
         .style(style)
     });
-    let widths = [5, 10, 7, 7, 7, 7, 7, 9].map(Constraint::Length);
+    let widths = [5, 10, 7, 7, 7, 7, 7, 9, 20].map(Constraint::Length);
     let table = Table::new(rows, widths).header(header).block(
         Block::default()
             .borders(Borders::ALL)
@@ -425,6 +500,19 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             Style::default().fg(Color::Red).add_modifier(Modifier::BOLD),
         ));
     }
+    for a in view.ais.iter().filter(|a| {
+        a.active && ais_dangerous(a, &state.limits) && !view.paired.iter().any(|p| p.mmsi == a.mmsi)
+    }) {
+        lines.push(Line::styled(
+            format!(
+                "CPA/TCPA ALARM: AIS {} CPA {:.2} NM in {:.1} min",
+                a.label,
+                a.cpa_m / METRES_PER_NM,
+                a.tcpa_s / 60.0
+            ),
+            Style::default().fg(Color::Red).add_modifier(Modifier::BOLD),
+        ));
+    }
     for id in &state.lost {
         lines.push(Line::styled(
             format!("LOST TARGET {id}"),
@@ -446,7 +534,7 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     }
     for help in [
         "+/- range, v vectors, [/] vector length, ↑↓ select",
-        "a acquire, c cancel, C cancel all, p pause, q quit",
+        "a acquire, c cancel, C cancel all, e echoes, p pause, q quit",
     ] {
         lines.push(Line::styled(help, Style::default().fg(Color::DarkGray)));
     }

@@ -59,9 +59,10 @@ pub fn parse(output: &str) -> anyhow::Result<Vec<BenchRow>> {
     Ok(rows)
 }
 
-/// The firmware's bench binaries: the tracker's hot paths, and paper 004's navigation
-/// filters (a binary of their own for the stack the dense reference needs).
-pub const BENCH_BINARIES: [&str; 2] = ["bench", "bench-nav"];
+/// The firmware's bench binaries: the tracker's hot paths, paper 004's navigation filters
+/// (a binary of their own for the stack the dense reference needs), and plot extraction (its
+/// own for the extractor's RAM).
+pub const BENCH_BINARIES: [&str; 3] = ["bench", "bench-nav", "bench-radar"];
 
 /// Runs the given bench ELF, or builds and runs every one of [`BENCH_BINARIES`], and returns
 /// the rows.

@@ -53,7 +53,7 @@ fn workspace_root() -> Option<PathBuf> {
 /// The firmware's binaries and the cargo features each needs.
 fn features_of(bin: &str) -> &'static [&'static str] {
     match bin {
-        "bench" | "bench-nav" => &["--features", "bench"],
+        "bench" | "bench-nav" | "bench-radar" => &["--features", "bench"],
         _ => &[],
     }
 }

@@ -22,9 +22,11 @@ use crate::source::SourceScan;
 
 /// A target as the plotter is told of it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct PlotterTarget {
+pub struct PlotterTarget<'a> {
     /// The plotter's number, 1–99.
     pub number: u8,
+    /// The name (the AIS name of the ship paired with it), else `TGTnn` is sent.
+    pub name: Option<&'a str>,
     /// Status letter: `T` tracking, `Q` acquiring, `L` lost.
     pub status: char,
     /// The target's data.
@@ -35,7 +37,7 @@ pub struct PlotterTarget {
 /// `T` (true) or `R` (relative: own ship's motion unknown), CPA (NM), TCPA (minutes,
 /// negative once passed), units N, name, status, no reference target, UTC, A (automatic
 /// acquisition). Bearings and courses are 0.0–359.9.
-pub fn ttm(t: &PlotterTarget, time_s: f64) -> String {
+pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     let d = &t.data;
     let (speed, course, reference) = if d.true_motion_known {
         (d.speed_mps, d.course_rad, 'T')
@@ -44,28 +46,50 @@ pub fn ttm(t: &PlotterTarget, time_s: f64) -> String {
     };
     let number = t.number;
     sentence(&format!(
-        "RATTM,{number:02},{:.3},{},T,{:.1},{},{reference},{:.3},{:.2},N,TGT{number:02},{},,{},A",
+        "RATTM,{number:02},{:.3},{},T,{:.1},{},{reference},{:.3},{:.2},N,{},{},,{},A",
         f64::from(d.range_m) / f64::from(METRES_PER_NM),
         angle_360(degrees(d.bearing_rad), 1),
         f64::from(speed) / f64::from(MPS_PER_KNOT),
         angle_360(degrees(course), 1),
         f64::from(d.cpa_m) / f64::from(METRES_PER_NM),
         f64::from(d.tcpa_s) / 60.0,
+        name_field(t),
         t.status,
         utc(time_s)
     ))
 }
 
+/// The target name field: the name as IEC 61162-1 allows it in a field (printable ASCII
+/// without the reserved `$ ! * , \\ ^ ~` and the delimiters, at most 20 characters), else
+/// `TGTnn`.
+fn name_field(t: &PlotterTarget<'_>) -> String {
+    let clean: String = t
+        .name
+        .unwrap_or("")
+        .chars()
+        .filter(|c| c.is_ascii_graphic() || *c == ' ')
+        .filter(|c| !"$!*,\\^~".contains(*c))
+        .take(20)
+        .collect();
+    let clean = clean.trim();
+    if clean.is_empty() {
+        format!("TGT{:02}", t.number)
+    } else {
+        clean.to_string()
+    }
+}
+
 /// `TLL` for one target: number, latitude and longitude (longitude wrapped to ±180°),
 /// name, UTC, status, no reference target.
-pub fn tll(t: &PlotterTarget, origin: &Origin, time_s: f64) -> String {
+pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, time_s: f64) -> String {
     let d = &t.data;
     let (lat, lon) = origin.to_lat_lon([f64::from(d.position_m[0]), f64::from(d.position_m[1])]);
     let number = t.number;
     sentence(&format!(
-        "RATLL,{number:02},{},{},TGT{number:02},{},{},",
+        "RATLL,{number:02},{},{},{},{},{},",
         angle_field(lat, 2, 'N', 'S'),
         angle_field(lon, 3, 'E', 'W'),
+        name_field(t),
         utc(time_s),
         t.status
     ))
@@ -170,8 +194,14 @@ impl TargetsOut {
         for (targets, status) in groups {
             for d in targets {
                 let Some(number) = d.number else { continue };
+                let name = report
+                    .paired
+                    .iter()
+                    .find(|p| p.track == d.track)
+                    .map(|p| p.label.as_str());
                 let t = PlotterTarget {
                     number,
+                    name,
                     status,
                     data: *d,
                 };
@@ -207,6 +237,7 @@ pub fn targets_sentences(targets: &[TargetData], origin: &Origin, time_s: f64) -
         .flat_map(|d| {
             let t = PlotterTarget {
                 number: (d.track % 99 + 1) as u8,
+                name: None,
                 status: 'T',
                 data: *d,
             };
@@ -220,12 +251,28 @@ mod tests {
     use super::*;
     use crate::nmea::checksum;
 
-    fn plotter(data: TargetData) -> PlotterTarget {
+    fn plotter(data: TargetData) -> PlotterTarget<'static> {
         PlotterTarget {
+            name: None,
             number: 7,
             status: 'T',
             data,
         }
+    }
+
+    #[test]
+    fn an_ais_name_goes_in_the_name_field_cleaned() {
+        let mut t = plotter(crate::session::target::example());
+        assert!(ttm(&t, 0.0).contains(",N,TGT07,"));
+        t.name = Some("RED FALCON, *~$ISLE OF WIGHT FERRY");
+        let s = ttm(&t, 0.0);
+        assert!(s.contains(",N,RED FALCON ISLE OF W,"), "{s}");
+        assert_eq!(
+            &s[s.len() - 4..s.len() - 2],
+            format!("{:02X}", checksum(&s[1..s.find('*').unwrap()]))
+        );
+        t.name = Some(" ,*");
+        assert!(tll(&t, &Origin::default(), 0.0).contains(",TGT07,"));
     }
 
     #[test]

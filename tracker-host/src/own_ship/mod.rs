@@ -294,8 +294,8 @@ impl OwnShipSource for NmeaOwnShip {
     }
 }
 
-/// One line: AIS sentences to the AIS decoder (heard at `time_s`), the rest to the
-/// dead-reckoning filter.
+/// One line: AIS sentences to the AIS decoder (heard at `time_s`; own ship's `AIVDO` also
+/// to the dead-reckoning filter, as one more sensor), the rest to the filter.
 fn take(
     nav: &mut OwnShipNav,
     ais: &mut crate::ais::AisDecoder,
@@ -305,6 +305,7 @@ fn take(
 ) {
     if crate::ais::fragment::is_ais(line) {
         if let Some(r) = ais.feed(line) {
+            nav.feed_ais_own(&r);
             heard.push((time_s, r));
         }
     } else {

@@ -88,6 +88,11 @@ pub struct NavCounts {
     pub no_variation: u64,
     /// Ignored sentences by type (`GSV`, `VDM`, `P` for proprietary, …).
     pub ignored_by_type: BTreeMap<String, u64>,
+    /// Own ship's AIS transponder's reports (`AIVDO`) taken as a sensor (counted here, not
+    /// in the sentence counts above: the AIS decoder counts their sentences).
+    pub ais_own: u64,
+    /// … of which one reading or more was used.
+    pub ais_own_used: u64,
 }
 
 impl NavCounts {
@@ -316,6 +321,40 @@ impl OwnShipNav {
             return;
         }
         self.apply_readings(s.talker, &readings, now);
+    }
+
+    /// Takes own ship's AIS transponder's report (`AIVDO`: its GNSS position, SOG, COG and
+    /// heading) as one more own-ship sensor, talker `AI`, at the clock's newest time (AIS
+    /// carries no date or hour). The talker choice applies: with `GP` heard first, `AI`
+    /// stands in only for what `GP` stops giving.
+    pub fn feed_ais_own(&mut self, r: &crate::ais::AisReport) {
+        if !r.own_ship {
+            return;
+        }
+        let mut readings = Vec::new();
+        if let Some((lat_deg, lon_deg)) = r.position_deg {
+            readings.push(Reading::Position { lat_deg, lon_deg });
+        }
+        if let Some(sog) = r.sog_kn {
+            readings.push(Reading::GroundVelocity {
+                sog_mps: sog * 1852.0 / 3600.0,
+                cog_deg: r.cog_deg.filter(|_| sog > 0.0),
+            });
+        }
+        if let Some(h) = r.heading_deg {
+            readings.push(Reading::HeadingTrue(f64::from(h)));
+        }
+        if readings.is_empty() {
+            return;
+        }
+        let now = self.clock.newest_s().unwrap_or(self.time_s);
+        // The sentence counts are the lines'; an AIS report is not a line of this reader.
+        let before = self.counts.clone();
+        self.apply_readings("AI", &readings, now);
+        let used = self.counts.used > before.used;
+        self.counts = before;
+        self.counts.ais_own += 1;
+        self.counts.ais_own_used += u64::from(used);
     }
 
     fn apply_readings(&mut self, talker: &str, readings: &[Reading], now: f64) {
@@ -609,6 +648,7 @@ mod tests {
         nav.feed("not nmea at all");
         nav.feed(&ttm(
             &crate::nmea::targets::PlotterTarget {
+                name: None,
                 number: 7,
                 status: 'T',
                 data: crate::session::target::example(),

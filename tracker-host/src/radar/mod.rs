@@ -11,6 +11,7 @@
 //! | [`navico`] | Navico BR24/3G/4G/HALO frames of 32 spokes, 2,048 a rotation, 4-bit samples |
 //! | [`garmin`] | Garmin xHD, one spoke a datagram, 1,440 a rotation, 8-bit samples |
 //! | [`stats`] | a spoke stream followed: rotations, range changes, order |
+//! | [`picture`] | a rotation's echoes on a coarse north-up grid, for the display and snapshots |
 //! | [`fault`] | what a decoder refused, counted by kind |
 //!
 //! Every spoke is a [`tracker_core::radar::Spoke`] borrowing its decoder's sample buffer:
@@ -28,6 +29,7 @@ pub mod garmin;
 pub mod live;
 pub mod navico;
 pub mod nmea_text;
+pub mod picture;
 pub mod source;
 pub mod spec;
 pub mod stats;
@@ -35,6 +37,7 @@ pub mod stats;
 pub use capture::{CaptureOptions, CaptureReader, CaptureStats, Datagram};
 pub use decoder::SpokeDecoder;
 pub use fault::{Fault, FaultCounts};
+pub use picture::EchoImage;
 pub use source::{RadarStats, SpokeSource};
 pub use spec::{RadarKind, RadarSpec};
 pub use stats::{SpokeMeta, SpokeStats};

@@ -6,6 +6,8 @@
 
 use std::fs::File;
 use std::io::{BufWriter, Write};
+pub mod snapshot;
+
 use std::path::Path;
 
 use anyhow::Context;

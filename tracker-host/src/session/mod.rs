@@ -117,6 +117,8 @@ pub struct ScanReport {
     pub ais: Vec<crate::ais::AisTargetData>,
     /// Radar targets and the AIS targets of the same ship.
     pub paired: Vec<ais::Pairing>,
+    /// The rotation's echoes, when the plots came from a radar (for the display).
+    pub echoes: Option<std::sync::Arc<crate::radar::EchoImage>>,
 }
 
 impl ScanReport {
@@ -243,6 +245,7 @@ impl Session {
                     skipped: Some(why),
                     ais: Vec::new(),
                     paired: Vec::new(),
+                    echoes: None,
                 });
             }
             Err(e) => return Err(e),
@@ -265,6 +268,7 @@ impl Session {
             skipped: None,
             ais: Vec::new(),
             paired: Vec::new(),
+            echoes: None,
         })
     }
 

@@ -6,6 +6,7 @@
 //! | the scenario simulator (IMO sensor model, clutter) | [`simulator`] |
 //! | a recorded plots file (CSV, documented in the README) | [`plots_file`] |
 //! | a radar: spokes from a capture or live, plots extracted | [`radar`] |
+//! | the simulator through a synthetic radar and the extractor (`demo --video`) | [`video`] |
 //!
 //! and [`truth_file`] reads the truth beside a plots file, for scoring.
 //!
@@ -17,6 +18,7 @@ pub mod plots_file;
 pub mod radar;
 pub mod simulator;
 pub mod truth_file;
+pub mod video;
 
 use tracker_core::icd::Plot;
 
@@ -44,6 +46,8 @@ pub struct SourceScan {
     pub own_ship: Option<OwnShip>,
     /// Ground truth for scoring, when the source has it.
     pub truth: Option<ScanTruth>,
+    /// The rotation's echoes, when the source is a radar (for the display and snapshots).
+    pub echoes: Option<std::sync::Arc<crate::radar::EchoImage>>,
 }
 
 /// A source of radar scans.

@@ -295,6 +295,7 @@ impl PlotSource for PlotsFileSource {
             radar: scan.radar.clone(),
             own_ship: Some(own),
             truth,
+            echoes: None,
         };
         self.previous = Some(scan);
         Ok(Some(out))

@@ -32,7 +32,7 @@ use super::{PlotSource, RadarScan, SourceScan};
 use crate::origin::Origin;
 use crate::own_ship::nav::OwnShipNav;
 use crate::own_ship::OwnShip;
-use crate::radar::{CaptureOptions, RadarKind, RadarSpec, RadarStats, SpokeSource};
+use crate::radar::{CaptureOptions, EchoImage, RadarKind, RadarSpec, RadarStats, SpokeSource};
 
 /// How a radar is read.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,6 +93,9 @@ pub struct RadarCounts {
     pub blobs_dropped: u64,
     /// Range changes and out-of-order spokes that restarted extraction.
     pub restarts: u64,
+    /// The plots against the truth, when the radar is the simulator's (`demo --video`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub plot_scores: Option<super::video::PlotScores>,
 }
 
 impl RadarCounts {
@@ -121,7 +124,11 @@ impl std::fmt::Display for RadarCounts {
             MAX_PLOTS_PER_SCAN,
             self.blobs_dropped,
             self.restarts
-        )
+        )?;
+        if let Some(p) = &self.plot_scores {
+            write!(f, "; plots against truth: {p}")?;
+        }
+        Ok(())
     }
 }
 
@@ -158,6 +165,8 @@ pub struct RadarPlotSource {
     finished: bool,
     /// The spoke being extracted's samples, copied out of the source's buffer.
     samples: Vec<u8>,
+    /// This rotation's echoes, for the eye.
+    image: EchoImage,
     /// The capture's AIS sentences.
     ais: crate::ais::AisDecoder,
     heard: Vec<(f64, crate::ais::AisReport)>,
@@ -238,6 +247,7 @@ impl RadarPlotSource {
             counts: RadarCounts::default(),
             finished: false,
             samples: Vec::new(),
+            image: EchoImage::default(),
             ais: crate::ais::AisDecoder::new(),
             heard: Vec::new(),
         })
@@ -283,6 +293,7 @@ impl RadarPlotSource {
             self.counts.nmea_lines += 1;
             if crate::ais::fragment::is_ais(&line) {
                 if let Some(r) = self.ais.feed(&line) {
+                    self.nav.feed_ais_own(&r);
                     self.heard.push((t, r));
                 }
                 continue;
@@ -345,6 +356,10 @@ impl RadarPlotSource {
                 continue;
             };
             let spoke = header.with(heading_rad, &self.samples);
+            if let Some(b) = spoke.bearing_rad() {
+                self.image
+                    .add(b, spoke.range_m, spoke.samples, spoke.max_sample);
+            }
             let mut wrapped = None;
             let current = &mut self.current;
             extractor.push(&spoke, |e| match e {
@@ -396,6 +411,7 @@ impl RadarPlotSource {
             o.heading_rad = self.heading_for(time_s);
             Some(o)
         });
+        let echoes = std::mem::take(&mut self.image);
         SourceScan {
             radar: RadarScan {
                 scan: self.scan,
@@ -404,6 +420,7 @@ impl RadarPlotSource {
             },
             own_ship,
             truth: None,
+            echoes: Some(std::sync::Arc::new(echoes)),
         }
     }
 }

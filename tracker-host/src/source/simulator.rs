@@ -46,6 +46,8 @@ pub struct SimulatorSource {
     epoch_s: f64,
     own: OwnShipTruth,
     estimate: Option<OwnShip>,
+    /// `demo --video`: plots from synthetic spokes instead of the plot model.
+    video: Option<super::video::Video>,
 }
 
 impl SimulatorSource {
@@ -73,7 +75,23 @@ impl SimulatorSource {
             epoch_s: o.epoch_s,
             own,
             estimate: None,
+            video: None,
         }
+    }
+
+    /// Plots from the synthetic radar's spokes through the plot extractor instead of the
+    /// plot model ([`super::video`]); the noise drawn from `seed`.
+    ///
+    /// # Errors
+    /// A synthetic radar setting out of range (none with the defaults).
+    pub fn with_video(mut self, seed: u64) -> anyhow::Result<Self> {
+        let c = self.scenario.config();
+        self.video = Some(super::video::Video::new(
+            c.scan_s,
+            c.sensor.min_range_m,
+            seed,
+        )?);
+        Ok(self)
     }
 
     /// The scenario.
@@ -110,6 +128,7 @@ pub fn source_scan(out: &ScanOutput, epoch_s: f64) -> SourceScan {
         },
         own_ship: Some(own),
         truth: Some(ScanTruth { own, targets }),
+        echoes: None,
     }
 }
 
@@ -135,7 +154,36 @@ impl PlotSource for SimulatorSource {
             }
         }
         self.scans_done += 1;
-        Ok(Some(source_scan(&self.scenario.next_scan(), self.epoch_s)))
+        let mut scan = source_scan(&self.scenario.next_scan(), self.epoch_s);
+        if let Some(video) = &mut self.video {
+            let plots = video.rotation(&self.scenario)?;
+            if let Some(truth) = &mut scan.truth {
+                let own = truth.own.position_m;
+                for t in &mut truth.targets {
+                    t.detected = plots.iter().any(|p| {
+                        let (s, c) = p.bearing_rad.sin_cos();
+                        let at = [own[0] + p.range_m * s, own[1] + p.range_m * c];
+                        (at[0] - t.position_m[0]).hypot(at[1] - t.position_m[1])
+                            <= super::video::DETECTION_GATE_M
+                    });
+                }
+            }
+            scan.radar.plots = plots;
+        }
+        Ok(Some(scan))
+    }
+
+    fn radar_counts(&self) -> Option<super::radar::RadarCounts> {
+        let v = self.video.as_ref()?;
+        let s = v.scores();
+        Some(super::radar::RadarCounts {
+            scans: s.scans,
+            plots: s.detected + s.false_plots,
+            extended: s.extended,
+            spokes: s.spokes,
+            plot_scores: Some(s),
+            ..super::radar::RadarCounts::default()
+        })
     }
 
     fn own_ship_estimate(&mut self, own: &OwnShip) {

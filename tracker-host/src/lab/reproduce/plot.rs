@@ -1,18 +1,13 @@
 //! Line charts for the report, written as SVG and PNG with `plotters`.
 //!
-//! PNG text is drawn with the DejaVu Sans font shipped in `tracker-host/assets` (plotters'
-//! pure-Rust `ab_glyph` renderer needs the font's bytes; no system font is looked up), so the
-//! images come out the same on every machine.
+//! PNG text is drawn with the font [`crate::font`] registers, so the images come out the
+//! same on every machine.
 
 use std::path::Path;
-use std::sync::Once;
 
 use anyhow::{anyhow, Context};
 use plotters::coord::Shift;
 use plotters::prelude::*;
-
-static FONT: &[u8] = include_bytes!("../../../assets/DejaVuSans.ttf");
-static REGISTER: Once = Once::new();
 
 /// One line of a chart.
 pub struct Series {
@@ -75,10 +70,7 @@ const COLOURS: [RGBColor; 6] = [
 /// # Errors
 /// A file that cannot be written, or the plotting backend failing.
 pub fn write(chart: &Chart, dir: &Path, name: &str) -> anyhow::Result<()> {
-    REGISTER.call_once(|| {
-        // Registered once for the process; a failure shows up as a drawing error below.
-        let _ = plotters::style::register_font("sans-serif", FontStyle::Normal, FONT);
-    });
+    crate::font::register();
     let svg = dir.join(format!("{name}.svg"));
     draw(chart, SVGBackend::new(&svg, SIZE).into_drawing_area())
         .with_context(|| format!("plotting {}", svg.display()))?;

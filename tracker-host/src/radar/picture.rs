@@ -1,0 +1,100 @@
+//! One rotation's echoes for the eye: the spokes max-pooled onto a coarse north-up polar
+//! grid ([`EchoImage`]), which the terminal display draws under the plots and tracks and
+//! `--snapshot` paints to a PNG. A HALO rotation is 2,048 × 1,024 samples; the grid keeps
+//! [`BEARING_CELLS`] × [`RANGE_CELLS`] (the strongest sample in each cell), enough for a
+//! terminal or a 1,000-pixel picture, in 128 KiB.
+
+/// Bearing cells in a rotation (0.7° each).
+pub const BEARING_CELLS: usize = 512;
+/// Range cells from own ship to the radar's range.
+pub const RANGE_CELLS: usize = 256;
+
+/// A rotation's echoes on a north-up polar grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct EchoImage {
+    /// The range the cells span, m (the last spoke's).
+    pub range_m: f32,
+    /// The strongest level a sample can hold (15 Navico, 255 Garmin).
+    pub max_sample: u8,
+    /// Spokes taken.
+    pub spokes: u32,
+    cells: Vec<u8>,
+}
+
+impl Default for EchoImage {
+    fn default() -> Self {
+        EchoImage {
+            range_m: 0.0,
+            max_sample: 1,
+            spokes: 0,
+            cells: vec![0; BEARING_CELLS * RANGE_CELLS],
+        }
+    }
+}
+
+impl EchoImage {
+    /// Adds a spoke at true bearing `bearing_rad` whose `samples` span `range_m`. A change of
+    /// range clears what was there (its cells would be at the wrong ranges).
+    pub fn add(&mut self, bearing_rad: f32, range_m: f32, samples: &[u8], max_sample: u8) {
+        if !(range_m > 0.0 && range_m.is_finite() && bearing_rad.is_finite()) || samples.is_empty()
+        {
+            return;
+        }
+        if self.range_m != range_m {
+            self.cells.iter_mut().for_each(|c| *c = 0);
+            self.range_m = range_m;
+        }
+        self.max_sample = max_sample.max(1);
+        self.spokes += 1;
+        let turn = bearing_rad.rem_euclid(core::f32::consts::TAU) / core::f32::consts::TAU;
+        let b = ((turn * BEARING_CELLS as f32) as usize).min(BEARING_CELLS - 1);
+        let row = &mut self.cells[b * RANGE_CELLS..(b + 1) * RANGE_CELLS];
+        let n = samples.len();
+        for (i, &s) in samples.iter().enumerate() {
+            let r = i * RANGE_CELLS / n;
+            row[r] = row[r].max(s);
+        }
+    }
+
+    /// The cells at or above `fraction` of full scale: (true bearing rad, range m, level as
+    /// a fraction of full scale) at each cell's centre.
+    pub fn echoes(&self, fraction: f32) -> impl Iterator<Item = (f32, f32, f32)> + '_ {
+        let full = f32::from(self.max_sample);
+        self.cells.iter().enumerate().filter_map(move |(i, &c)| {
+            let level = f32::from(c) / full;
+            (c > 0 && level >= fraction).then(|| {
+                let (b, r) = (i / RANGE_CELLS, i % RANGE_CELLS);
+                (
+                    (b as f32 + 0.5) * core::f32::consts::TAU / BEARING_CELLS as f32,
+                    (r as f32 + 0.5) * self.range_m / RANGE_CELLS as f32,
+                    level,
+                )
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_spoke_lands_in_its_bearing_and_range_cells() {
+        let mut im = EchoImage::default();
+        let mut samples = [0u8; 1024];
+        samples[512] = 15; // mid range
+        im.add(core::f32::consts::FRAC_PI_2, 1000.0, &samples, 15);
+        let e: Vec<_> = im.echoes(0.5).collect();
+        assert_eq!(e.len(), 1);
+        let (b, r, level) = e[0];
+        assert!((b - core::f32::consts::FRAC_PI_2).abs() < 0.01);
+        assert!((r - 500.0).abs() < 4.0);
+        assert_eq!(level, 1.0);
+        // A new range clears the picture; nonsense is ignored.
+        im.add(0.0, 2000.0, &[0; 8], 15);
+        assert_eq!(im.echoes(0.1).count(), 0);
+        im.add(f32::NAN, 2000.0, &samples, 15);
+        im.add(0.0, -1.0, &samples, 15);
+        assert_eq!(im.spokes, 2);
+    }
+}
