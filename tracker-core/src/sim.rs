@@ -316,60 +316,15 @@ impl Scenario {
         out.time_ms = (self.time_s * 1000.0) as u64;
         out.own_position_m = self.own.position_m;
         out.own_velocity_mps = self.own.velocity_mps();
-        out.plots.clear();
-        out.plot_source.clear();
-        out.truth.clear();
-        let mut raw: Vec<(Plot, Option<u16>), MAX_PLOTS> = Vec::new();
-        for t in &self.targets {
-            let (range, bearing) = geo::range_bearing(self.own.position_m, t.position_m);
-            let visible = range >= sensor.min_range_m && range <= sensor.max_range_m;
-            let detected = visible && self.rng.random::<f32>() < sensor.pd;
-            // Two targets in one resolution cell echo as one: the first one's plot stands.
-            let merged = raw.iter().any(|(p, _)| {
-                (p.range_m - range).abs() < sensor.range_resolution_m
-                    && geo::wrap_pi(p.bearing_rad - bearing).abs() < sensor.bearing_resolution_rad
-            });
-            if detected && !merged {
-                let plot = Plot {
-                    range_m: range + range_error(&mut self.rng, &sensor),
-                    bearing_rad: geo::wrap_2pi(bearing + bearing_error(&mut self.rng, &sensor)),
-                };
-                let _ = raw.push((plot, Some(t.id)));
-            }
-            let _ = out.truth.push(Truth {
-                id: t.id,
-                position_m: t.position_m,
-                velocity_mps: t.velocity_mps(),
-                detected,
-            });
-        }
-        let clutter = Poisson::new(sensor.clutter_per_scan.max(1e-6))
-            .map(|p| p.sample(&mut self.rng) as usize)
-            .unwrap_or(0);
-        let (r0, r1) = (sensor.min_range_m, sensor.max_range_m);
-        for _ in 0..clutter {
-            // Uniform over the annulus: range² uniform.
-            let u: f32 = self.rng.random();
-            let range = libm::sqrtf(r0 * r0 + u * (r1 * r1 - r0 * r0));
-            let bearing = self.rng.random_range(0.0..core::f32::consts::TAU);
-            if raw
-                .push((
-                    Plot {
-                        range_m: range,
-                        bearing_rad: bearing,
-                    },
-                    None,
-                ))
-                .is_err()
-            {
-                break;
-            }
-        }
-        raw.sort_unstable_by(|a, b| a.0.bearing_rad.total_cmp(&b.0.bearing_rad));
-        for (p, s) in raw {
-            let _ = out.plots.push(p);
-            let _ = out.plot_source.push(s);
-        }
+        sense(
+            &sensor,
+            &mut self.rng,
+            self.own.position_m,
+            self.targets
+                .iter()
+                .map(|t| (t.id, t.position_m, t.velocity_mps())),
+            out,
+        );
         self.advance();
     }
 
@@ -398,6 +353,111 @@ impl Scenario {
         }
         self.scan += 1;
         self.time_s += f64::from(dt);
+    }
+}
+
+/// One scan of the radar model: each target (id, position m, velocity m/s) in range is
+/// detected with P_d and measured with the model's range and bearing errors, targets
+/// sharing a resolution cell give one plot (the first's), Poisson clutter is added over the
+/// annulus, and the plots are sorted by bearing; `out`'s plots, their sources and the truth
+/// are replaced (its scan, time and own ship are the caller's). The draws come from `rng` in
+/// a fixed order, so a seed gives the same scan.
+fn sense(
+    sensor: &SensorModel,
+    rng: &mut Pcg32,
+    own_m: EastNorth,
+    targets: impl Iterator<Item = (u16, EastNorth, EastNorth)>,
+    out: &mut ScanOutput,
+) {
+    out.plots.clear();
+    out.plot_source.clear();
+    out.truth.clear();
+    let mut raw: Vec<(Plot, Option<u16>), MAX_PLOTS> = Vec::new();
+    for (id, position_m, velocity_mps) in targets {
+        let (range, bearing) = geo::range_bearing(own_m, position_m);
+        let visible = range >= sensor.min_range_m && range <= sensor.max_range_m;
+        let detected = visible && rng.random::<f32>() < sensor.pd;
+        // Two targets in one resolution cell echo as one: the first one's plot stands.
+        let merged = raw.iter().any(|(p, _)| {
+            (p.range_m - range).abs() < sensor.range_resolution_m
+                && geo::wrap_pi(p.bearing_rad - bearing).abs() < sensor.bearing_resolution_rad
+        });
+        if detected && !merged {
+            let plot = Plot {
+                range_m: range + range_error(rng, sensor),
+                bearing_rad: geo::wrap_2pi(bearing + bearing_error(rng, sensor)),
+            };
+            let _ = raw.push((plot, Some(id)));
+        }
+        let _ = out.truth.push(Truth {
+            id,
+            position_m,
+            velocity_mps,
+            detected,
+        });
+    }
+    let clutter = Poisson::new(sensor.clutter_per_scan.max(1e-6))
+        .map(|p| p.sample(rng) as usize)
+        .unwrap_or(0);
+    let (r0, r1) = (sensor.min_range_m, sensor.max_range_m);
+    for _ in 0..clutter {
+        // Uniform over the annulus: range² uniform.
+        let u: f32 = rng.random();
+        let range = libm::sqrtf(r0 * r0 + u * (r1 * r1 - r0 * r0));
+        let bearing = rng.random_range(0.0..core::f32::consts::TAU);
+        if raw
+            .push((
+                Plot {
+                    range_m: range,
+                    bearing_rad: bearing,
+                },
+                None,
+            ))
+            .is_err()
+        {
+            break;
+        }
+    }
+    raw.sort_unstable_by(|a, b| a.0.bearing_rad.total_cmp(&b.0.bearing_rad));
+    for (p, s) in raw {
+        let _ = out.plots.push(p);
+        let _ = out.plot_source.push(s);
+    }
+}
+
+/// The scenario's radar model on ships it does not move: targets from elsewhere (real ship
+/// tracks) sensed scan by scan with the same errors, P_d, clutter and resolution as
+/// [`Scenario`]'s.
+#[derive(Clone, Debug)]
+pub struct PlotModel {
+    sensor: SensorModel,
+    rng: Pcg32,
+}
+
+impl PlotModel {
+    /// The model `sensor`, its draws from `seed`.
+    pub fn new(sensor: SensorModel, seed: u64) -> Self {
+        PlotModel {
+            sensor,
+            rng: Pcg32::seed_from_u64(seed),
+        }
+    }
+
+    /// The sensor model.
+    pub fn sensor(&self) -> &SensorModel {
+        &self.sensor
+    }
+
+    /// One scan of `targets` (id, position m, velocity m/s; at most [`MAX_TARGETS`] are
+    /// kept in the truth) from own ship at `own_m`, into `out` (its plots, their sources and
+    /// the truth; the caller sets its scan, time and own ship).
+    pub fn sense(
+        &mut self,
+        own_m: EastNorth,
+        targets: impl Iterator<Item = (u16, EastNorth, EastNorth)>,
+        out: &mut ScanOutput,
+    ) {
+        sense(&self.sensor, &mut self.rng, own_m, targets, out);
     }
 }
 

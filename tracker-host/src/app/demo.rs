@@ -41,6 +41,8 @@ pub struct DemoOptions {
     pub outputs: Outputs,
     /// Plots from synthetic spokes through the plot extractor instead of the plot model.
     pub video: bool,
+    /// Real traffic instead of the scenario: recorded AIS tracks as the truth.
+    pub ais_truth: Option<crate::source::ais_truth::AisTruthOptions>,
 }
 
 impl DemoOptions {
@@ -66,6 +68,7 @@ impl DemoOptions {
             own_ship: OwnShipOptions::default(),
             outputs: Outputs::default(),
             video: false,
+            ais_truth: None,
         }
     }
 }
@@ -97,11 +100,17 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
         None => OwnShipTruth::Scenario,
     };
     let origin = own_ship.origin();
-    let mut source = SimulatorSource::with_own_ship(&simulator, truth);
-    if o.video {
-        source = source.with_video(simulator.seed)?;
-    }
+    let source: Box<dyn crate::source::PlotSource> = match &o.ais_truth {
+        Some(a) => Box::new(crate::source::ais_truth::AisTruthSource::open(a, &origin)?),
+        None => {
+            let mut source = SimulatorSource::with_own_ship(&simulator, truth);
+            if o.video {
+                source = source.with_video(simulator.seed)?;
+            }
+            Box::new(source)
+        }
+    };
     let own = own_ship_source(&own_ship, origin)?;
     let session = Session::start(client, SessionConfig::tracking(o.filter))?;
-    Ok(Run::new(Box::new(source), own, session, sinks(&o.outputs, origin)?).with_origin(origin))
+    Ok(Run::new(source, own, session, sinks(&o.outputs, origin)?).with_origin(origin))
 }

@@ -82,6 +82,24 @@ pub enum Command {
         /// detection probability, false plots and position error.
         #[arg(long)]
         video: bool,
+        /// Real traffic: recorded AIS position reports (`Time,MMSI,Latitude_degrees,
+        /// Longitude_degrees,COG_degrees,SOG_knots`, Stone Soup's Solent file) as the truth;
+        /// own ship follows --own-mmsi, the others are targets seen by the radar model and
+        /// heard on AIS; the summary scores radar/AIS pairing too.
+        #[arg(
+            long,
+            value_name = "PATH",
+            requires = "own_mmsi",
+            conflicts_with = "video"
+        )]
+        ais_truth: Option<PathBuf>,
+        /// With --ais-truth: own ship's MMSI.
+        #[arg(long, value_name = "MMSI", requires = "ais_truth")]
+        own_mmsi: Option<u32>,
+        /// With --ais-truth: start this many seconds after the file's first report (default:
+        /// own ship's first report).
+        #[arg(long, value_name = "S", requires = "ais_truth")]
+        start: Option<f64>,
         /// How the run is shown, own ship, outputs.
         #[command(flatten)]
         run: RunArgs,
@@ -296,6 +314,9 @@ where
             duration,
             record_truth,
             video,
+            ais_truth,
+            own_mmsi,
+            start,
             run,
         } => {
             if let Some(d) = duration {
@@ -323,6 +344,15 @@ where
                 own_ship: run.own_ship(),
                 outputs: run.outputs(record_truth.clone()),
                 video: *video,
+                ais_truth: ais_truth.as_ref().map(|path| {
+                    crate::source::ais_truth::AisTruthOptions {
+                        path: path.clone(),
+                        own_mmsi: own_mmsi.unwrap_or_default(),
+                        start_s: *start,
+                        duration_s: *duration,
+                        seed: *seed,
+                    }
+                }),
             };
             let tracking = demo::start(cli.connect()?, &options)?;
             track_to_end(&cli, tracking, run)

@@ -7,6 +7,7 @@
 //! one it followed went out of reach) has *swapped*; a confirmed track unmatched on most of
 //! its scans is *false*.
 
+pub mod pairing;
 mod summary;
 mod truth;
 
@@ -132,6 +133,20 @@ impl Scorer {
         }
     }
 
+    /// Each confirmed or coasting track of the last scan scored and the target (truth id) it
+    /// was matched to then.
+    pub fn matched(&self, tracks: &[TrackState]) -> BTreeMap<u16, u32> {
+        tracks
+            .iter()
+            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
+            .filter_map(|t| {
+                let r = self.tracks.get(&t.track)?;
+                // Matched this very scan: the last scan added to `matched_scans` for it.
+                r.last_truth.map(|id| (t.track, id))
+            })
+            .collect()
+    }
+
     /// The scores so far.
     pub fn summary(&self) -> Summary {
         let detected: BTreeSet<u32> = self.first_detected.keys().copied().collect();
@@ -172,8 +187,31 @@ impl Scorer {
             rms_velocity_mps: (self.sum_sq_vel / n).sqrt(),
             cpa_error_p95_m: p95(&mut cpa),
             tcpa_error_p95_s: p95(&mut tcpa),
+            pairing: None,
         }
     }
+}
+
+/// For each matched track, the truth target nearest it.
+fn nearest_truth(
+    truth: &ScanTruth,
+    tracks: &[TrackState],
+    matched: &BTreeMap<u16, u32>,
+) -> BTreeMap<u16, u32> {
+    tracks
+        .iter()
+        .filter(|t| matched.contains_key(&t.track))
+        .filter_map(|t| {
+            let d = |x: &TargetTruth| {
+                libm::hypotf(
+                    x.position_m[0] - t.position_m[0],
+                    x.position_m[1] - t.position_m[1],
+                )
+            };
+            let x = truth.targets.iter().min_by(|a, b| d(a).total_cmp(&d(b)))?;
+            Some((t.track, x.id))
+        })
+        .collect()
 }
 
 /// The scorer as a sink: scores every scan whose source carries truth.
@@ -182,6 +220,9 @@ pub struct ScoreSink {
     scorer: Scorer,
     scan_s: f32,
     scored: bool,
+    pairing: pairing::PairingScorer,
+    /// Pairing is scored once the truth's ids are MMSIs (real traffic) and AIS is heard.
+    pairing_scored: bool,
 }
 
 impl ScoreSink {
@@ -195,7 +236,13 @@ impl ScoreSink {
 
     /// The scores so far; `None` when no scan carried truth.
     pub fn summary(&self) -> Option<Summary> {
-        self.scored.then(|| self.scorer.summary())
+        self.scored.then(|| {
+            let mut s = self.scorer.summary();
+            s.pairing = self
+                .pairing_scored
+                .then(|| self.pairing.scores(f64::from(self.scan_s)));
+            s
+        })
     }
 }
 
@@ -209,6 +256,16 @@ impl crate::sink::ScanSink for ScoreSink {
             self.scorer
                 .scan(report.scan, truth, &report.tracks, self.scan_s);
             self.scored = true;
+            if truth.ids_are_mmsi && !report.ais.is_empty() {
+                let pairs: Vec<(u16, u32)> =
+                    report.paired.iter().map(|p| (p.track, p.mmsi)).collect();
+                let ais: Vec<u32> = report.ais.iter().map(|a| a.mmsi).collect();
+                let matched = self.scorer.matched(&report.tracks);
+                let nearest = nearest_truth(truth, &report.tracks, &matched);
+                self.pairing
+                    .scan(report.scan, &matched, &nearest, &pairs, &ais);
+                self.pairing_scored = true;
+            }
         }
         Ok(())
     }

@@ -35,12 +35,16 @@ pub struct Summary {
     pub cpa_error_p95_m: f32,
     /// 95th percentile of |TCPA error|, s.
     pub tcpa_error_p95_s: f32,
+    /// Radar/AIS pairing against the truth, when the truth's ids are MMSIs and AIS was
+    /// heard.
+    #[serde(skip_serializing_if = "Option::is_none", flatten)]
+    pub pairing: Option<super::pairing::PairingScores>,
 }
 
 impl Summary {
     /// The summary as text.
     pub fn report(&self) -> String {
-        format!(
+        let mut s = format!(
             "scans: {}\n\
              targets: {} ({} detected, {} followed by a confirmed track, {} detected on 5+ scans never confirmed)\n\
              confirmation: {} targets within 5 scans of first detection, the slowest after {} scans\n\
@@ -62,6 +66,24 @@ impl Summary {
             self.rms_velocity_mps,
             self.cpa_error_p95_m,
             self.tcpa_error_p95_s,
-        )
+        );
+        if let Some(p) = &self.pairing {
+            s += &format!(
+                "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.0} s, max {:.0} s; ships shown twice: {} ship-scans ({} after {} scans)",
+                p.pairs_correct,
+                p.pairs_wrong,
+                p.pairs_unverified,
+                p.ships_paired,
+                p.ships_with_track_and_ais,
+                p.ships_paired_in_time,
+                super::pairing::PAIRING_ALLOWANCE_SCANS,
+                p.time_to_pair_mean_s,
+                p.time_to_pair_max_s,
+                p.ships_unpaired,
+                p.ships_unpaired_late,
+                super::pairing::PAIRING_ALLOWANCE_SCANS,
+            );
+        }
+        s
     }
 }

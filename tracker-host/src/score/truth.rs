@@ -25,4 +25,7 @@ pub struct ScanTruth {
     pub own: OwnShip,
     /// Every target.
     pub targets: Vec<TargetTruth>,
+    /// The targets' ids are their MMSIs (real traffic with AIS): radar/AIS pairing can be
+    /// scored.
+    pub ids_are_mmsi: bool,
 }

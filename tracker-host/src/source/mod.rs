@@ -7,6 +7,7 @@
 //! | a recorded plots file (CSV, documented in the README) | [`plots_file`] |
 //! | a radar: spokes from a capture or live, plots extracted | [`radar`] |
 //! | the simulator through a synthetic radar and the extractor (`demo --video`) | [`video`] |
+//! | real traffic: recorded AIS tracks as truth, plots from the radar model, AIS sent (`demo --ais-truth`) | [`ais_truth`] |
 //!
 //! and [`truth_file`] reads the truth beside a plots file, for scoring.
 //!
@@ -14,6 +15,7 @@
 //! columns) and the ground truth (the simulator; a truth file beside a plots file): the
 //! session ignores both; own-ship sources and the scorer use them.
 
+pub mod ais_truth;
 pub mod plots_file;
 pub mod radar;
 pub mod simulator;

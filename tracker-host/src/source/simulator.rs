@@ -127,7 +127,11 @@ pub fn source_scan(out: &ScanOutput, epoch_s: f64) -> SourceScan {
             plots: out.plots.to_vec(),
         },
         own_ship: Some(own),
-        truth: Some(ScanTruth { own, targets }),
+        truth: Some(ScanTruth {
+            own,
+            targets,
+            ids_are_mmsi: false,
+        }),
         echoes: None,
     }
 }

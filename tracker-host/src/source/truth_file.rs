@@ -102,6 +102,7 @@ impl TruthFile {
         let mut truth = ScanTruth {
             own,
             targets: Vec::new(),
+            ids_are_mmsi: false,
         };
         let mut any = false;
         while let Some(r) = self.next_row()? {

@@ -1,0 +1,162 @@
+//! Radar/AIS pairing scored against the truth, when the truth's target ids are the ships'
+//! MMSIs (real traffic, `demo --ais-truth`): each scan, each pair (track, MMSI) is *correct*
+//! when the scorer matched the track to that ship or that ship is the one nearest the track
+//! (two ships in one resolution cell share a track, and the scorer keeps to the one it
+//! matched first), *wrong* otherwise; a ship with a
+//! confirmed track and an AIS target held but no pair is *missed* that scan (shown twice:
+//! its radar target and its AIS triangle). The time to pair is from the scan its track was
+//! first matched to the scan it was first paired correctly.
+
+use std::collections::BTreeMap;
+
+use serde::Serialize;
+
+/// What pairing came to.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct PairingScores {
+    /// Pair-scans whose track followed the ship of the MMSI.
+    pub pairs_correct: u64,
+    /// Pair-scans whose track followed another ship.
+    pub pairs_wrong: u64,
+    /// Pair-scans whose track followed no ship (a false or lost track).
+    pub pairs_unverified: u64,
+    /// Ship-scans with a matched track and an AIS target held but no pair (the ship shown
+    /// twice).
+    pub ships_unpaired: u64,
+    /// … of those, later than [`PAIRING_ALLOWANCE_SCANS`] after the track was matched.
+    pub ships_unpaired_late: u64,
+    /// Ships with a matched track and AIS, at some scan.
+    pub ships_with_track_and_ais: usize,
+    /// … of those paired correctly at some scan.
+    pub ships_paired: usize,
+    /// … paired correctly within [`PAIRING_ALLOWANCE_SCANS`] of their track being matched.
+    pub ships_paired_in_time: usize,
+    /// Mean time from a track matched to its correct pair, s.
+    pub time_to_pair_mean_s: f64,
+    /// The longest, s.
+    pub time_to_pair_max_s: f64,
+}
+
+/// The time a pair may take to form after the track is matched, scans: the pairing's own
+/// three scans in a row, and as many again for a track's first velocities to settle.
+pub const PAIRING_ALLOWANCE_SCANS: u32 = 6;
+
+/// The tally.
+#[derive(Clone, Debug, Default)]
+pub struct PairingScorer {
+    scores: PairingScores,
+    /// Per ship: the scan its track was first matched, and first correctly paired.
+    first_matched: BTreeMap<u32, u32>,
+    first_paired: BTreeMap<u32, u32>,
+}
+
+impl PairingScorer {
+    /// One scan: `matched` maps each confirmed track to the ship (MMSI) the scorer matched
+    /// it to, `nearest` to the ship nearest it; `pairs` are the session's (track, MMSI);
+    /// `ais` the MMSIs of the AIS targets held.
+    pub fn scan(
+        &mut self,
+        scan: u32,
+        matched: &BTreeMap<u16, u32>,
+        nearest: &BTreeMap<u16, u32>,
+        pairs: &[(u16, u32)],
+        ais: &[u32],
+    ) {
+        for ship in matched.values() {
+            if ais.contains(ship) {
+                self.first_matched.entry(*ship).or_insert(scan);
+            }
+        }
+        for (track, mmsi) in pairs {
+            match matched.get(track) {
+                Some(ship) if ship == mmsi || nearest.get(track) == Some(mmsi) => {
+                    self.scores.pairs_correct += 1;
+                    self.first_paired.entry(*ship).or_insert(scan);
+                }
+                Some(_) => self.scores.pairs_wrong += 1,
+                None => self.scores.pairs_unverified += 1,
+            }
+        }
+        for ship in matched.values() {
+            let paired = pairs.iter().any(|(_, m)| m == ship);
+            if ais.contains(ship) && !paired {
+                self.scores.ships_unpaired += 1;
+                let since = self
+                    .first_matched
+                    .get(ship)
+                    .map_or(0, |first| scan.saturating_sub(*first));
+                if since > PAIRING_ALLOWANCE_SCANS {
+                    self.scores.ships_unpaired_late += 1;
+                }
+            }
+        }
+    }
+
+    /// The scores, times in s with scans of `scan_s`.
+    pub fn scores(&self, scan_s: f64) -> PairingScores {
+        let mut s = self.scores.clone();
+        s.ships_with_track_and_ais = self.first_matched.len();
+        let delays: Vec<u32> = self
+            .first_paired
+            .iter()
+            .filter_map(|(ship, p)| self.first_matched.get(ship).map(|m| p.saturating_sub(*m)))
+            .collect();
+        s.ships_paired = delays.len();
+        s.ships_paired_in_time = delays
+            .iter()
+            .filter(|d| **d <= PAIRING_ALLOWANCE_SCANS)
+            .count();
+        s.time_to_pair_mean_s =
+            delays.iter().map(|d| f64::from(*d)).sum::<f64>() / delays.len().max(1) as f64 * scan_s;
+        s.time_to_pair_max_s = f64::from(delays.iter().copied().max().unwrap_or(0)) * scan_s;
+        s
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pairs_are_scored_against_the_ships_the_tracks_follow() {
+        let mut p = PairingScorer::default();
+        let matched: BTreeMap<u16, u32> = [(1, 100), (2, 200)].into();
+        // Scan 0: nothing paired yet; both ships have AIS: both shown twice.
+        p.scan(0, &matched, &matched, &[], &[100, 200]);
+        // Scan 3: track 1 paired right, track 2 paired wrong.
+        p.scan(
+            3,
+            &matched,
+            &matched,
+            &[(1, 100), (2, 300)],
+            &[100, 200, 300],
+        );
+        // Scan 10: track 2 paired right, late.
+        p.scan(
+            10,
+            &matched,
+            &matched,
+            &[(1, 100), (2, 200)],
+            &[100, 200, 300],
+        );
+        // Track 2 follows ship 200 but ship 300 is nearest it (one resolution cell): right.
+        let nearest: BTreeMap<u16, u32> = [(1, 100), (2, 300)].into();
+        p.scan(11, &matched, &nearest, &[(2, 300)], &[100, 200, 300]);
+        assert_eq!(p.scores(2.5).pairs_correct, 4);
+        p.scan(12, &matched, &matched, &[(2, 300)], &[100, 200, 300]);
+        let s = p.scores(2.5);
+        assert_eq!((s.pairs_correct, s.pairs_wrong), (4, 2));
+        assert_eq!(s.ships_unpaired, 7);
+        assert_eq!(s.ships_unpaired_late, 4);
+        assert_eq!(
+            (
+                s.ships_with_track_and_ais,
+                s.ships_paired,
+                s.ships_paired_in_time
+            ),
+            (2, 2, 1)
+        );
+        assert!((s.time_to_pair_mean_s - 6.5 * 2.5).abs() < 1e-9);
+        assert!((s.time_to_pair_max_s - 25.0).abs() < 1e-9);
+    }
+}
