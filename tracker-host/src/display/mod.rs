@@ -30,11 +30,14 @@ use crate::app::run::Run;
 use crate::session::target::{status_name, AlarmLimits, TargetData};
 use crate::session::ScanReport;
 
-/// Range scales, NM.
-pub const RANGE_SCALES_NM: [f32; 6] = [0.75, 1.5, 3.0, 6.0, 12.0, 24.0];
+/// Range scales, NM (the short ones for a harbour radar's scales).
+pub const RANGE_SCALES_NM: [f32; 9] = [0.125, 0.25, 0.5, 0.75, 1.5, 3.0, 6.0, 12.0, 24.0];
+
+/// The scale the display starts at: 6 NM.
+const DEFAULT_SCALE: usize = 6;
 
 /// Vector lengths, minutes.
-pub const VECTOR_MINUTES: [f32; 4] = [3.0, 6.0, 12.0, 30.0];
+pub const VECTOR_MINUTES: [f32; 6] = [0.5, 1.0, 3.0, 6.0, 12.0, 30.0];
 
 /// Echoes drawn: cells at or above this fraction of full scale.
 pub const ECHO_FRACTION: f32 = 0.25;
@@ -85,6 +88,9 @@ pub struct DisplayState {
     pub link: String,
     /// The last operator command's refusal, shown until the next command.
     pub message: Option<String>,
+    /// The scale was fitted to a radar's range (once, at its first picture) or chosen by
+    /// the operator.
+    scale_chosen: bool,
     /// Draw the radar's echoes under the plots (when the source is a radar).
     pub echoes: bool,
     trails: BTreeMap<u16, VecDeque<EastNorth>>,
@@ -95,22 +101,40 @@ impl DisplayState {
     /// 6 NM scale, relative 6-minute vectors.
     pub fn new(link: String) -> Self {
         DisplayState {
-            range_scale: 3,
+            range_scale: DEFAULT_SCALE,
             vectors: VectorMode::Relative,
-            vector_length: 1,
+            vector_length: 3,
             selected: None,
             paused: false,
             limits: AlarmLimits::default(),
             link,
             message: None,
+            scale_chosen: false,
             echoes: true,
             trails: BTreeMap::new(),
             lost: Vec::new(),
         }
     }
 
-    /// Takes a new scan: extends the trails, notes lost tracks, keeps the selection valid.
+    /// Takes a new scan: extends the trails, notes lost tracks, keeps the selection valid;
+    /// at a radar's first picture, fits the scale to its range (the smallest that holds it).
     pub fn observe(&mut self, view: &ScanReport) {
+        if let (false, Some(image)) = (self.scale_chosen, &view.echoes) {
+            let nm = image.range_m / METRES_PER_NM;
+            if nm > 0.0 {
+                self.range_scale = RANGE_SCALES_NM
+                    .iter()
+                    .position(|s| *s >= nm)
+                    .unwrap_or(RANGE_SCALES_NM.len() - 1);
+                // A vector a quarter of the scale long at 20 kn, in the lengths offered.
+                let minutes = RANGE_SCALES_NM[self.range_scale] / 4.0 / 20.0 * 60.0;
+                self.vector_length = VECTOR_MINUTES
+                    .iter()
+                    .rposition(|m| *m <= minutes)
+                    .unwrap_or(0);
+                self.scale_chosen = true;
+            }
+        }
         // Lost tracked targets (the device says lost), by their numbers; a failed acquisition
         // is not an alarm.
         self.lost = view
@@ -144,8 +168,14 @@ impl DisplayState {
     pub fn key(&mut self, key: char, view: Option<&ScanReport>) -> Action {
         match key {
             'q' => return Action::Quit,
-            '+' => self.range_scale = (self.range_scale + 1).min(RANGE_SCALES_NM.len() - 1),
-            '-' => self.range_scale = self.range_scale.saturating_sub(1),
+            '+' => {
+                self.range_scale = (self.range_scale + 1).min(RANGE_SCALES_NM.len() - 1);
+                self.scale_chosen = true;
+            }
+            '-' => {
+                self.range_scale = self.range_scale.saturating_sub(1);
+                self.scale_chosen = true;
+            }
             'v' => {
                 self.vectors = match self.vectors {
                     VectorMode::Relative => VectorMode::True,
@@ -659,6 +689,31 @@ mod tests {
             text.push('\n');
         }
         text
+    }
+
+    #[test]
+    fn a_radar_picture_sets_the_scale_once_and_e_hides_it() {
+        let mut d = demo();
+        let mut view = step(&mut d);
+        let mut image = crate::radar::EchoImage::default();
+        let mut samples = [0u8; 64];
+        samples[32] = 15;
+        image.add(1.0, 195.0, &samples, 15);
+        view.echoes = Some(std::sync::Arc::new(image));
+        let mut state = DisplayState::new("inproc".into());
+        state.observe(&view);
+        // 195 m: the 0.125 NM scale, half-minute vectors.
+        assert_eq!(RANGE_SCALES_NM[state.range_scale], 0.125);
+        assert_eq!(VECTOR_MINUTES[state.vector_length], 0.5);
+        // The operator's choice stands.
+        state.key('+', Some(&view));
+        state.observe(&view);
+        assert_eq!(RANGE_SCALES_NM[state.range_scale], 0.25);
+        assert!(state.echoes);
+        state.key('e', Some(&view));
+        assert!(!state.echoes);
+        let text = screen(&state, &view);
+        assert!(text.contains("PPI 0.25 NM"), "{text}");
     }
 
     #[test]
