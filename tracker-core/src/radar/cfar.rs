@@ -348,7 +348,8 @@ impl RankWindow {
     /// Moves to the `k`-th smallest (1-based) sample after adds and removes (the level
     /// with fewer than `k` samples below it and at least `k` at or below it) and returns
     /// the summed power of the `k` smallest. Each step passes one occupied level; after a
-    /// window move of four samples that is at most a few steps.
+    /// window move of four samples that is at most a few steps, and after any number of
+    /// moves (a settle skipped for cells below the floor) at most the occupied levels.
     fn settle(&mut self, k: u16) -> u32 {
         while self.below >= k {
             let Some(v) = self.prev_occupied(self.kth) else {
@@ -473,9 +474,13 @@ impl Cfar {
             move_lower(&mut self.near, xs, &mut near_a, to_near_a);
             move_upper(&mut self.far, xs, &mut far_b, to_far_b);
             move_lower(&mut self.far, xs, &mut far_a, to_far_a);
-            let near = (near_b.saturating_sub(near_a) == n).then(|| self.near.settle(k));
-            let far = (far_b.saturating_sub(far_a) == n).then(|| self.far.settle(k));
-            if !self.detects(x, near, far) {
+            // A cell below the floor is never detected: its windows need not settle (they
+            // settle later, over as many steps as it takes; on noise most cells are below it).
+            let testable = x >= self.config.min_level;
+            let near =
+                (testable && near_b.saturating_sub(near_a) == n).then(|| self.near.settle(k));
+            let far = (testable && far_b.saturating_sub(far_a) == n).then(|| self.far.settle(k));
+            if !testable || !self.detects(x, near, far) {
                 if let Some(done) = run.take() {
                     on_run(done);
                 }
