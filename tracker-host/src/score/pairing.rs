@@ -35,6 +35,9 @@ pub struct PairingScores {
     pub time_to_pair_mean_s: f64,
     /// The longest, s.
     pub time_to_pair_max_s: f64,
+    /// 95 % of the ships with a track and AIS were paired within this, s (`None` when
+    /// fewer than 95 % were paired at all).
+    pub time_to_pair_p95_s: Option<f64>,
 }
 
 /// The time a pair may take to form after the track is matched, scans: the pairing's own
@@ -109,6 +112,14 @@ impl PairingScorer {
         s.time_to_pair_mean_s =
             delays.iter().map(|d| f64::from(*d)).sum::<f64>() / delays.len().max(1) as f64 * scan_s;
         s.time_to_pair_max_s = f64::from(delays.iter().copied().max().unwrap_or(0)) * scan_s;
+        let mut sorted = delays.clone();
+        sorted.sort_unstable();
+        // The delay of the ship at the 95th percentile of all ships with a track and AIS.
+        let at = (s.ships_with_track_and_ais as f64 * 0.95).ceil() as usize;
+        s.time_to_pair_p95_s = match at.checked_sub(1) {
+            None => Some(0.0),
+            Some(i) => sorted.get(i).map(|d| f64::from(*d) * scan_s),
+        };
         s
     }
 }
@@ -158,5 +169,7 @@ mod tests {
         );
         assert!((s.time_to_pair_mean_s - 6.5 * 2.5).abs() < 1e-9);
         assert!((s.time_to_pair_max_s - 25.0).abs() < 1e-9);
+        // Two ships, both paired: the 95th percentile is the slower one's 10 scans.
+        assert_eq!(s.time_to_pair_p95_s, Some(25.0));
     }
 }

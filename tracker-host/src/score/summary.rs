@@ -69,7 +69,7 @@ impl Summary {
         );
         if let Some(p) = &self.pairing {
             s += &format!(
-                "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.0} s, max {:.0} s; ships shown twice: {} ship-scans ({} after {} scans)",
+                "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.0} s, 95 % {}, max {:.0} s; ships shown twice: {} ship-scans ({} after {} scans)",
                 p.pairs_correct,
                 p.pairs_wrong,
                 p.pairs_unverified,
@@ -78,6 +78,8 @@ impl Summary {
                 p.ships_paired_in_time,
                 super::pairing::PAIRING_ALLOWANCE_SCANS,
                 p.time_to_pair_mean_s,
+                p.time_to_pair_p95_s
+                    .map_or("never paired".to_string(), |t| format!("within {t:.0} s")),
                 p.time_to_pair_max_s,
                 p.ships_unpaired,
                 p.ships_unpaired_late,
