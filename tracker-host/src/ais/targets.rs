@@ -256,7 +256,12 @@ impl AisTargets {
             return;
         };
         t.heard_s = time_s;
-        t.class = r.class.or(t.class);
+        // A long-range report (27) of a known class A or B ship does not make it one: its
+        // lost time stays its own.
+        t.class = match (r.class, t.class) {
+            (Some(StationClass::LongRange), Some(known)) => Some(known),
+            (new, old) => new.or(old),
+        };
         if let Some((lat, lon)) = r.position_deg {
             t.position_deg = (lat, lon);
             t.position_m = self.origin.to_local(lat, lon);
@@ -274,12 +279,13 @@ impl AisTargets {
         t.size_m = r.size_m.or(t.size_m);
     }
 
-    /// Drops the targets lost by `time_s`; their MMSIs.
+    /// Drops the targets lost by `time_s` (no position report for their lost time: static
+    /// data alone does not keep a target); their MMSIs.
     pub fn expire(&mut self, time_s: f64) -> Vec<u32> {
         let lost: Vec<u32> = self
             .targets
             .values()
-            .filter(|t| time_s - t.heard_s > t.lost_after_s())
+            .filter(|t| time_s - t.position_time_s > t.lost_after_s())
             .map(|t| t.mmsi)
             .collect();
         for m in &lost {

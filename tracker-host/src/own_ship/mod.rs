@@ -305,7 +305,7 @@ fn take(
 ) {
     if crate::ais::fragment::is_ais(line) {
         if let Some(r) = ais.feed(line) {
-            nav.feed_ais_own(&r);
+            nav.feed_ais_own(&r, time_s);
             heard.push((time_s, r));
         }
     } else {

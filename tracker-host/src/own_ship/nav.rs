@@ -324,10 +324,11 @@ impl OwnShipNav {
     }
 
     /// Takes own ship's AIS transponder's report (`AIVDO`: its GNSS position, SOG, COG and
-    /// heading) as one more own-ship sensor, talker `AI`, at the clock's newest time (AIS
-    /// carries no date or hour). The talker choice applies: with `GP` heard first, `AI`
-    /// stands in only for what `GP` stops giving.
-    pub fn feed_ais_own(&mut self, r: &crate::ais::AisReport) {
+    /// heading) as one more own-ship sensor, talker `AI`, at `heard_s` (s since 1970, the
+    /// time the line was read: AIS carries no date or hour), or the clock's newest time if
+    /// that is later. The talker choice applies: with `GP` heard first, `AI` stands in only
+    /// for what `GP` stops giving.
+    pub fn feed_ais_own(&mut self, r: &crate::ais::AisReport, heard_s: f64) {
         if !r.own_ship {
             return;
         }
@@ -347,7 +348,13 @@ impl OwnShipNav {
         if readings.is_empty() {
             return;
         }
-        let now = self.clock.newest_s().unwrap_or(self.time_s);
+        // Timed by when it was heard: with GNSS silent the clock stands still, and readings
+        // stamped with its time would be flown on from there as if old.
+        let now = self
+            .clock
+            .newest_s()
+            .map_or(heard_s, |n| n.max(heard_s))
+            .max(self.time_s);
         // The sentence counts are the lines'; an AIS report is not a line of this reader.
         let before = self.counts.clone();
         self.apply_readings("AI", &readings, now);

@@ -30,6 +30,8 @@ struct TrackRecord {
     matched_scans: u32,
     unmatched_scans: u32,
     last_truth: Option<u32>,
+    /// The scan it was last matched at.
+    last_matched_scan: Option<u32>,
     swaps: u32,
 }
 
@@ -46,6 +48,7 @@ pub struct Scorer {
     cpa_errors_m: Vec<f32>,
     tcpa_errors_s: Vec<f32>,
     scans: u32,
+    last_scan: Option<u32>,
 }
 
 fn p95(v: &mut [f32]) -> f32 {
@@ -61,6 +64,7 @@ impl Scorer {
     /// `scan_s` is the antenna period (a track's age in scans times it is its age in s).
     pub fn scan(&mut self, scan: u32, truth: &ScanTruth, tracks: &[TrackState], scan_s: f32) {
         self.scans += 1;
+        self.last_scan = Some(scan);
         for t in &truth.targets {
             self.targets.insert(t.id);
             if t.detected {
@@ -99,6 +103,7 @@ impl Scorer {
                 continue;
             };
             rec.matched_scans += 1;
+            rec.last_matched_scan = Some(scan);
             if rec.last_truth.is_some_and(|prev| prev != x.id) {
                 rec.swaps += 1;
             }
@@ -141,8 +146,11 @@ impl Scorer {
             .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
             .filter_map(|t| {
                 let r = self.tracks.get(&t.track)?;
-                // Matched this very scan: the last scan added to `matched_scans` for it.
-                r.last_truth.map(|id| (t.track, id))
+                // Matched this very scan, not some scan before it.
+                (r.last_matched_scan.is_some() && r.last_matched_scan == self.last_scan)
+                    .then_some(r.last_truth)
+                    .flatten()
+                    .map(|id| (t.track, id))
             })
             .collect()
     }

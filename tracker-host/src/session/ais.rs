@@ -24,6 +24,10 @@ use crate::ais::{AisReport, AisTargets};
 use crate::origin::Origin;
 use crate::session::ScanReport;
 
+/// Pairing events kept for the log (the oldest tenth dropped when full): a live session
+/// runs for days.
+pub const MAX_EVENTS: usize = 1_000;
+
 /// When a radar target and an AIS target are taken for one ship.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairingGates {
@@ -133,9 +137,16 @@ impl AisPicture {
         self.counts
     }
 
-    /// Pairings and partings so far, as the log reads them.
+    /// Pairings and partings, the latest [`MAX_EVENTS`], as the log reads them.
     pub fn events(&self) -> &[String] {
         &self.events
+    }
+
+    fn log(&mut self, event: String) {
+        if self.events.len() >= MAX_EVENTS {
+            self.events.drain(..MAX_EVENTS / 10);
+        }
+        self.events.push(event);
     }
 
     /// Takes the AIS reports heard since the last scan (each with its time, s) and fills
@@ -149,23 +160,35 @@ impl AisPicture {
             self.part_where(|p| p.mmsi == mmsi, t, "AIS target lost");
         }
         let ais = self.table.picture(&report.own, t);
+        if report.skipped.is_some() {
+            // A scan the device did not track has no targets: the pairs stand (their
+            // tracks are still on the device), shown again with the next tracked scan.
+            report.ais = ais;
+            return;
+        }
         let targets: BTreeMap<u16, &crate::session::target::TargetData> =
             report.targets.iter().map(|x| (x.track, x)).collect();
         self.part_where_track(|track| !targets.contains_key(&track), t);
         let gap = |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
         let gates = self.gates;
+        let by_mmsi: BTreeMap<u32, &crate::ais::AisTargetData> =
+            ais.iter().map(|a| (a.mmsi, a)).collect();
         let within = |track: u16, mmsi: u32, factor: f32| -> Option<f32> {
             let x = targets.get(&track)?;
-            let a = ais.iter().find(|a| a.mmsi == mmsi)?;
+            let a = by_mmsi.get(&mmsi)?;
             let d = gap(x.position_m, a.position_m);
             let dv = gap(x.velocity_mps, a.velocity_mps);
             (d <= gates.position_m * factor && dv <= gates.velocity_mps * factor)
                 .then_some(d / gates.position_m + dv / gates.velocity_mps)
         };
-        // Every radar target against every AIS target within the gates.
+        // Every radar target against every AIS target within the gates (the AIS targets
+        // nearer than the position gate, by a cheap bound, first).
         let mut all = Vec::new();
         for x in targets.values() {
-            for a in &ais {
+            for a in ais
+                .iter()
+                .filter(|a| (a.range_m - x.range_m).abs() <= gates.position_m * gates.keep_factor)
+            {
                 if let Some(c) = within(x.track, a.mmsi, 1.0) {
                     all.push((c, x.track, a.mmsi));
                 }
@@ -245,7 +268,7 @@ impl AisPicture {
                 self.counts.paired += 1;
                 let label = self.table.get(mmsi).map_or(mmsi.to_string(), |a| a.label());
                 let number = targets.get(&track).map_or("--".to_string(), |x| x.label());
-                self.events.push(format!(
+                self.log(format!(
                     "{t:.1} s: radar target {number} (track {track}) paired with AIS {label} (MMSI {mmsi})"
                 ));
             } else {
@@ -281,7 +304,7 @@ impl AisPicture {
         for (track, mmsi) in gone {
             self.pairs.remove(&track);
             self.counts.parted += 1;
-            self.events.push(format!(
+            self.log(format!(
                 "{t:.1} s: track {track} and AIS {mmsi} parted ({why})"
             ));
         }
@@ -292,7 +315,7 @@ impl AisPicture {
         for track in gone {
             if let Some(p) = self.pairs.remove(&track) {
                 self.counts.parted += 1;
-                self.events.push(format!(
+                self.log(format!(
                     "{t:.1} s: track {track} and AIS {} parted (track lost or out of the gates)",
                     p.mmsi
                 ));

@@ -293,7 +293,8 @@ impl RadarPlotSource {
             self.counts.nmea_lines += 1;
             if crate::ais::fragment::is_ais(&line) {
                 if let Some(r) = self.ais.feed(&line) {
-                    self.nav.feed_ais_own(&r);
+                    self.nav
+                        .feed_ais_own(&r, t + self.nmea_offset_s.unwrap_or(0.0));
                     self.heard.push((t, r));
                 }
                 continue;

@@ -158,9 +158,13 @@ impl PlotSource for SimulatorSource {
             }
         }
         self.scans_done += 1;
+        // The radar sees the scene the scan's truth describes: before it moves on.
+        let video_plots = match &mut self.video {
+            Some(video) => Some(video.rotation(&self.scenario)?),
+            None => None,
+        };
         let mut scan = source_scan(&self.scenario.next_scan(), self.epoch_s);
-        if let Some(video) = &mut self.video {
-            let plots = video.rotation(&self.scenario)?;
+        if let Some(plots) = video_plots {
             if let Some(truth) = &mut scan.truth {
                 let own = truth.own.position_m;
                 for t in &mut truth.targets {
@@ -182,7 +186,7 @@ impl PlotSource for SimulatorSource {
         let s = v.scores();
         Some(super::radar::RadarCounts {
             scans: s.scans,
-            plots: s.detected + s.false_plots,
+            plots: s.plots,
             extended: s.extended,
             spokes: s.spokes,
             plot_scores: Some(s),

@@ -35,6 +35,8 @@ pub struct PlotScores {
     pub extended: u64,
     /// Spokes painted and extracted.
     pub spokes: u64,
+    /// Plots handed to the tracker.
+    pub plots: u64,
 }
 
 impl PlotScores {
@@ -78,9 +80,9 @@ pub struct Video {
 impl Video {
     /// A radar for a scenario of `scan_s` per scan that sees nothing nearer than
     /// `min_range_m` (the plot model's own blind range, so both see the same ships), its
-    /// noise drawn from `seed`. The extractor blanks below that range too: the sea clutter
-    /// there falls steeply with range, and a CFAR whose reference cells reach only beyond
-    /// the cell under test (nearer ones are blanked) calls its edge targets.
+    /// noise drawn from `seed`. The extractor blanks (does not test) below that range too;
+    /// the blanked samples still serve as the first tested cells' near reference, so the
+    /// steep sea clutter there raises their threshold.
     ///
     /// # Errors
     /// A synthetic radar or extractor setting out of range (none with these).
@@ -110,8 +112,9 @@ impl Video {
         self.scores
     }
 
-    /// One rotation of `scenario` as it stands: the plots (range, true bearing from own
-    /// ship), scored against the targets.
+    /// One rotation of `scenario` as it stands (call before the scenario's own scan, which
+    /// moves it on): the plots (range, true bearing from own ship), scored against the
+    /// targets.
     ///
     /// # Errors
     /// The synthetic radar refused the scene (more targets than it holds).
@@ -130,7 +133,12 @@ impl Video {
                 });
             })
             .map_err(|e| anyhow::anyhow!("synthetic radar: {e}"))?;
-        plots.truncate(tracker_core::tracker::MAX_PLOTS_PER_SCAN);
+        // The device's limit: the nearest kept, as from a real radar.
+        if plots.len() > tracker_core::tracker::MAX_PLOTS_PER_SCAN {
+            plots.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+            plots.truncate(tracker_core::tracker::MAX_PLOTS_PER_SCAN);
+        }
+        self.scores.plots += plots.len() as u64;
         self.score(scenario, &plots);
         self.scores.extended += extended;
         self.scores.spokes += spokes;
