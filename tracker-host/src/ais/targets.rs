@@ -45,30 +45,12 @@ const KNOT_MPS: f64 = 1852.0 / 3600.0;
 pub struct AisTarget {
     /// MMSI.
     pub mmsi: u32,
-    /// Class A, B or long range, once a report says.
-    pub class: Option<StationClass>,
-    /// Latitude and longitude at the last position report, degrees.
-    pub position_deg: (f64, f64),
-    /// The same in the local frame, m.
+    /// What it has said, merged: the last position report's position, motion, heading and
+    /// rate of turn, and the newest of each static and voyage field from any message
+    /// (name, call sign, type, size, status); its class once a message tells.
+    pub last: AisReport,
+    /// The last position in the local frame, m.
     pub position_m: [f64; 2],
-    /// Speed over ground, kn.
-    pub sog_kn: Option<f64>,
-    /// Course over ground, degrees true.
-    pub cog_deg: Option<f64>,
-    /// True heading, degrees.
-    pub heading_deg: Option<u16>,
-    /// Rate of turn, degrees a minute.
-    pub rot_deg_min: Option<f64>,
-    /// Navigational status.
-    pub nav_status: Option<String>,
-    /// Name.
-    pub name: Option<String>,
-    /// Call sign.
-    pub call_sign: Option<String>,
-    /// Ship and cargo type.
-    pub ship_type: Option<u8>,
-    /// Length and beam, m.
-    pub size_m: Option<(u16, u16)>,
     /// When its last position came, s (the session's clock).
     pub position_time_s: f64,
     /// When anything from it came last, s.
@@ -80,7 +62,7 @@ pub struct AisTarget {
 impl AisTarget {
     /// Velocity over ground, m/s east and north (zero when SOG or COG is not available).
     pub fn velocity_mps(&self) -> [f64; 2] {
-        match (self.sog_kn, self.cog_deg) {
+        match (self.last.sog_kn, self.last.cog_deg) {
             (Some(sog), Some(cog)) => {
                 let (s, c) = cog.to_radians().sin_cos();
                 [sog * KNOT_MPS * s, sog * KNOT_MPS * c]
@@ -102,12 +84,13 @@ impl AisTarget {
 
     /// IEC 62388's lost-target time for this target, s (see the module documentation).
     pub fn lost_after_s(&self) -> f64 {
-        let sog = self.sog_kn.unwrap_or(0.0);
+        let sog = self.last.sog_kn.unwrap_or(0.0);
         let anchored = self
+            .last
             .nav_status
             .as_deref()
             .is_some_and(|s| s == "AtAnchor" || s == "Moored");
-        match self.class {
+        match self.last.class {
             Some(StationClass::ClassB) if sog <= 2.0 => 1080.0,
             Some(StationClass::ClassB) => 180.0,
             Some(StationClass::LongRange) => 1080.0,
@@ -120,7 +103,10 @@ impl AisTarget {
 
     /// The name if known, else the MMSI.
     pub fn label(&self) -> String {
-        self.name.clone().unwrap_or_else(|| self.mmsi.to_string())
+        self.last
+            .name
+            .clone()
+            .unwrap_or_else(|| self.mmsi.to_string())
     }
 }
 
@@ -234,18 +220,12 @@ impl AisTargets {
                 r.mmsi,
                 AisTarget {
                     mmsi: r.mmsi,
-                    class: None,
-                    position_deg: (lat, lon),
+                    last: AisReport {
+                        mmsi: r.mmsi,
+                        position_deg: Some((lat, lon)),
+                        ..AisReport::default()
+                    },
                     position_m: self.origin.to_local(lat, lon),
-                    sog_kn: None,
-                    cog_deg: None,
-                    heading_deg: None,
-                    rot_deg_min: None,
-                    nav_status: None,
-                    name: None,
-                    call_sign: None,
-                    ship_type: None,
-                    size_m: None,
                     position_time_s: time_s,
                     heard_s: time_s,
                     reports: 0,
@@ -256,27 +236,29 @@ impl AisTargets {
             return;
         };
         t.heard_s = time_s;
+        let last = &mut t.last;
+        last.msg_type = r.msg_type;
         // A long-range report (27) of a known class A or B ship does not make it one: its
         // lost time stays its own.
-        t.class = match (r.class, t.class) {
+        last.class = match (r.class, last.class) {
             (Some(StationClass::LongRange), Some(known)) => Some(known),
             (new, old) => new.or(old),
         };
         if let Some((lat, lon)) = r.position_deg {
-            t.position_deg = (lat, lon);
+            last.position_deg = Some((lat, lon));
+            last.sog_kn = r.sog_kn;
+            last.cog_deg = r.cog_deg;
+            last.heading_deg = r.heading_deg;
+            last.rot_deg_min = r.rot_deg_min;
             t.position_m = self.origin.to_local(lat, lon);
             t.position_time_s = time_s;
-            t.sog_kn = r.sog_kn;
-            t.cog_deg = r.cog_deg;
-            t.heading_deg = r.heading_deg;
-            t.rot_deg_min = r.rot_deg_min;
             t.reports += 1;
         }
-        t.nav_status = r.nav_status.clone().or(t.nav_status.take());
-        t.name = r.name.clone().or(t.name.take());
-        t.call_sign = r.call_sign.clone().or(t.call_sign.take());
-        t.ship_type = r.ship_type.or(t.ship_type);
-        t.size_m = r.size_m.or(t.size_m);
+        last.nav_status = r.nav_status.clone().or(last.nav_status.take());
+        last.name = r.name.clone().or(last.name.take());
+        last.call_sign = r.call_sign.clone().or(last.call_sign.take());
+        last.ship_type = r.ship_type.or(last.ship_type);
+        last.size_m = r.size_m.or(last.size_m);
     }
 
     /// Drops the targets lost by `time_s` (no position report for their lost time: static
@@ -315,7 +297,7 @@ impl AisTargets {
                     bearing_rad,
                     cpa_m: c.cpa_m,
                     tcpa_s: c.tcpa_s,
-                    heading_rad: t.heading_deg.map(|h| f32::from(h).to_radians()),
+                    heading_rad: t.last.heading_deg.map(|h| f32::from(h).to_radians()),
                     age_s: (time_s - t.position_time_s) as f32,
                     active: range_m <= AIS_ACTIVATION_RANGE_M,
                 }
