@@ -58,12 +58,16 @@ impl AisReport {
             let t = s.trim_end_matches(['@', ' ']).trim();
             (!t.is_empty()).then(|| t.to_string())
         };
-        // Ship type and size, as 5, 19 and 24 part B give them.
-        let hull = |r: &mut AisReport, ship_type: u8, bow: u16, stern: u16, port: u8, star: u8| {
-            r.ship_type = Some(ship_type);
-            let (l, b) = (bow + stern, u16::from(port) + u16::from(star));
-            r.size_m = (l > 0 && b > 0).then_some((l, b));
-        };
+        // Ship type and size, as 5, 19 and 24 part B give them (the same field names in
+        // each of aivdm's three types).
+        macro_rules! hull {
+            ($r:expr, $m:expr) => {{
+                $r.ship_type = Some($m.ship_type);
+                let l = $m.dimension_to_bow + $m.dimension_to_stern;
+                let b = u16::from($m.dimension_to_port) + u16::from($m.dimension_to_starboard);
+                $r.size_m = (l > 0 && b > 0).then_some((l, b));
+            }};
+        }
         let mut r = AisReport {
             mmsi: m.mmsi().raw(),
             own_ship,
@@ -88,15 +92,7 @@ impl AisReport {
                 r.class = Some(StationClass::ClassA);
                 r.name = text(s.name.as_str());
                 r.call_sign = text(s.call_sign.as_str());
-                let (bow, stern) = (s.dimension_to_bow, s.dimension_to_stern);
-                hull(
-                    &mut r,
-                    s.ship_type,
-                    bow,
-                    stern,
-                    s.dimension_to_port,
-                    s.dimension_to_starboard,
-                );
+                hull!(r, s);
             }
             AisMessage::PositionReportClassB(_) => {
                 r.msg_type = 18;
@@ -106,15 +102,7 @@ impl AisReport {
                 r.msg_type = 19;
                 r.class = Some(StationClass::ClassB);
                 r.name = text(s.name.as_str());
-                let (bow, stern) = (s.dimension_to_bow, s.dimension_to_stern);
-                hull(
-                    &mut r,
-                    s.ship_type,
-                    bow,
-                    stern,
-                    s.dimension_to_port,
-                    s.dimension_to_starboard,
-                );
+                hull!(r, s);
             }
             AisMessage::StaticDataReport(aivdm::message::StaticDataReport::A(a)) => {
                 r.msg_type = 24;
@@ -125,15 +113,7 @@ impl AisReport {
                 r.msg_type = 24;
                 r.class = Some(StationClass::ClassB);
                 r.call_sign = text(b.call_sign.as_str());
-                let (bow, stern) = (b.dimension_to_bow, b.dimension_to_stern);
-                hull(
-                    &mut r,
-                    b.ship_type,
-                    bow,
-                    stern,
-                    b.dimension_to_port,
-                    b.dimension_to_starboard,
-                );
+                hull!(r, b);
             }
             AisMessage::LongRangeBroadcast(_) => {
                 r.msg_type = 27;
