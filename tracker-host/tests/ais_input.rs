@@ -57,7 +57,10 @@ fn bad_ais_is_counted_and_the_good_still_decoded() {
         .expect("type 5 from fragments in reverse order");
     assert_eq!((r.msg_type, r.mmsi), (5, 371_255_000));
     assert_eq!(r.name.as_deref(), Some("SEA ENTERPRISE"));
-    assert!(r.ship_type.is_some() && r.size_m.is_some_and(|(l, b)| l > b && b > 0), "{r:?}");
+    assert!(
+        r.ship_type.is_some() && r.size_m.is_some_and(|(l, b)| l > b && b > 0),
+        "{r:?}"
+    );
     // Latitude 91°: not available, no position, no target made of it.
     let r = d.feed(&position_report(91 * 600_000, 1)).unwrap();
     assert_eq!(r.position_deg, None);
