@@ -748,14 +748,24 @@ mod tests {
         0..N
     }
 
+    /// An extractor with the Navico defaults.
+    fn navico() -> Extractor {
+        Extractor::new(ExtractorConfig::navico_4bit()).unwrap()
+    }
+
+    /// A point echo of peak 14 levels.
+    fn echo(angle: f32, cell: f32) -> Echo {
+        Echo {
+            angle,
+            cell,
+            peak: 14.0,
+        }
+    }
+
     #[test]
     fn a_point_target_is_one_plot_within_a_cell_and_a_spoke() {
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
-        let target = Echo {
-            angle: 700.3,
-            cell: 400.6,
-            peak: 14.0,
-        };
+        let mut ex = navico();
+        let target = echo(700.3, 400.6);
         let mut events = StdVec::new();
         Feed::new().push(&mut ex, rotation(), &echoes(&[target]), &mut events);
         let p = plots(&events);
@@ -780,11 +790,7 @@ mod tests {
     #[test]
     fn built_in_place_it_extracts_as_one_built_by_new() {
         let targets = [
-            Echo {
-                angle: 700.3,
-                cell: 400.6,
-                peak: 14.0,
-            },
+            echo(700.3, 400.6),
             Echo {
                 angle: 2040.0,
                 cell: 90.0,
@@ -815,15 +821,11 @@ mod tests {
 
     #[test]
     fn two_targets_close_in_bearing_but_apart_in_range_are_two_plots() {
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
+        let mut ex = navico();
         // 2 spokes (0.35°) apart in bearing, 30 cells (217 m) in range: inside each
         // other's beam and CFAR window.
         let list = [
-            Echo {
-                angle: 1000.0,
-                cell: 300.0,
-                peak: 14.0,
-            },
+            echo(1000.0, 300.0),
             Echo {
                 angle: 1002.0,
                 cell: 330.0,
@@ -843,12 +845,8 @@ mod tests {
 
     #[test]
     fn a_target_across_north_is_one_plot() {
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
-        let target = Echo {
-            angle: 0.4,
-            cell: 500.0,
-            peak: 14.0,
-        };
+        let mut ex = navico();
+        let target = echo(0.4, 500.0);
         let mut events = StdVec::new();
         let mut feed = Feed::new();
         for _ in 0..3 {
@@ -876,7 +874,7 @@ mod tests {
 
     #[test]
     fn a_coastline_arc_is_extended_and_never_a_plot() {
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
+        let mut ex = navico();
         // A cliff face 2.9 km off, 6 cells deep, along 50° of bearing; a buoy beside it.
         let buoy = [Echo {
             angle: 1500.0,
@@ -937,12 +935,8 @@ mod tests {
 
     #[test]
     fn a_spoke_going_backwards_closes_everything_and_restarts() {
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
-        let target = Echo {
-            angle: 100.0,
-            cell: 300.0,
-            peak: 14.0,
-        };
+        let mut ex = navico();
+        let target = echo(100.0, 300.0);
         let mut events = StdVec::new();
         let mut feed = Feed::new();
         feed.push(&mut ex, 0..101, &echoes(&[target]), &mut events);
@@ -962,12 +956,8 @@ mod tests {
 
     #[test]
     fn a_range_change_mid_rotation_closes_everything_and_restarts() {
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
-        let target = Echo {
-            angle: 100.0,
-            cell: 300.0,
-            peak: 14.0,
-        };
+        let mut ex = navico();
+        let target = echo(100.0, 300.0);
         let mut events = StdVec::new();
         let mut feed = Feed::new();
         feed.push(&mut ex, 0..101, &echoes(&[target]), &mut events);
@@ -990,12 +980,8 @@ mod tests {
 
     #[test]
     fn head_up_without_heading_gives_flagged_relative_bearings() {
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
-        let target = Echo {
-            angle: 512.0,
-            cell: 300.0,
-            peak: 14.0,
-        };
+        let mut ex = navico();
+        let target = echo(512.0, 300.0);
         let mut events = StdVec::new();
         let mut feed = Feed::new();
         feed.north_up = false;
@@ -1006,7 +992,7 @@ mod tests {
         assert!((p[0].bearing_rad - core::f32::consts::FRAC_PI_2).abs() < SPOKE_RAD);
         assert_eq!(ex.stats().missing_heading, 600);
         // With a heading of 30° the same echo is at 120° true.
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
+        let mut ex = navico();
         feed.heading = Some(30f32.to_radians());
         let mut events = StdVec::new();
         feed.push(&mut ex, 0..600, &echoes(&[target]), &mut events);
@@ -1022,13 +1008,9 @@ mod tests {
 
     #[test]
     fn missing_spokes_are_bridged_up_to_the_gap_and_cut_beyond_it() {
-        let target = Echo {
-            angle: 300.0,
-            cell: 300.0,
-            peak: 14.0,
-        };
+        let target = echo(300.0, 300.0);
         // Every other spoke: one plot, still centred.
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
+        let mut ex = navico();
         let mut events = StdVec::new();
         Feed::new().push(
             &mut ex,
@@ -1041,7 +1023,7 @@ mod tests {
         assert!((p[0].bearing_rad - 300.0 * SPOKE_RAD).abs() < SPOKE_RAD);
         assert_eq!(ex.stats().missing_spokes, 299);
         // A gap of 5 (more than 4) through the echo's middle: two partial halves.
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
+        let mut ex = navico();
         let mut events = StdVec::new();
         let angles = (0..298).chain(303..600);
         Feed::new().push(&mut ex, angles, &echoes(&[target]), &mut events);
@@ -1052,7 +1034,7 @@ mod tests {
 
     #[test]
     fn malformed_and_short_spokes_are_counted() {
-        let mut ex: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
+        let mut ex = navico();
         let samples = [0u8; 40];
         let mut spoke = Spoke {
             angle: 0,

@@ -43,6 +43,27 @@ impl AisCounts {
     pub fn rejected_total(&self) -> u64 {
         self.rejected.values().sum()
     }
+
+    /// Adds `other`'s counts (two sources' decoders, as one run's).
+    pub fn add(&mut self, other: &AisCounts) {
+        self.sentences += other.sentences;
+        self.ignored += other.ignored;
+        self.off_the_globe += other.off_the_globe;
+        self.short_payloads += other.short_payloads;
+        self.assembly.incomplete += other.assembly.incomplete;
+        self.assembly.fragments_dropped += other.assembly.fragments_dropped;
+        for (into, from) in [
+            (&mut self.rejected, &other.rejected),
+            (&mut self.undecodable, &other.undecodable),
+        ] {
+            for (k, v) in from {
+                *into.entry(k.clone()).or_default() += v;
+            }
+        }
+        for (k, v) in &other.messages {
+            *self.messages.entry(*k).or_default() += v;
+        }
+    }
 }
 
 impl std::fmt::Display for AisCounts {

@@ -256,22 +256,7 @@ impl Run {
         let counts = [self.plots.ais_counts(), self.own_ship.ais_counts()];
         let mut sentences: Option<crate::ais::AisCounts> = None;
         for c in counts.into_iter().flatten() {
-            let s = sentences.get_or_insert_with(Default::default);
-            s.sentences += c.sentences;
-            s.ignored += c.ignored;
-            s.off_the_globe += c.off_the_globe;
-            s.short_payloads += c.short_payloads;
-            s.assembly.incomplete += c.assembly.incomplete;
-            s.assembly.fragments_dropped += c.assembly.fragments_dropped;
-            for (k, v) in c.rejected {
-                *s.rejected.entry(k).or_default() += v;
-            }
-            for (k, v) in c.undecodable {
-                *s.undecodable.entry(k).or_default() += v;
-            }
-            for (k, v) in c.messages {
-                *s.messages.entry(k).or_default() += v;
-            }
+            sentences.get_or_insert_with(Default::default).add(&c);
         }
         let sentences = sentences.filter(|s| s.sentences > 0)?;
         Some(AisSummary {

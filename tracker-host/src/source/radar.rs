@@ -24,6 +24,7 @@
 
 use std::collections::VecDeque;
 
+use tracker_core::geo;
 use tracker_core::icd::Plot;
 use tracker_core::radar::{Event, Extractor, ExtractorConfig, ExtractorStats, RadarPlot, Spoke};
 use tracker_core::tracker::MAX_PLOTS_PER_SCAN;
@@ -170,7 +171,14 @@ pub struct RadarPlotSource {
     /// The capture's AIS sentences.
     ais: crate::ais::AisDecoder,
     heard: Vec<(f64, crate::ais::AisReport)>,
+    /// The heading for spokes without one, and when it was worked out (capture time, s):
+    /// finding it predicts own ship's filter, too much to do for each of 2,048 spokes, and
+    /// it changes only with a sentence (or at the heading-lost time).
+    heading_cache: Option<(f64, Option<f32>)>,
 }
+
+/// The cached heading is worked out again after this long without a new sentence, s.
+const HEADING_CACHE_S: f64 = 1.0;
 
 /// A spoke without its samples (they stay in the source's buffer, borrowed).
 #[derive(Clone, Copy, Debug)]
@@ -250,6 +258,7 @@ impl RadarPlotSource {
             image: EchoImage::default(),
             ais: crate::ais::AisDecoder::new(),
             heard: Vec::new(),
+            heading_cache: None,
         })
     }
 
@@ -301,6 +310,7 @@ impl RadarPlotSource {
             }
             let newest = self.nav.newest_s();
             self.nav.feed(&line);
+            self.heading_cache = None;
             if let Some(n) = self.nav.newest_s().filter(|n| Some(*n) != newest) {
                 self.nmea_offset_s = Some(n - t);
             }
@@ -308,11 +318,19 @@ impl RadarPlotSource {
     }
 
     /// The heading for a head-up spoke without one, rad true.
-    fn heading_for(&self, time_s: f64) -> Option<f32> {
-        self.nmea_own_ship(time_s)
+    fn heading_for(&mut self, time_s: f64) -> Option<f32> {
+        if let Some((at, heading)) = self.heading_cache {
+            if (0.0..HEADING_CACHE_S).contains(&(time_s - at)) {
+                return heading;
+            }
+        }
+        let heading = self
+            .nmea_own_ship(time_s)
             .and_then(|o| o.heading_rad)
             .or_else(|| self.run_own.and_then(|o| o.heading_rad))
-            .or(self.options.fixed_heading_rad)
+            .or(self.options.fixed_heading_rad);
+        self.heading_cache = Some((time_s, heading));
+        heading
     }
 
     /// Pushes spokes until a rotation ends (`Some(scan time)`) or the input does (`None`).
@@ -437,7 +455,9 @@ pub struct CaptureSurvey {
 }
 
 impl CaptureSurvey {
-    /// Reads a capture until both are found (through, when one is missing).
+    /// Reads a capture until both are found, or through its first [`SURVEY_S`] (a bridge
+    /// sends a fix every second or so: one not found by then is not used for the origin,
+    /// and a long capture without NMEA is not read twice at start-up).
     ///
     /// # Errors
     /// The capture does not open or cannot be read.
@@ -445,9 +465,10 @@ impl CaptureSurvey {
         let mut spokes = SpokeSource::from_capture(path, CaptureOptions::default())?;
         let mut nav = OwnShipNav::new(Origin::default(), crate::app::today(), None).keep_fixes();
         let mut survey = CaptureSurvey::default();
+        let mut first_s = None;
         loop {
-            let spoke = spokes.next_spoke()?.map(|(s, _)| s.range_m);
-            survey.first_range_m = survey.first_range_m.or(spoke);
+            let spoke = spokes.next_spoke()?.map(|(s, t)| (s.range_m, t));
+            survey.first_range_m = survey.first_range_m.or(spoke.map(|(r, _)| r));
             for (_, line) in spokes.nmea_lines() {
                 nav.feed(&line);
                 if let Some(&(_, lat_deg, lon_deg)) = nav.fixes().first() {
@@ -455,12 +476,20 @@ impl CaptureSurvey {
                     break;
                 }
             }
-            if spoke.is_none() || (survey.first_fix.is_some() && survey.first_range_m.is_some()) {
+            let Some((_, t)) = spoke else {
+                return Ok(survey);
+            };
+            let first = *first_s.get_or_insert(t);
+            let found = survey.first_fix.is_some() && survey.first_range_m.is_some();
+            if found || t - first > SURVEY_S {
                 return Ok(survey);
             }
         }
     }
 }
+
+/// How far into a capture [`CaptureSurvey::of`] looks for a fix, s of capture time.
+pub const SURVEY_S: f64 = 60.0;
 
 /// The accuracy of a radar's plots on a range scale of `range_m`, m (one axis): 1 % of the
 /// range, the IMO performance standard's figure (MSC.192(79) 5.34: 50 m or 1 % of range),
@@ -476,12 +505,14 @@ fn moved_by_own_ship(plot: Plot, velocity_mps: [f32; 2], dt_s: f32) -> Plot {
     if dt_s <= 0.0 || velocity_mps == [0.0, 0.0] {
         return plot;
     }
+    // Exact trigonometry (not geo's table sines): a plot's offset is kept to the
+    // millimetre, whatever its range.
     let (s, c) = plot.bearing_rad.sin_cos();
     let east = plot.range_m * s - velocity_mps[0] * dt_s;
     let north = plot.range_m * c - velocity_mps[1] * dt_s;
     Plot {
         range_m: east.hypot(north),
-        bearing_rad: tracker_core::geo::wrap_2pi(east.atan2(north)),
+        bearing_rad: geo::wrap_2pi(east.atan2(north)),
     }
 }
 
@@ -531,6 +562,7 @@ impl PlotSource for RadarPlotSource {
 
     fn own_ship_estimate(&mut self, own: &OwnShip) {
         self.run_own = Some(*own);
+        self.heading_cache = None;
     }
 
     fn radar_counts(&self) -> Option<RadarCounts> {

@@ -166,14 +166,9 @@ impl PlotSource for SimulatorSource {
         let mut scan = source_scan(&self.scenario.next_scan(), self.epoch_s);
         if let Some(plots) = video_plots {
             if let Some(truth) = &mut scan.truth {
-                let own = truth.own.position_m;
+                let points = super::video::plot_points(truth.own.position_m, &plots);
                 for t in &mut truth.targets {
-                    t.detected = plots.iter().any(|p| {
-                        let (s, c) = p.bearing_rad.sin_cos();
-                        let at = [own[0] + p.range_m * s, own[1] + p.range_m * c];
-                        (at[0] - t.position_m[0]).hypot(at[1] - t.position_m[1])
-                            <= super::video::DETECTION_GATE_M
-                    });
+                    t.detected = super::video::detects(&points, t.position_m);
                 }
             }
             scan.radar.plots = plots;

@@ -18,6 +18,26 @@ use tracker_core::sim::Scenario;
 /// A plot this near a target detects it, m (about three times the plot error at 12 NM).
 pub const DETECTION_GATE_M: f32 = 150.0;
 
+/// The plots' positions, local frame, m, seen from own ship at `own_m`.
+pub fn plot_points(own_m: [f32; 2], plots: &[Plot]) -> Vec<[f32; 2]> {
+    plots
+        .iter()
+        .map(|p| geo::polar_to_local(own_m, p.range_m, p.bearing_rad))
+        .collect()
+}
+
+/// Distance between two points, m.
+fn distance_m(a: [f32; 2], b: [f32; 2]) -> f32 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// True when one of `points` lies within [`DETECTION_GATE_M`] of `target_m`.
+pub fn detects(points: &[[f32; 2]], target_m: [f32; 2]) -> bool {
+    points
+        .iter()
+        .any(|p| distance_m(*p, target_m) <= DETECTION_GATE_M)
+}
+
 /// The plots against the truth, over a run.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct PlotScores {
@@ -147,12 +167,8 @@ impl Video {
 
     fn score(&mut self, scenario: &Scenario, plots: &[Plot]) {
         let own = scenario.own_ship().position_m;
-        let at = |p: &Plot| {
-            let (s, c) = p.bearing_rad.sin_cos();
-            [own[0] + p.range_m * s, own[1] + p.range_m * c]
-        };
-        let points: Vec<[f32; 2]> = plots.iter().map(at).collect();
-        let dist = |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+        let points = plot_points(own, plots);
+        let dist = distance_m;
         let sensor = scenario.config().sensor;
         let mut near_any = vec![false; points.len()];
         for t in scenario.targets() {
