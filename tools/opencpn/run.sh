@@ -10,7 +10,9 @@
 # Env: PORT (default 10110; if that port is taken, the next free one from 10111 is used),
 #      WAIT1 (s before the first screenshot, default 75), WAIT2 (s to the second, default 60),
 #      WIDTH_NM (chart width in NM, default 12), DISP (X display number, default 99),
-#      MINIMAL_CONF=1 to write a from-scratch opencpn.conf instead of patching the template.
+#      MINIMAL_CONF=1 to write a from-scratch opencpn.conf instead of patching the template,
+#      DEMO_ARGS to run another picture (default "--duration 900"; e.g. real Solent traffic:
+#      "--ais-truth ../shared/realdata/ais/stonesoup-SolentAIS_20160112_130211.csv --own-mmsi 234586000").
 # Leaves in /tmp/opencpn-check: TAG-1.png, TAG-2.png (a minute later), TAG-list.png (AIS
 # target list sorted by range), TAG-overview.png (zoomed out x2), TAG-nmea.txt (the stream
 # as a second TCP client saw it), TAG-analysis.txt, TAG-tracker.out, TAG-opencpn.log.
@@ -74,7 +76,9 @@ if ! xdpyinfo >/dev/null 2>&1; then
   Xvfb :$DISP -screen 0 1600x1000x24 -nolisten tcp > "$D/$TAG-xvfb.log" 2>&1 & PIDS+=($!)
   sleep 2
 fi
-"$TRACKER_HOST" --link inproc demo --plain --speedup 1 --duration 900 \
+# DEMO_ARGS replaces the demo's own arguments (e.g. "--ais-truth FILE --own-mmsi N").
+read -r -a DEMO <<< "${DEMO_ARGS:---duration 900}"
+"$TRACKER_HOST" --link inproc demo --plain --speedup 1 "${DEMO[@]}" \
   --nmea-out tcp:$PORT --nmea-out-own-ship "${ORIGIN_ARG[@]}" > "$D/$TAG-tracker.out" 2>&1 & PIDS+=($!)
 sleep 2
 python3 "$TOOLS/nmea_tap.py" 127.0.0.1 $PORT "$D/$TAG-nmea.txt" $((WAIT1 + WAIT2 + 60)) & PIDS+=($!)
