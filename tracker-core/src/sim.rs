@@ -201,6 +201,8 @@ pub struct Truth {
     pub velocity_mps: EastNorth,
     /// Whether this scan detected it.
     pub detected: bool,
+    /// Whether it is inside the radar's range (blind range to maximum range) this scan.
+    pub in_range: bool,
 }
 
 /// One antenna revolution's output.
@@ -394,6 +396,7 @@ fn sense(
             position_m,
             velocity_mps,
             detected,
+            in_range: visible,
         });
     }
     let clutter = Poisson::new(sensor.clutter_per_scan.max(1e-6))

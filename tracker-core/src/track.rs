@@ -15,9 +15,11 @@
 //!
 //! A new track is *tentative*. It is *confirmed* when it has plots on 3 of its last 4 scans
 //! (M of N), and dropped as soon as it can no longer get there (2 misses in its last 4). A
-//! confirmed track is *coasting* on a scan without a plot, and is kept while it had plots on
-//! at least 5 of the last 10 scans (the IMO rule); past that it is reported *lost* once and
-//! removed.
+//! confirmed track is *coasting* on a scan without a plot, and is reported *lost* once and
+//! removed after [`LOST_AFTER_COASTS`] scans in a row without one. (It was 5 hits of the
+//! last 10 until the Stone Soup comparison, docs/stonesoup.md: that rule drops the track of
+//! a ship whose echo merges with a neighbour's on most scans, and the ship then goes
+//! untracked for minutes; misses in a row is what Stone Soup's deleter counts.)
 
 use heapless::Vec;
 
@@ -26,6 +28,7 @@ use crate::filter::alpha_beta::AlphaBeta;
 use crate::filter::alpha_beta_gamma::AlphaBetaGamma;
 use crate::filter::alpha_beta_gamma_eta::AlphaBetaGammaEta;
 use crate::filter::grnn::GrnnFilter;
+use crate::filter::imm::Imm;
 use crate::filter::kalman::ca::KalmanCa;
 use crate::filter::kalman::cv::KalmanCv;
 use crate::filter::sswt::Sswt;
@@ -44,9 +47,10 @@ pub const MAX_TRACKS: usize = 64;
 pub const CONFIRM_M: u32 = 3;
 /// See [`CONFIRM_M`].
 pub const CONFIRM_N: u32 = 4;
-/// Keeping: hits on `KEEP_M` of the last `KEEP_N` scans (IMO).
-pub const KEEP_M: u32 = 5;
-/// See [`KEEP_M`].
+/// A confirmed track is lost after this many scans in a row without a plot (15 s at a
+/// 2.5 s scan).
+pub const LOST_AFTER_COASTS: u8 = 6;
+/// Scans of hit history a track reports ([`crate::icd::TrackState::hit_history`]).
 pub const KEEP_N: u32 = 10;
 
 /// The filter a track runs, in `f32` (the MCU's number): one variant per
@@ -68,6 +72,8 @@ pub enum TrackFilter {
     KalmanCa(KalmanCa<f32>),
     /// GRNN.
     Grnn(GrnnFilter<f32>),
+    /// IMM (CV + CA).
+    Imm(Imm<f32>),
 }
 
 macro_rules! each_filter {
@@ -80,6 +86,7 @@ macro_rules! each_filter {
             TrackFilter::KalmanCv($f) => $body,
             TrackFilter::KalmanCa($f) => $body,
             TrackFilter::Grnn($f) => $body,
+            TrackFilter::Imm($f) => $body,
         }
     };
 }
@@ -98,6 +105,7 @@ impl TrackFilter {
             FilterConfig::KalmanCv(c) => TrackFilter::KalmanCv(c.build_cv()?),
             FilterConfig::KalmanCa(c) => TrackFilter::KalmanCa(c.build_ca()?),
             FilterConfig::Grnn(c) => TrackFilter::Grnn(c.build()?),
+            FilterConfig::Imm(c) => TrackFilter::Imm(c.build()?),
         })
     }
 
@@ -111,6 +119,7 @@ impl TrackFilter {
             TrackFilter::KalmanCv(_) => FilterKind::KalmanCv,
             TrackFilter::KalmanCa(_) => FilterKind::KalmanCa,
             TrackFilter::Grnn(_) => FilterKind::Grnn,
+            TrackFilter::Imm(_) => FilterKind::Imm,
         }
     }
 
@@ -503,9 +512,7 @@ fn next_status(t: &Track) -> Option<TrackStatus> {
             }
         }
         TrackStatus::Confirmed | TrackStatus::Coasting => {
-            let window = u32::from(t.age_scans).min(KEEP_N);
-            let misses = window - t.hits_in_last(window);
-            if misses > KEEP_N - KEEP_M {
+            if t.coasts >= LOST_AFTER_COASTS {
                 TrackStatus::Lost
             } else if t.coasts == 0 {
                 TrackStatus::Confirmed
@@ -551,7 +558,7 @@ mod tests {
     }
 
     #[test]
-    fn a_target_is_confirmed_on_its_third_plot_and_kept_while_5_of_10() {
+    fn a_target_is_confirmed_on_its_third_plot_and_lost_after_6_misses_in_a_row() {
         let mut t = table();
         let at = |k: u64| [1000.0 + 5.0 * 2.5 * k as f32, -300.0];
         for k in 0..3 {
@@ -559,17 +566,21 @@ mod tests {
         }
         assert_eq!(t.tracks().len(), 1);
         assert_eq!(t.tracks()[0].status, TrackStatus::Confirmed);
-        // Ten more hits, then misses: coasting until the sixth miss of the last ten.
+        // Hits and misses alternating keep it (half its scans missed); then misses: coasting
+        // until the sixth in a row.
         for k in 3..13 {
-            scan(&mut t, k * 2500, &[at(k)]);
+            let plots = if k % 2 == 0 { vec![at(k)] } else { vec![] };
+            scan(&mut t, k * 2500, &plots);
+            assert_ne!(t.tracks()[0].status, TrackStatus::Lost, "scan {k}");
         }
-        for k in 13..18 {
+        scan(&mut t, 13 * 2500, &[at(13)]);
+        for k in 14..19 {
             scan(&mut t, k * 2500, &[]);
             assert_eq!(t.tracks()[0].status, TrackStatus::Coasting, "scan {k}");
         }
-        scan(&mut t, 18 * 2500, &[]);
-        assert_eq!(t.tracks()[0].status, TrackStatus::Lost);
         scan(&mut t, 19 * 2500, &[]);
+        assert_eq!(t.tracks()[0].status, TrackStatus::Lost);
+        scan(&mut t, 20 * 2500, &[]);
         assert!(t.tracks().is_empty());
     }
 

@@ -40,6 +40,7 @@ fn track(name: &str, heading_deg: Option<f32>) -> Tracked {
     let options = TrackOptions {
         input: TrackInput::Radar(radar),
         filter: FilterKind::KalmanCv,
+        association: Default::default(),
         own_ship: OwnShipOptions::default(),
         outputs: Outputs::default(),
     };

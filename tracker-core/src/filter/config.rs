@@ -14,6 +14,7 @@ use super::alpha_beta::AlphaBetaGains;
 use super::alpha_beta_gamma::AbgGains;
 use super::alpha_beta_gamma_eta::AbgeGains;
 use super::grnn::GrnnConfig;
+use super::imm::ImmConfig;
 use super::kalman::KalmanConfig;
 use super::sswt::SswtConfig;
 use super::FilterError;
@@ -39,11 +40,14 @@ pub enum FilterKind {
     KalmanCa,
     /// GRNN neural filter with a manoeuvre detector (paper 003).
     Grnn,
+    /// Interacting multiple model: CV and CA Kalman filters mixed (Bar-Shalom et al. 2001,
+    /// §11.6.6).
+    Imm,
 }
 
 impl FilterKind {
     /// Every filter, in the order the documentation lists them.
-    pub const ALL: [FilterKind; 7] = [
+    pub const ALL: [FilterKind; 8] = [
         FilterKind::AlphaBeta,
         FilterKind::AlphaBetaGamma,
         FilterKind::AlphaBetaGammaEta,
@@ -51,6 +55,7 @@ impl FilterKind {
         FilterKind::KalmanCv,
         FilterKind::KalmanCa,
         FilterKind::Grnn,
+        FilterKind::Imm,
     ];
 
     /// The name on the command line and in reports, e.g. `kalman-cv`.
@@ -63,6 +68,7 @@ impl FilterKind {
             FilterKind::KalmanCv => "kalman-cv",
             FilterKind::KalmanCa => "kalman-ca",
             FilterKind::Grnn => "grnn",
+            FilterKind::Imm => "imm",
         }
     }
 
@@ -78,9 +84,12 @@ impl FilterKind {
     }
 
     /// True for the filters that carry a covariance, and so know their innovation
-    /// covariance (the Kalman filters).
+    /// covariance (the Kalman filters and the IMM).
     pub const fn has_covariance(self) -> bool {
-        matches!(self, FilterKind::KalmanCv | FilterKind::KalmanCa)
+        matches!(
+            self,
+            FilterKind::KalmanCv | FilterKind::KalmanCa | FilterKind::Imm
+        )
     }
 }
 
@@ -119,6 +128,8 @@ pub enum FilterConfig {
     KalmanCa(KalmanConfig),
     /// GRNN.
     Grnn(GrnnConfig),
+    /// IMM (CV + CA).
+    Imm(ImmConfig),
 }
 
 impl FilterConfig {
@@ -132,6 +143,7 @@ impl FilterConfig {
             FilterConfig::KalmanCv(_) => FilterKind::KalmanCv,
             FilterConfig::KalmanCa(_) => FilterKind::KalmanCa,
             FilterConfig::Grnn(_) => FilterKind::Grnn,
+            FilterConfig::Imm(_) => FilterKind::Imm,
         }
     }
 
@@ -148,6 +160,7 @@ impl FilterConfig {
             FilterConfig::Sswt(c) => c.build::<f64>().map(|_| ()),
             FilterConfig::KalmanCv(c) | FilterConfig::KalmanCa(c) => c.validate(),
             FilterConfig::Grnn(c) => c.validate(),
+            FilterConfig::Imm(c) => c.validate(),
         }
     }
 
@@ -164,6 +177,7 @@ impl FilterConfig {
     /// | CV Kalman | CWNA, q = 0.05 m²/s³, r = σ² |
     /// | CA Kalman | CWNJ, q = 0.001 m²/s⁵, r = σ² |
     /// | GRNN | teaching sequences 10 and 45 scans, σ from the measured noise |
+    /// | IMM | CV q = 0.05 m²/s³ (as the CV Kalman), CA q = 0.01 m²/s⁵, sojourns 300 s (CV) and 30 s (CA), acceleration σ₀ = 1 m/s² |
     ///
     /// Numbers are given as `f32` and widened, as the device has always received them, so
     /// the device's gains are bit for bit those of earlier versions.
@@ -199,6 +213,15 @@ impl FilterConfig {
                 short: 10,
                 long: 45,
                 ..GrnnConfig::default()
+            }),
+            FilterKind::Imm => FilterConfig::Imm(ImmConfig {
+                q_cv: 0.05,
+                q_ca: 0.01,
+                r,
+                p0_velocity: f64::from(max_speed_mps * max_speed_mps),
+                p0_acceleration: 1.0,
+                sojourn_cv_s: 300.0,
+                sojourn_ca_s: 30.0,
             }),
         }
     }

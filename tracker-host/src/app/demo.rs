@@ -12,6 +12,8 @@
 //! follows own ship as the source estimates it.
 
 use tracker_core::filter::FilterKind;
+
+use crate::session::associate::Association;
 use tracker_core::sim::ScenarioKind;
 
 use super::run::Run;
@@ -35,6 +37,8 @@ pub struct DemoOptions {
     pub duration_from_recording: bool,
     /// The filter every track runs.
     pub filter: FilterKind,
+    /// How plots are associated and which start tracks.
+    pub association: Association,
     /// Where own ship comes from (by default the simulation's truth).
     pub own_ship: OwnShipOptions,
     /// Where results go.
@@ -65,6 +69,7 @@ impl DemoOptions {
             },
             duration_from_recording: false,
             filter,
+            association: Association::default(),
             own_ship: OwnShipOptions::default(),
             outputs: Outputs::default(),
             video: false,
@@ -111,6 +116,10 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
         }
     };
     let own = own_ship_source(&own_ship, origin)?;
-    let session = Session::start(client, SessionConfig::tracking(o.filter))?;
+    let config = SessionConfig {
+        association: o.association,
+        ..SessionConfig::tracking(o.filter)
+    };
+    let session = Session::start(client, config)?;
     Ok(Run::new(source, own, session, sinks(&o.outputs, origin)?).with_origin(origin))
 }

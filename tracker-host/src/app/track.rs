@@ -38,6 +38,8 @@ pub struct TrackOptions {
     pub input: TrackInput,
     /// The filter every track runs.
     pub filter: FilterKind,
+    /// How plots are associated and which start tracks.
+    pub association: crate::session::associate::Association,
     /// Where own ship comes from (by default the plot source's: a plots file's own-ship
     /// columns, a capture's NMEA).
     pub own_ship: OwnShipOptions,
@@ -79,6 +81,10 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
         }
     };
     let own_ship = own_ship_source(&o.own_ship, origin)?;
-    let session = Session::start(client, SessionConfig::tracking_plots_of(o.filter, sigma_m))?;
+    let config = SessionConfig {
+        association: o.association,
+        ..SessionConfig::tracking_plots_of(o.filter, sigma_m)
+    };
+    let session = Session::start(client, config)?;
     Ok(Run::new(source, own_ship, session, sinks(&o.outputs, origin)?).with_origin(origin))
 }

@@ -35,12 +35,36 @@ impl std::str::FromStr for Speedup {
     }
 }
 
+/// `--association`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum AssociationArg {
+    /// Firm tracks first, then tentative ones; plots outside firm refined gates start tracks.
+    TwoStage,
+    /// One stage; only plots in no rough gate start tracks.
+    Joint,
+}
+
+impl From<AssociationArg> for crate::session::associate::Association {
+    fn from(a: AssociationArg) -> Self {
+        match a {
+            AssociationArg::TwoStage => Self::TwoStage,
+            AssociationArg::Joint => Self::Joint,
+        }
+    }
+}
+
 /// How a tracking run is shown, where own ship comes from, where results go.
 #[derive(Clone, Debug, Args)]
 pub struct RunArgs {
     /// The filter every track runs.
     #[arg(long, value_parser = filter_parser(), default_value = "kalman-cv")]
     pub filter: FilterKind,
+    /// How plots are associated and which start tracks: `two-stage` (firm tracks take
+    /// their plots first, tentative ones from what is left; a plot no track took starts a
+    /// track unless it is inside a firm track's refined gate) or `joint` (one assignment
+    /// over all tracks; only plots in no rough gate start tracks: the earlier rule).
+    #[arg(long, value_enum, default_value_t = AssociationArg::TwoStage)]
+    pub association: AssociationArg,
     /// Source seconds per real second, or `max` (the default; 1, real time, with a live
     /// NMEA source).
     #[arg(long)]

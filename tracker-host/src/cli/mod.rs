@@ -341,6 +341,7 @@ where
                 },
                 duration_from_recording: duration.is_none(),
                 filter: run.filter,
+                association: run.association.into(),
                 own_ship: run.own_ship(),
                 outputs: run.outputs(record_truth.clone()),
                 video: *video,
@@ -382,6 +383,7 @@ where
             let options = track::TrackOptions {
                 input,
                 filter: run.filter,
+                association: run.association.into(),
                 own_ship: run.own_ship(),
                 outputs: run.outputs(None),
             };

@@ -289,6 +289,25 @@ pub fn config_from_args(kind: FilterKind, a: &GainArgs) -> anyhow::Result<Filter
             })?;
             FilterConfig::Grnn(cfg)
         }
+        FilterKind::Imm => {
+            // The product's IMM for plots of variance --r; --q replaces the CV model's q.
+            unused(a, kind, &["--q", "--r"])?;
+            let r = a.r.ok_or_else(|| anyhow!("missing option --r R"))?;
+            if !(r.is_finite() && r > 0.0) {
+                bail!("option --r {r}: need r > 0");
+            }
+            let FilterConfig::Imm(mut cfg) = FilterConfig::tracking(kind, r.sqrt() as f32, 20.0)
+            else {
+                bail!("the IMM's configuration is not an IMM's");
+            };
+            cfg.r = r;
+            if let Some(q) = a.q {
+                cfg.q_cv = q;
+            }
+            cfg.validate()
+                .map_err(|_| anyhow!("options --q/--r: need q ≥ 0, r > 0"))?;
+            FilterConfig::Imm(cfg)
+        }
         FilterKind::KalmanCv | FilterKind::KalmanCa => {
             unused(a, kind, &["--q", "--r", "--p0"])?;
             let q = a.q.ok_or_else(|| anyhow!("missing option --q Q"))?;
@@ -484,9 +503,10 @@ fn run_gh<S: Scalar>(
             g.build::<S>().map_err(bad).and_then(|f| drive(f, input))
         }
         FilterConfig::Sswt(c) => c.build::<S>().map_err(bad).and_then(|f| drive(f, input)),
-        FilterConfig::KalmanCv(_) | FilterConfig::KalmanCa(_) | FilterConfig::Grnn(_) => {
-            return None
-        }
+        FilterConfig::KalmanCv(_)
+        | FilterConfig::KalmanCa(_)
+        | FilterConfig::Grnn(_)
+        | FilterConfig::Imm(_) => return None,
     })
 }
 
@@ -499,6 +519,7 @@ fn run_real<S: Real>(
         FilterConfig::KalmanCv(c) => c.build_cv::<S>().map_err(bad).and_then(|f| drive(f, input)),
         FilterConfig::KalmanCa(c) => c.build_ca::<S>().map_err(bad).and_then(|f| drive(f, input)),
         FilterConfig::Grnn(c) => c.build::<S>().map_err(bad).and_then(|f| drive(f, input)),
+        FilterConfig::Imm(c) => c.build::<S>().map_err(bad).and_then(|f| drive(f, input)),
         other => {
             run_gh::<S>(other, input).unwrap_or_else(|| unreachable!("all g-h filters handled"))
         }

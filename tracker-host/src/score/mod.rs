@@ -2,11 +2,19 @@
 //! delay, false tracks, track swaps, position and velocity errors, CPA and TCPA errors.
 //!
 //! Each scan, every confirmed or coasting track is matched to a true target within
-//! [`MATCH_RADIUS_M`]: the one it followed before while that one is still within reach,
-//! else the nearest. A track whose match changes from one target to another (because the
+//! [`MATCH_RADIUS_M`]: the one it followed before while that one is still within reach and
+//! no other is nearer by more than [`SWAP_MARGIN_M`], else the nearest. A track whose match changes from one target to another (because the
 //! one it followed went out of reach) has *swapped*; a confirmed track unmatched on most of
 //! its scans is *false*.
+//!
+//! Each scan also gives the field's set distances between the targets in radar range and
+//! the confirmed and coasting tracks ([`ospa`]: OSPA and GOSPA, c = [`ospa::OSPA_C_M`],
+//! p = [`ospa::OSPA_P`]), and continuity: a target in radar range that some track followed
+//! before and none follows now is *untracked* that scan; the scan it loses its last track
+//! starts a *track break*, which ends when a track follows it again (the time to
+//! re-acquire).
 
+pub mod ospa;
 pub mod pairing;
 mod summary;
 mod truth;
@@ -21,6 +29,11 @@ pub use truth::{ScanTruth, TargetTruth};
 
 /// A track within this distance of a target is following it, m.
 pub const MATCH_RADIUS_M: f32 = 300.0;
+
+/// A track stays with the target it followed unless another is nearer by more than this,
+/// m: two crossing targets are both near a track for a while, and a track between them has
+/// not swapped; one that sits on the other target has.
+pub const SWAP_MARGIN_M: f32 = 100.0;
 
 /// Track age after which CPA/TCPA accuracy is scored: 3 minutes, as the IMO tables.
 pub const SETTLED_S: f32 = 180.0;
@@ -49,6 +62,21 @@ pub struct Scorer {
     tcpa_errors_s: Vec<f32>,
     scans: u32,
     last_scan: Option<u32>,
+    continuity: BTreeMap<u32, Continuity>,
+    untracked_target_scans: u64,
+    track_breaks: u32,
+    reacquire_scans: Vec<u32>,
+    ospa_m: Vec<f64>,
+    gospa_m: Vec<f64>,
+}
+
+/// One target's continuity so far.
+#[derive(Clone, Copy, Debug, Default)]
+struct Continuity {
+    /// Some track has followed it.
+    followed: bool,
+    /// The scan its last track was lost, while it has none.
+    broken_since: Option<u32>,
 }
 
 fn p95(v: &mut [f32]) -> f32 {
@@ -72,6 +100,7 @@ impl Scorer {
             }
         }
         let own = truth.own;
+        let mut followed: BTreeSet<u32> = BTreeSet::new();
         for t in tracks {
             if !matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting) {
                 continue;
@@ -85,18 +114,19 @@ impl Scorer {
             let rec_last = self.tracks.get(&t.track).and_then(|r| r.last_truth);
             // Stay with the target the track followed while it is still within reach (two
             // crossing targets are both near the track for a while); otherwise the nearest.
+            let nearest_of_all = truth
+                .targets
+                .iter()
+                .map(|x| (distance(x), x))
+                .filter(|(d, _)| *d <= MATCH_RADIUS_M)
+                .min_by(|a, b| a.0.total_cmp(&b.0));
+            // ...but not once another target is clearly nearer: then it has swapped.
             let kept = rec_last
                 .and_then(|id| truth.targets.iter().find(|x| x.id == id))
                 .map(|x| (distance(x), x))
-                .filter(|(d, _)| *d <= MATCH_RADIUS_M);
-            let nearest = kept.or_else(|| {
-                truth
-                    .targets
-                    .iter()
-                    .map(|x| (distance(x), x))
-                    .filter(|(d, _)| *d <= MATCH_RADIUS_M)
-                    .min_by(|a, b| a.0.total_cmp(&b.0))
-            });
+                .filter(|(d, _)| *d <= MATCH_RADIUS_M)
+                .filter(|(d, _)| nearest_of_all.is_some_and(|(n, _)| *d <= n + SWAP_MARGIN_M));
+            let nearest = kept.or(nearest_of_all);
             let rec = self.tracks.entry(t.track).or_default();
             let Some((d, x)) = nearest else {
                 rec.unmatched_scans += 1;
@@ -108,6 +138,7 @@ impl Scorer {
                 rec.swaps += 1;
             }
             rec.last_truth = Some(x.id);
+            followed.insert(x.id);
             self.first_confirmed.entry(x.id).or_insert(scan);
             self.sum_sq_pos += f64::from(d * d);
             let dv = libm::hypotf(
@@ -136,6 +167,43 @@ impl Scorer {
                 }
             }
         }
+        self.continuity_scan(scan, truth, &followed);
+        self.set_distance_scan(truth, tracks);
+    }
+
+    fn continuity_scan(&mut self, scan: u32, truth: &ScanTruth, followed: &BTreeSet<u32>) {
+        for x in truth.targets.iter().filter(|x| x.in_range) {
+            let c = self.continuity.entry(x.id).or_default();
+            if followed.contains(&x.id) {
+                if let Some(since) = c.broken_since.take() {
+                    self.reacquire_scans.push(scan.saturating_sub(since));
+                }
+                c.followed = true;
+            } else if c.followed {
+                self.untracked_target_scans += 1;
+                if c.broken_since.is_none() {
+                    c.broken_since = Some(scan);
+                    self.track_breaks += 1;
+                }
+            }
+        }
+    }
+
+    fn set_distance_scan(&mut self, truth: &ScanTruth, tracks: &[TrackState]) {
+        let xs: Vec<[f64; 2]> = truth
+            .targets
+            .iter()
+            .filter(|x| x.in_range)
+            .map(|x| x.position_m.map(f64::from))
+            .collect();
+        let ys: Vec<[f64; 2]> = tracks
+            .iter()
+            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
+            .map(|t| t.position_m.map(f64::from))
+            .collect();
+        let d = ospa::set_distance(&xs, &ys, ospa::OSPA_C_M, ospa::OSPA_P);
+        self.ospa_m.push(d.ospa_m);
+        self.gospa_m.push(d.gospa_m);
     }
 
     /// Each confirmed or coasting track of the last scan scored and the target (truth id) it
@@ -176,6 +244,8 @@ impl Scorer {
         let n = self.matched.max(1) as f64;
         let mut cpa = self.cpa_errors_m.clone();
         let mut tcpa = self.tcpa_errors_s.clone();
+        let mean = |v: &[f64]| v.iter().fold(0.0, |a, x| a + x) / v.len().max(1) as f64;
+        let reacquired = self.reacquire_scans.len();
         Summary {
             scans: self.scans,
             targets: self.targets.len(),
@@ -195,6 +265,21 @@ impl Scorer {
             rms_velocity_mps: (self.sum_sq_vel / n).sqrt(),
             cpa_error_p95_m: p95(&mut cpa),
             tcpa_error_p95_s: p95(&mut tcpa),
+            ospa_c_m: ospa::OSPA_C_M,
+            ospa_p: ospa::OSPA_P,
+            ospa_mean_m: mean(&self.ospa_m),
+            gospa_mean_m: mean(&self.gospa_m),
+            ospa_per_scan_m: self.ospa_m.clone(),
+            gospa_per_scan_m: self.gospa_m.clone(),
+            untracked_target_scans: self.untracked_target_scans,
+            track_breaks: self.track_breaks,
+            breaks_reacquired: reacquired,
+            reacquire_mean_scans: self
+                .reacquire_scans
+                .iter()
+                .fold(0.0, |a, &s| a + f64::from(s))
+                / reacquired.max(1) as f64,
+            reacquire_max_scans: self.reacquire_scans.iter().copied().max().unwrap_or(0),
             pairing: None,
         }
     }
@@ -276,5 +361,96 @@ impl crate::sink::ScanSink for ScoreSink {
             }
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn target(id: u32, east_m: f32, in_range: bool) -> TargetTruth {
+        TargetTruth {
+            id,
+            position_m: [east_m, 0.0],
+            velocity_mps: [0.0, 0.0],
+            detected: true,
+            in_range,
+        }
+    }
+
+    fn track(id: u16, east_m: f32) -> TrackState {
+        TrackState {
+            track: id,
+            status: TrackStatus::Confirmed,
+            position_m: [east_m, 0.0],
+            velocity_mps: [0.0, 0.0],
+            innovation_cov_m2: [1.0, 0.0, 1.0],
+            age_scans: 10,
+            hit_history: 0x3ff,
+        }
+    }
+
+    fn truth(targets: &[TargetTruth]) -> ScanTruth {
+        ScanTruth {
+            targets: targets.to_vec(),
+            ..ScanTruth::default()
+        }
+    }
+
+    #[test]
+    fn a_break_counts_its_untracked_scans_and_its_time_to_reacquire() {
+        let mut s = Scorer::default();
+        // Target 1 tracked on scans 0–2, no track on 3 and 4, a new track from 5. Target 2
+        // is never tracked (not counted: no track ever followed it); target 3 is tracked,
+        // then leaves radar range with its track gone (not counted).
+        for scan in 0..7 {
+            let tracks = match scan {
+                0..=2 => vec![track(1, 0.0), track(3, 5000.0)],
+                3 | 4 => vec![],
+                _ => vec![track(7, 10.0)],
+            };
+            let t = truth(&[
+                target(1, 0.0, true),
+                target(2, 2000.0, true),
+                target(3, 5000.0, scan <= 2),
+            ]);
+            s.scan(scan, &t, &tracks, 2.5);
+        }
+        let m = s.summary();
+        assert_eq!(m.untracked_target_scans, 2);
+        assert_eq!(m.track_breaks, 1);
+        assert_eq!(m.breaks_reacquired, 1);
+        assert_eq!(m.reacquire_mean_scans, 2.0);
+        assert_eq!(m.reacquire_max_scans, 2);
+        // OSPA per scan: scans 0–2: targets 1, 2, 3 against tracks at 0 and 5000: one
+        // missed (c): √(500²/3); scans 3–4: two targets in range, no track: c; 5–6: the
+        // track 10 m off target 1, target 2 missed: √((10² + 500²)/2).
+        let want = [
+            (250_000.0_f64 / 3.0).sqrt(),
+            500.0,
+            (250_100.0_f64 / 2.0).sqrt(),
+        ];
+        let got = &m.ospa_per_scan_m;
+        assert_eq!(got.len(), 7);
+        for (i, g) in got.iter().enumerate() {
+            let w = want[match i {
+                0..=2 => 0,
+                3 | 4 => 1,
+                _ => 2,
+            }];
+            assert!((g - w).abs() < 1e-3, "scan {i}: {g} against {w}");
+        }
+    }
+
+    #[test]
+    fn a_track_that_sits_on_another_target_has_swapped() {
+        let mut s = Scorer::default();
+        // Targets 130 m apart; the track follows target 1, drifts to the middle (still
+        // target 1's), then sits on target 2: one swap.
+        for (scan, east) in [(0, 0.0), (1, 60.0), (2, 125.0)] {
+            let t = truth(&[target(1, 0.0, true), target(2, 130.0, true)]);
+            s.scan(scan, &t, &[track(4, east)], 2.5);
+        }
+        assert_eq!(s.summary().track_swaps, 1);
     }
 }

@@ -35,6 +35,30 @@ pub struct Summary {
     pub cpa_error_p95_m: f32,
     /// 95th percentile of |TCPA error|, s.
     pub tcpa_error_p95_s: f32,
+    /// The cut-off of OSPA and GOSPA, m.
+    pub ospa_c_m: f64,
+    /// The order of OSPA and GOSPA.
+    pub ospa_p: f64,
+    /// OSPA between the targets in radar range and the confirmed and coasting tracks, mean
+    /// over the scans, m.
+    pub ospa_mean_m: f64,
+    /// GOSPA (α = 2) likewise, m.
+    pub gospa_mean_m: f64,
+    /// OSPA per scored scan, m (JSON only).
+    pub ospa_per_scan_m: Vec<f64>,
+    /// GOSPA per scored scan, m (JSON only).
+    pub gospa_per_scan_m: Vec<f64>,
+    /// Target-scans in radar range with no track, of targets some track had followed
+    /// before.
+    pub untracked_target_scans: u64,
+    /// Times a target in radar range lost its last track.
+    pub track_breaks: u32,
+    /// Breaks that ended with a track following the target again.
+    pub breaks_reacquired: usize,
+    /// Mean time from a break to the target's next track, scans.
+    pub reacquire_mean_scans: f64,
+    /// Longest such time, scans.
+    pub reacquire_max_scans: u32,
     /// Radar/AIS pairing against the truth, when the truth's ids are MMSIs and AIS was
     /// heard.
     #[serde(skip_serializing_if = "Option::is_none", flatten)]
@@ -51,7 +75,9 @@ impl Summary {
              confirmed tracks: {} ({} false)\n\
              track swaps: {}\n\
              RMS error: position {:.1} m, velocity {:.2} m/s\n\
-             CPA/TCPA error after 3 min (95th percentile, approaching targets): {:.0} m, {:.0} s",
+             CPA/TCPA error after 3 min (95th percentile, approaching targets): {:.0} m, {:.0} s\n\
+             OSPA (c = {:.0} m, p = {}): mean {:.1} m; GOSPA (α = 2): mean {:.1} m\n\
+             continuity: {} untracked target-scans, {} track breaks ({} re-acquired, mean {:.1} scans, longest {})",
             self.scans,
             self.targets,
             self.targets_detected,
@@ -66,6 +92,15 @@ impl Summary {
             self.rms_velocity_mps,
             self.cpa_error_p95_m,
             self.tcpa_error_p95_s,
+            self.ospa_c_m,
+            self.ospa_p,
+            self.ospa_mean_m,
+            self.gospa_mean_m,
+            self.untracked_target_scans,
+            self.track_breaks,
+            self.breaks_reacquired,
+            self.reacquire_mean_scans,
+            self.reacquire_max_scans,
         );
         if let Some(p) = &self.pairing {
             s += &format!(

@@ -16,6 +16,9 @@ pub struct TargetTruth {
     /// True when the scan holds a plot of this target (not missed, not merged into
     /// another's): the confirmation delay counts from its first detection.
     pub detected: bool,
+    /// Inside the radar's range (between its blind range and its maximum): OSPA, GOSPA and
+    /// continuity count only such targets.
+    pub in_range: bool,
 }
 
 /// The truth at one scan.

@@ -1,4 +1,6 @@
-//! Refined gating and data association: the host's half of the thesis's split.
+//! Refined gating, data association and the choice of plots that start tracks: the host's
+//! half of the thesis's split (Stone Soup's hypothesiser, associator and the initiator's
+//! choice).
 //!
 //! The device returns, per track, the few plots inside its rough gate. Here each pair is
 //! tested against the **refined gate**: the Mahalanobis distance d² = νᵀS⁻¹ν of the
@@ -6,9 +8,17 @@
 //! chi-square threshold (2 degrees of freedom). **Global nearest neighbour** then picks
 //! the one-to-one assignment of plots to tracks that minimises the summed d², with "no
 //! plot" allowed for every track at the cost of the threshold, solved exactly by the
-//! Kuhn–Munkres (Hungarian) algorithm from `pathfinding`. Plots in no rough gate start new
-//! tentative tracks (a plot inside a gate but not chosen is more likely a second echo of
-//! that track's target, or a manoeuvre the gate lags, than a new target).
+//! Kuhn–Munkres (Hungarian) algorithm from `pathfinding`.
+//!
+//! [`Association::TwoStage`] (the default) does this twice: the **firm** tracks (confirmed
+//! and coasting) take their plots first, the tentative tracks then share what is left, so a
+//! new track on a clutter plot never takes a plot from an established one. A plot no track
+//! took starts a new tentative track unless it lies inside a firm track's refined gate
+//! (there it is more likely that track's target's second echo, or its manoeuvre, than a new
+//! target): so a target passing close to another is acquired as soon as its plots leave
+//! the other's refined gate, not only once they leave its much wider rough gate.
+//! [`Association::Joint`] is the earlier rule, kept for comparison: one stage over all
+//! tracks, and only plots in no rough gate start tracks.
 
 use std::collections::BTreeSet;
 
@@ -25,15 +35,29 @@ const SCALE: f64 = 1e6;
 /// A pairing that is not allowed.
 const FORBIDDEN: i64 = i64::MAX / 1024;
 
+/// How plots are associated and tracks started.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Association {
+    /// Firm tracks first, tentative tracks from what is left; a plot no track took starts a
+    /// track unless it is inside a firm track's refined gate.
+    #[default]
+    TwoStage,
+    /// One assignment over all tracks; only plots in no rough gate start tracks.
+    Joint,
+}
+
 /// The host's decision for one scan.
 #[derive(Clone, Debug, Default, PartialEq)]
-pub struct Association {
+pub struct Associated {
     /// Per gated track: the chosen plot, or `None` to coast.
     pub assignments: Vec<Assignment>,
-    /// Plots in no rough gate: candidates for new tracks.
+    /// Plots that start new tentative tracks.
     pub initiate: Vec<u16>,
     /// Pairs that passed the rough gate but not the refined one.
     pub refined_out: usize,
+    /// Plots no track took and not started either: inside a firm track's refined gate
+    /// ([`Association::TwoStage`]) or inside a rough gate ([`Association::Joint`]).
+    pub withheld: usize,
 }
 
 /// Mahalanobis distance² of `z` from `predicted` under `s = [sxx, sxy, syy]`; `None` when S
@@ -50,35 +74,126 @@ pub fn mahalanobis2(z: EastNorth, predicted: EastNorth, s: [f32; 3]) -> Option<f
 }
 
 /// Associates one scan. `plots` are the scan's plots in the local frame, in the order the
-/// device received them; `threshold` is the refined gate (d²).
-pub fn associate(gates: &[GatedPlots], plots: &[EastNorth], threshold: f64) -> Association {
-    let mut out = Association::default();
-    let in_a_gate: BTreeSet<u16> = gates.iter().flat_map(|g| g.plots.iter().copied()).collect();
-    out.initiate = (0..plots.len())
-        .filter_map(|i| u16::try_from(i).ok())
-        .filter(|i| !in_a_gate.contains(i))
+/// device received them; `threshold` is the refined gate (d²); `firm` tells whether a
+/// track number is confirmed or coasting (as the device reported it at the scan before).
+pub fn associate(
+    mode: Association,
+    gates: &[GatedPlots],
+    plots: &[EastNorth],
+    threshold: f64,
+    firm: impl Fn(u16) -> bool,
+) -> Associated {
+    let mut out = Associated::default();
+    let mut taken = BTreeSet::new();
+    let mut assigned = Vec::with_capacity(gates.len());
+    match mode {
+        Association::Joint => {
+            let all: Vec<&GatedPlots> = gates.iter().collect();
+            gnn(&all, plots, threshold, &mut taken, &mut assigned, &mut out);
+        }
+        Association::TwoStage => {
+            let (strong, weak): (Vec<&GatedPlots>, Vec<&GatedPlots>) =
+                gates.iter().partition(|g| firm(g.track));
+            gnn(
+                &strong,
+                plots,
+                threshold,
+                &mut taken,
+                &mut assigned,
+                &mut out,
+            );
+            gnn(&weak, plots, threshold, &mut taken, &mut assigned, &mut out);
+        }
+    }
+    // Assignments in the order of the gates, as the device listed them.
+    out.assignments = gates
+        .iter()
+        .map(|g| Assignment {
+            track: g.track,
+            plot: assigned
+                .iter()
+                .find(|(t, _)| *t == g.track)
+                .and_then(|(_, p)| *p),
+        })
         .collect();
+    let withheld = |i: u16| match mode {
+        Association::Joint => gates.iter().any(|g| g.plots.contains(&i)),
+        Association::TwoStage => gates.iter().any(|g| {
+            firm(g.track)
+                && g.plots.contains(&i)
+                && plots.get(usize::from(i)).is_some_and(|z| {
+                    mahalanobis2(*z, g.predicted_m, g.innovation_cov_m2)
+                        .is_some_and(|d2| d2 <= threshold)
+                })
+        }),
+    };
+    for i in (0..plots.len()).filter_map(|i| u16::try_from(i).ok()) {
+        if taken.contains(&i) {
+            continue;
+        }
+        if withheld(i) {
+            out.withheld += 1;
+        } else {
+            out.initiate.push(i);
+        }
+    }
+    out
+}
+
+/// ln|S| of `s = [sxx, sxy, syy]` (m²), 0 when S is not positive definite (such a track
+/// takes no plot anyway: [`mahalanobis2`] refuses it).
+fn ln_det(s: [f32; 3]) -> f64 {
+    let det = f64::from(s[0]) * f64::from(s[2]) - f64::from(s[1]) * f64::from(s[1]);
+    if det > 0.0 {
+        det.ln()
+    } else {
+        0.0
+    }
+}
+
+/// One GNN stage: assigns `gates`' tracks plots not yet `taken` (and marks those taken),
+/// pushing (track, plot) for every gate.
+fn gnn(
+    gates: &[&GatedPlots],
+    plots: &[EastNorth],
+    threshold: f64,
+    taken: &mut BTreeSet<u16>,
+    assigned: &mut Vec<(u16, Option<u16>)>,
+    out: &mut Associated,
+) {
     if gates.is_empty() {
-        return out;
+        return;
     }
     // Columns: every plot some track may take, then one "miss" column per track.
-    let candidates: Vec<u16> = in_a_gate.iter().copied().collect();
+    let candidates: Vec<u16> = gates
+        .iter()
+        .flat_map(|g| g.plots.iter().copied())
+        .filter(|p| !taken.contains(p))
+        .collect::<BTreeSet<u16>>()
+        .into_iter()
+        .collect();
     let n = gates.len();
     let m = candidates.len();
-    let miss_cost = (threshold * SCALE) as i64;
+    // The cost of a pair is the generalised statistical distance d² + ln|S| (Blackman &
+    // Popoli, Design and Analysis of Modern Tracking Systems, 1999, §6.3.2): the negative
+    // log-likelihood up to a constant. With d² alone a coasting track's wide S makes a plot
+    // 100 m off look as near as a settled track's plot 30 m off, and the coasting track
+    // takes the settled one's target. A miss costs the same for every track, no less than any
+    // pair inside a refined gate, so a track with a plot in its gate and no rival takes it,
+    // as with d² alone.
+    let ln_det: Vec<f64> = gates.iter().map(|g| ln_det(g.innovation_cov_m2)).collect();
+    let widest = ln_det.iter().copied().fold(0.0, f64::max);
+    let miss_cost = ((threshold + widest) * SCALE) as i64;
     let mut rows = Vec::with_capacity(n);
     for (i, g) in gates.iter().enumerate() {
         let mut row = vec![FORBIDDEN; m + n];
         for &p in &g.plots {
-            let Some(z) = plots.get(usize::from(p)) else {
+            let (Some(z), Ok(col)) = (plots.get(usize::from(p)), candidates.binary_search(&p))
+            else {
                 continue;
             };
             match mahalanobis2(*z, g.predicted_m, g.innovation_cov_m2) {
-                Some(d2) if d2 <= threshold => {
-                    if let Ok(col) = candidates.binary_search(&p) {
-                        row[col] = (d2 * SCALE) as i64;
-                    }
-                }
+                Some(d2) if d2 <= threshold => row[col] = ((d2 + ln_det[i]) * SCALE) as i64,
                 _ => out.refined_out += 1,
             }
         }
@@ -86,18 +201,17 @@ pub fn associate(gates: &[GatedPlots], plots: &[EastNorth], threshold: f64) -> A
         rows.push(row);
     }
     let Ok(matrix) = Matrix::from_rows(rows) else {
-        return out;
+        assigned.extend(gates.iter().map(|g| (g.track, None)));
+        return;
     };
     let (_, columns) = kuhn_munkres_min(&matrix);
-    out.assignments = gates
-        .iter()
-        .zip(columns)
-        .map(|(g, col)| Assignment {
-            track: g.track,
-            plot: (col < m).then(|| candidates[col]),
-        })
-        .collect();
-    out
+    for (g, col) in gates.iter().zip(columns) {
+        let plot = (col < m).then(|| candidates[col]);
+        if let Some(p) = plot {
+            taken.insert(p);
+        }
+        assigned.push((g.track, plot));
+    }
 }
 
 #[cfg(test)]
@@ -134,7 +248,7 @@ mod tests {
             gate(1, [-10.0, 0.0], 10.0, &[0, 1]),
             gate(2, [12.0, 0.0], 10.0, &[0]),
         ];
-        let a = associate(&gates, &plots, CHI2_2DOF_99);
+        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, |_| true);
         assert_eq!(
             a.assignments,
             [
@@ -155,7 +269,7 @@ mod tests {
     fn plots_outside_the_refined_gate_are_not_taken() {
         let plots = [[40.0, 0.0]];
         let gates = [gate(7, [0.0, 0.0], 10.0, &[0])];
-        let a = associate(&gates, &plots, CHI2_2DOF_99);
+        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, |_| true);
         assert_eq!(
             a.assignments,
             [Assignment {
@@ -165,5 +279,70 @@ mod tests {
         );
         assert_eq!(a.refined_out, 1);
         assert!(a.initiate.is_empty(), "it was in a rough gate");
+        // Two-stage: outside the firm track's refined gate, it starts a track.
+        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
+            true
+        });
+        assert_eq!(a.initiate, [0]);
+        assert_eq!(a.withheld, 0);
+    }
+
+    #[test]
+    fn a_plot_inside_a_firm_refined_gate_starts_nothing() {
+        // Two plots in a confirmed track's refined gate: it takes the nearer, the other is
+        // its target's second echo (withheld). A third plot 130 m off, in the rough gate but
+        // outside the refined one, starts a track (the target passing close by).
+        let plots = [[5.0, 0.0], [-20.0, 0.0], [130.0, 0.0]];
+        let gates = [gate(1, [0.0, 0.0], 20.0, &[0, 1, 2])];
+        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
+            true
+        });
+        assert_eq!(a.assignments[0].plot, Some(0));
+        assert_eq!(a.initiate, [2]);
+        assert_eq!(a.withheld, 1);
+        // A tentative track withholds nothing: a plot it did not take may be a new target.
+        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
+            false
+        });
+        assert_eq!(a.initiate, [1, 2]);
+    }
+
+    #[test]
+    fn firm_tracks_take_their_plots_before_tentative_ones() {
+        // The tentative track 2 is nearer to plot 0 than the confirmed track 1 (d² 0.25
+        // against 4, the same S), so jointly it takes the plot. Two-stage: the confirmed
+        // track takes it first.
+        let plots = [[20.0, 0.0]];
+        let gates = [
+            gate(1, [0.0, 0.0], 10.0, &[0]),
+            gate(2, [25.0, 0.0], 10.0, &[0]),
+        ];
+        let firm = |t: u16| t == 1;
+        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, firm);
+        assert_eq!(a.assignments[0].plot, Some(0));
+        assert_eq!(a.assignments[1].plot, None);
+        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, firm);
+        assert_eq!(
+            a.assignments[0].plot, None,
+            "jointly the tentative track wins"
+        );
+        assert_eq!(a.assignments[1].plot, Some(0));
+    }
+
+    #[test]
+    fn a_wide_track_does_not_take_a_settled_tracks_plot() {
+        // Both firm; one plot 30 m from the settled track (σ 20 m: d² 2.25) and 60 m from a
+        // coasting one (σ 60 m: d² 1.0). By d² alone the coasting track would take it; by
+        // d² + ln|S| (2.25 + 12.0 against 1.0 + 16.4) the settled one does.
+        let plots = [[30.0, 0.0]];
+        let gates = [
+            gate(1, [0.0, 0.0], 20.0, &[0]),
+            gate(2, [90.0, 0.0], 60.0, &[0]),
+        ];
+        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
+            true
+        });
+        assert_eq!(a.assignments[0].plot, Some(0));
+        assert_eq!(a.assignments[1].plot, None);
     }
 }

@@ -12,7 +12,7 @@ use tracker_core::icd::{
     MAX_ASSIGNMENTS_PER_MESSAGE, MAX_PLOTS_PER_MESSAGE,
 };
 
-use super::associate::Association;
+use super::associate::Associated;
 use crate::link::{Client, InprocTransport};
 
 /// The tracker device at the other end of the link.
@@ -210,8 +210,8 @@ impl DeviceLink {
         time_ms: u64,
         own_position_m: EastNorth,
         plots: &[Plot],
-        associate: impl Fn(&[GatedPlots]) -> Association,
-    ) -> anyhow::Result<(Association, Vec<TrackState>)> {
+        associate: impl Fn(&[GatedPlots]) -> Associated,
+    ) -> anyhow::Result<(Associated, Vec<TrackState>)> {
         let own = OwnShipPosition {
             time_ms,
             position_m: own_position_m,
@@ -239,8 +239,8 @@ impl DeviceLink {
         scan: u32,
         own: OwnShipPosition,
         plots: &[Plot],
-        associate: &impl Fn(&[GatedPlots]) -> Association,
-    ) -> anyhow::Result<(Association, Vec<TrackState>)> {
+        associate: &impl Fn(&[GatedPlots]) -> Associated,
+    ) -> anyhow::Result<(Associated, Vec<TrackState>)> {
         expect_ack(
             self.client.request(&HostToDevice::OwnShip(own))?,
             "own ship",
@@ -293,7 +293,7 @@ impl DeviceLink {
         Ok((association, tracks))
     }
 
-    fn send_assignments(&mut self, scan: u32, a: &Association) -> anyhow::Result<Vec<TrackState>> {
+    fn send_assignments(&mut self, scan: u32, a: &Associated) -> anyhow::Result<Vec<TrackState>> {
         let per = MAX_ASSIGNMENTS_PER_MESSAGE;
         let parts = a
             .assignments

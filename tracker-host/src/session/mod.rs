@@ -34,7 +34,7 @@ use tracker_core::icd::{Plot, TrackCommand, TrackState, TrackStatus, TrackerConf
 use crate::link::{Client, ClientStats};
 use crate::own_ship::OwnShip;
 use crate::source::RadarScan;
-use associate::{Association, CHI2_2DOF_99};
+use associate::{Associated, Association, CHI2_2DOF_99};
 use device::DeviceLink;
 use numbers::TargetNumbers;
 use target::{AlarmLimits, TargetData};
@@ -50,6 +50,8 @@ pub struct SessionConfig {
     pub tracker: TrackerConfig,
     /// Refined gate: largest Mahalanobis distance² of a plot a track may take.
     pub refined_gate_d2: f64,
+    /// How plots are associated and which start tracks.
+    pub association: Association,
     /// CPA/TCPA alarm limits.
     pub alarms: AlarmLimits,
 }
@@ -76,6 +78,7 @@ impl SessionConfig {
                 ..tracker
             },
             refined_gate_d2: CHI2_2DOF_99,
+            association: Association::default(),
             alarms: AlarmLimits::default(),
         }
     }
@@ -105,7 +108,7 @@ pub struct ScanReport {
     /// seen, with their numbers (free from the next scan).
     pub ended: Vec<TargetData>,
     /// What association did.
-    pub association: Association,
+    pub association: Associated,
     /// Host wall time for the scan, link included.
     pub host_time: Duration,
     /// Why the scan was not tracked, when it was not: the device refused it or reported
@@ -143,6 +146,8 @@ pub struct Session {
     events: Vec<String>,
     skipped: u64,
     warned_slow: bool,
+    /// Confirmed and coasting tracks at the last scan: they take plots first.
+    firm: std::collections::BTreeSet<u16>,
 }
 
 impl Session {
@@ -161,6 +166,7 @@ impl Session {
             events: Vec::new(),
             skipped: 0,
             warned_slow: false,
+            firm: Default::default(),
         })
     }
 
@@ -200,10 +206,12 @@ impl Session {
             .map(|p| geo::polar_to_local(own.position_m, p.range_m, p.bearing_rad))
             .collect();
         let gate = self.config.refined_gate_d2;
+        let mode = self.config.association;
+        let firm = &self.firm;
         let done = self
             .device
             .scan(radar.scan, time_ms, own.position_m, &radar.plots, |gates| {
-                associate::associate(gates, &plots_m, gate)
+                associate::associate(mode, gates, &plots_m, gate, |t| firm.contains(&t))
             });
         self.last_time_ms = Some(time_ms);
         let stats = self.device.client().stats();
@@ -240,7 +248,7 @@ impl Session {
                     targets: Vec::new(),
                     acquiring: Vec::new(),
                     ended: Vec::new(),
-                    association: Association::default(),
+                    association: Associated::default(),
                     host_time: started.elapsed(),
                     skipped: Some(why),
                     ais: Vec::new(),
@@ -250,6 +258,11 @@ impl Session {
             }
             Err(e) => return Err(e),
         };
+        self.firm = tracks
+            .iter()
+            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
+            .map(|t| t.track)
+            .collect();
         let numbered = self.numbers.scan(own, &tracks, &self.config.alarms);
         let host_time = started.elapsed();
         self.host_times.push(host_time);
@@ -286,7 +299,13 @@ impl Session {
     /// # Errors
     /// The handshake or the track report fails.
     pub fn restart_host(&mut self) -> anyhow::Result<Vec<TrackState>> {
-        self.device.restart_host()
+        let tracks = self.device.restart_host()?;
+        self.firm = tracks
+            .iter()
+            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
+            .map(|t| t.track)
+            .collect();
+        Ok(tracks)
     }
 
     /// What happened worth telling the operator (resets, restarts, skipped scans).

@@ -369,6 +369,7 @@ impl PlotSource for AisTruthSource {
                 position_m: x.position_m,
                 velocity_mps: x.velocity_mps,
                 detected: x.detected,
+                in_range: x.in_range,
             })
             .collect();
         self.send_ais(t);

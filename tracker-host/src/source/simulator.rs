@@ -118,6 +118,7 @@ pub fn source_scan(out: &ScanOutput, epoch_s: f64) -> SourceScan {
             velocity_mps: t.velocity_mps,
             // Detected means a plot of it is in the scan (not merged into another's).
             detected: out.plot_source.contains(&Some(t.id)),
+            in_range: t.in_range,
         })
         .collect();
     SourceScan {

@@ -122,6 +122,8 @@ impl TruthFile {
                     position_m: r.position_m,
                     velocity_mps: r.velocity_mps,
                     detected: r.detected,
+                    // A truth file does not say the radar's range: every target counts.
+                    in_range: true,
                 });
             }
         }
