@@ -28,6 +28,9 @@
 //! Log-likelihoods are normalised before exponentiating, so f32 never underflows, and each
 //! mode keeps at least [`MIN_MODE_PROBABILITY`] so neither is ever locked out.
 
+// 3×3 matrix products read best with their indices.
+#![allow(clippy::needless_range_loop)]
+
 use serde::{Deserialize, Serialize};
 
 use crate::filter::{Estimate, Filter, FilterError, Interval, Measurement, Vec2};
@@ -336,9 +339,8 @@ impl<S: Real> Filter<S> for Imm<S> {
         let total = mu[CV] + mu[CA];
         for m in &mut mu {
             *m /= total;
-            if !(*m >= floor) {
-                *m = floor;
-            }
+            // NaN compares false and takes the floor too.
+            *m = if *m >= floor { *m } else { floor };
         }
         let total = mu[CV] + mu[CA];
         self.mu = [mu[CV] / total, mu[CA] / total];
