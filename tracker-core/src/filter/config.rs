@@ -177,7 +177,7 @@ impl FilterConfig {
     /// | CV Kalman | CWNA, q = 0.05 m²/s³, r = σ² |
     /// | CA Kalman | CWNJ, q = 0.001 m²/s⁵, r = σ² |
     /// | GRNN | teaching sequences 10 and 45 scans, σ from the measured noise |
-    /// | IMM | CV q = 0.05 m²/s³ (as the CV Kalman), CA q = 0.01 m²/s⁵, sojourns 300 s (CV) and 30 s (CA), acceleration σ₀ = 1 m/s² |
+    /// | IMM | CV q = 0.005 m²/s³, CA q = 0.03 m²/s⁵, sojourns 300 s (CV) and 5 s (CA), acceleration σ₀ = 1 m/s² (chosen on `compare`'s turn study) |
     ///
     /// Numbers are given as `f32` and widened, as the device has always received them, so
     /// the device's gains are bit for bit those of earlier versions.
@@ -215,13 +215,13 @@ impl FilterConfig {
                 ..GrnnConfig::default()
             }),
             FilterKind::Imm => FilterConfig::Imm(ImmConfig {
-                q_cv: 0.05,
-                q_ca: 0.01,
+                q_cv: 0.005,
+                q_ca: 0.03,
                 r,
                 p0_velocity: f64::from(max_speed_mps * max_speed_mps),
                 p0_acceleration: 1.0,
                 sojourn_cv_s: 300.0,
-                sojourn_ca_s: 30.0,
+                sojourn_ca_s: 5.0,
             }),
         }
     }

@@ -457,6 +457,8 @@ where
         Command::Compare { runs, sigma } => {
             let (scores, detector) = compare::run(*runs, *sigma)?;
             say(&compare::report(*runs, *sigma, &scores, &detector));
+            let turns = crate::lab::turns::run(*runs)?;
+            say(&crate::lab::turns::report(*runs, &turns));
             Ok(ExitCode::SUCCESS)
         }
         Command::Arpa { runs } => {

@@ -5,6 +5,7 @@
 //! |---|---|---|
 //! | [`replay`], [`replay_nav`] | `replay` | one filter over recorded measurements, CSV in and out |
 //! | [`compare`] | `compare` | GRNN against the Kalman and α-β filters on a manoeuvre |
+//! | [`turns`] | `compare` | the IMM against CV Kalman, α-β-γ and GRNN on turns of 1–7°/s at 20–40 m |
 //! | [`precision`] | `precision` | f32 and fixed point against f64 |
 //! | [`arpa`] | `arpa` | the IMO ARPA accuracy test by Monte Carlo (paper 004's EKFs) |
 //! | [`reproduce`] | `reproduce` | the seed papers' experiments, report and plots |
@@ -21,3 +22,4 @@ pub mod precision;
 pub mod replay;
 pub mod replay_nav;
 pub mod reproduce;
+pub mod turns;
