@@ -260,8 +260,7 @@ fn scan_row(
         }
     }
     let per_scan = (ticks * u64::from(icount::INSTRUCTIONS_PER_TICK)) as f32 / scans as f32;
-    let plot_half =
-        (plot_ticks * u64::from(icount::INSTRUCTIONS_PER_TICK)) as f32 / scans as f32;
+    let plot_half = (plot_ticks * u64::from(icount::INSTRUCTIONS_PER_TICK)) as f32 / scans as f32;
     println!(
         "# {}: {} tracks and {} plots a scan on average; plots in, predict and gate {}, assignments applied {}",
         name,
