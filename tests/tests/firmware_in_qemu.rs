@@ -168,7 +168,7 @@ fn filter_costs_are_within_budget() {
     let growth = |name: &str| {
         rows.iter()
             .find(|r| r.name == name)
-            .map_or(f32::INFINITY, |r| r.instructions_per_call)
+            .map_or(f64::INFINITY, |r| r.instructions_per_call)
     };
     assert!(growth("scan-16-tracks-50-plots") <= 30_000.0);
     assert!(growth("scan-16-tracks-250-plots") <= 90_000.0);

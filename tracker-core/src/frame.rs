@@ -442,8 +442,8 @@ mod tests {
                 x ^= x << 5;
                 match seed % 3 {
                     0 => (x >> 24) as u8,
-                    1 => u8::from(i % 300 != 0) * ((x >> 24) as u8 | 1),
-                    _ => u8::from(x % 5 == 0) * (x >> 24) as u8,
+                    1 => u8::from(!i.is_multiple_of(300)) * ((x >> 24) as u8 | 1),
+                    _ => u8::from(x.is_multiple_of(5)) * (x >> 24) as u8,
                 }
             })
             .collect()
