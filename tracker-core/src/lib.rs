@@ -44,5 +44,6 @@ pub mod radar;
 pub mod scalar;
 #[cfg(feature = "sim")]
 pub mod sim;
+pub mod spatial;
 pub mod track;
 pub mod tracker;

@@ -39,6 +39,7 @@ use crate::geo::EastNorth;
 use crate::icd::{
     Assignment, ErrorCode, GatedPlots, TrackState, TrackStatus, TrackerConfig, MAX_PLOTS_PER_GATE,
 };
+use crate::spatial::EastIndex;
 
 /// Tracks the table holds.
 pub const MAX_TRACKS: usize = 64;
@@ -305,10 +306,15 @@ impl TrackTable {
     /// Rough gating: for each track, the (at most [`MAX_PLOTS_PER_GATE`]) nearest plots
     /// inside a circle of `gate_sigmas` standard deviations of the innovation, clamped to
     /// the configured radii (widened by the fastest target's travel while a track has only
-    /// one plot and no velocity).
+    /// one plot and no velocity). Ties in distance go to the lower plot number.
+    ///
+    /// The plots are bucketed by east once ([`EastIndex`]), so a track looks only at the
+    /// plots near its own east: the cost grows as tracks × plots in a strip of the gate's
+    /// width, not tracks × plots.
     pub fn gate(&mut self, plots: &[EastNorth], scan_s: f32) {
         let cfg = self.config;
         let plot_var = cfg.plot_sigma_m * cfg.plot_sigma_m;
+        let index = EastIndex::new(plots);
         for t in &mut self.tracks {
             t.innovation_cov = t.filter.innovation_cov(plot_var, t.coasts);
             let sigma = libm::sqrtf(t.innovation_cov[0].max(t.innovation_cov[2]));
@@ -322,35 +328,31 @@ impl TrackTable {
             }
             let p = t.filter.prediction();
             let r2 = radius * radius;
-            // Keep the nearest, in distance order, dropping the farthest when full.
-            let mut best: Vec<(f32, u16), MAX_PLOTS_PER_GATE> = Vec::new();
-            for (i, z) in plots.iter().enumerate() {
+            let mut best = Nearest::new();
+            let mut consider = |i: usize| {
+                let Some(z) = plots.get(i) else { return };
                 let (dx, dy) = (z[0] - p[0], z[1] - p[1]);
                 let d2 = dx * dx + dy * dy;
+                // `>`, not `>=`, and NaN passes: as the scan over every plot always did.
                 if d2 > r2 {
-                    continue;
+                    return;
                 }
-                let Ok(index) = u16::try_from(i) else { break };
-                if best.is_full() {
-                    if best.last().is_none_or(|&(far, _)| d2 >= far) {
-                        continue;
-                    }
-                    best.pop();
+                if let Ok(i) = u16::try_from(i) {
+                    best.offer(d2, i);
                 }
-                // Insertion into the sorted list by swaps (a library sort keeps a panic path
-                // for inconsistent orderings, which the firmware must not have).
-                let _ = best.push((d2, index));
-                for i in (1..best.len()).rev() {
-                    let Some((left, right)) = best.split_at_mut_checked(i) else {
-                        break;
-                    };
-                    match (left.last_mut(), right.first_mut()) {
-                        (Some(a), Some(b)) if b.0 < a.0 => core::mem::swap(a, b),
-                        _ => break,
+            };
+            match &index {
+                // The strips are wider than the gate by a margin far above f32 rounding, so
+                // no plot inside the circle is missed.
+                Some(index) if p[0].is_finite() && p[1].is_finite() => {
+                    let w = radius * 1.001 + 1.0;
+                    for &i in index.between(p[0] - w, p[0] + w) {
+                        consider(usize::from(i));
                     }
                 }
+                _ => (0..plots.len()).for_each(&mut consider),
             }
-            t.gated = take_up_to(best.iter().map(|&(_, i)| i));
+            t.gated = take_up_to(best.0.iter().map(|&(_, i)| i));
         }
     }
 
@@ -493,6 +495,50 @@ impl TrackTable {
     /// Drops every track.
     pub fn cancel_all(&mut self) {
         self.tracks.clear();
+    }
+}
+
+/// The nearest plots offered, kept sorted by (distance², plot number): the result does not
+/// depend on the order the plots are offered in.
+struct Nearest(Vec<(f32, u16), MAX_PLOTS_PER_GATE>);
+
+impl Nearest {
+    fn new() -> Self {
+        Nearest(Vec::new())
+    }
+
+    /// `a` before `b`. With NaN distances nothing is before anything, which keeps the offer
+    /// order: the behaviour of the scan over every plot in plot order.
+    fn before(a: (f32, u16), b: (f32, u16)) -> bool {
+        a.0 < b.0 || (a.0 == b.0 && a.1 < b.1)
+    }
+
+    /// Offers plot `index` at squared distance `d2`; the farthest is dropped when full.
+    fn offer(&mut self, d2: f32, index: u16) {
+        let best = &mut self.0;
+        if best.is_full() {
+            // Not `!before(new, far)`: with a NaN distance that would drop the offer, where
+            // the scan in plot order always took it.
+            if best
+                .last()
+                .is_some_and(|&far| Self::before(far, (d2, index)))
+            {
+                return;
+            }
+            best.pop();
+        }
+        // Insertion into the sorted list by swaps (a library sort keeps a panic path for
+        // inconsistent orderings, which the firmware must not have).
+        let _ = best.push((d2, index));
+        for i in (1..best.len()).rev() {
+            let Some((left, right)) = best.split_at_mut_checked(i) else {
+                break;
+            };
+            match (left.last_mut(), right.first_mut()) {
+                (Some(a), Some(b)) if Self::before(*b, *a) => core::mem::swap(a, b),
+                _ => break,
+            }
+        }
     }
 }
 
@@ -676,5 +722,49 @@ mod tests {
             ..TrackerConfig::DEFAULT
         };
         assert_eq!(t.configure(bad), Err(ErrorCode::InvalidValue));
+    }
+
+    #[test]
+    fn bucketed_gates_match_a_scan_over_every_plot() {
+        let mut t = table();
+        let cfg = *t.config();
+        // Tracks and plots on a coarse grid: many plots at equal distances, and repeats.
+        for k in 0..30u16 {
+            let z = [f32::from(k % 6) * 700.0 - 2000.0, f32::from(k / 6) * 500.0];
+            t.start_track(0, Measurement::new(z).unwrap()).unwrap();
+        }
+        t.predict(2500);
+        let plots: std::vec::Vec<EastNorth> = (0..250u32)
+            .map(|i| {
+                let e = ((i * 37) % 41) as f32 * 100.0 - 2100.0;
+                [e, ((i * 11) % 29) as f32 * 100.0]
+            })
+            .collect();
+        t.gate(&plots, 2.5);
+        for i in 0..t.tracks().len() {
+            let g = t.gated(i).unwrap();
+            let s = g.innovation_cov_m2;
+            let radius = (cfg.gate_sigmas * libm::sqrtf(s[0].max(s[2])))
+                .max(cfg.min_gate_m)
+                .min(cfg.max_gate_m);
+            let p = g.predicted_m;
+            let mut all: std::vec::Vec<(f32, u16)> = plots
+                .iter()
+                .enumerate()
+                .map(|(j, z)| {
+                    let (dx, dy) = (z[0] - p[0], z[1] - p[1]);
+                    (dx * dx + dy * dy, j as u16)
+                })
+                .filter(|&(d2, _)| d2 <= radius * radius)
+                .collect();
+            all.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            let want: std::vec::Vec<u16> = all
+                .iter()
+                .take(MAX_PLOTS_PER_GATE)
+                .map(|&(_, j)| j)
+                .collect();
+            assert!(!want.is_empty());
+            assert_eq!(g.plots.as_slice(), want.as_slice(), "track {i}");
+        }
     }
 }

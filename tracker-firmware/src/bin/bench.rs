@@ -28,7 +28,8 @@ const CALLS: u32 = 200;
 
 use icount::report as row;
 
-/// One encoded request frame.
+/// One encoded request frame. Its own frame: its buffers are dead once it returns.
+#[inline(never)]
 fn request(body: &HostToDevice) -> ([u8; MAX_ENCODED_FRAME_BYTES], usize) {
     let mut scratch = [0u8; MAX_FRAME_BYTES];
     let mut out = [0u8; MAX_ENCODED_FRAME_BYTES];
@@ -89,35 +90,94 @@ fn filter_row<S: Scalar, F: Filter<S>>(
     row(name, S::NAME, per_scan, core::mem::size_of::<F>());
 }
 
-/// Instructions per scan of the device's tracking work for 40 targets and about 200 plots:
-/// plots in (converted to the local frame), every track predicted and rough-gated,
-/// assignments applied (updates, coasts, initiations, life cycle). The assignments are
-/// the nearest gated plot, chosen outside the measurement (the host's job).
+/// What a scan bench feeds the device.
+#[derive(Clone, Copy)]
+struct ScanLoad {
+    /// Targets simulated.
+    targets: usize,
+    /// The simulator's own clutter, plots a scan on average.
+    sim_clutter: f32,
+    /// Plots a scan in all: the simulator's, topped up with uniform clutter to this many
+    /// (at most the simulator's capacity, which is the device's).
+    plots: usize,
+    /// Start tracks on clutter too (a plot in no gate starts one, which fills the table),
+    /// or only on the targets' plots, which holds the table at about the targets' number.
+    initiate_clutter: bool,
+}
+
+/// Storage of the scan benches, in .bss rather than on the stack (which the track table
+/// leaves small), shared by every row.
+struct ScanBench {
+    out: tracker_core::sim::ScanOutput,
+    /// Per plot: in some gate; assigned to a track.
+    gated: [bool; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
+    taken: [bool; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
+    initiate: heapless::Vec<u16, { tracker_core::tracker::MAX_PLOTS_PER_SCAN }>,
+    /// Scan times go on from row to row: the device refuses a scan not later than the last.
+    time_base_ms: u64,
+}
+
+/// Scans a bench runs: the first half settles the picture, the second is counted.
+const BENCH_SCANS: u32 = 40;
+
+/// Instructions per scan of the device's tracking work: plots in (converted to the local
+/// frame), every track predicted and rough-gated, assignments applied (updates, coasts,
+/// initiations, life cycle). The assignments are the nearest gated plot, chosen outside
+/// the measurement (the host's job). Prints the row, and a comment with the tracks and
+/// plots it averaged.
 // Its own frame: inlined into `main`, every row's locals would share one huge frame.
 #[inline(never)]
-fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
+fn scan_row(
+    counter: &mut icount::InstructionCounter,
+    device: &mut Device,
+    bench: &mut ScanBench,
+    sim: &mut tracker_core::sim::Scenario,
+    name: &str,
+    load: ScanLoad,
+) {
     use tracker_core::device::Reply;
-    use tracker_core::icd::{Assignment, AssignmentBatch, PlotBatch, MAX_PLOTS_PER_MESSAGE};
-    use tracker_core::sim::{Scenario, ScenarioConfig};
-    let mut config = ScenarioConfig::open_sea(40, 1);
-    config.sensor.clutter_per_scan = 160.0;
-    // In .bss rather than on the stack, which the track table leaves small.
-    let Some(sim) = cortex_m::singleton!(: Scenario = Scenario::new(config)) else {
-        board::exit(1)
+    use tracker_core::icd::{
+        Assignment, AssignmentBatch, Plot, PlotBatch, TrackCommand, MAX_PLOTS_PER_MESSAGE,
     };
-    let (mut ticks, mut scans, mut plots) = (0u64, 0u32, 0usize);
-    let Some(out) = cortex_m::singleton!(: tracker_core::sim::ScanOutput = tracker_core::sim::ScanOutput::default())
-    else {
-        board::exit(1)
+    use tracker_core::sim::ScenarioConfig;
+    let _ = device.handle(&HostToDevice::Command(TrackCommand::CancelAll));
+    let mut config = ScenarioConfig::open_sea(load.targets, 1);
+    config.sensor.clutter_per_scan = load.sim_clutter;
+    let max_range_m = config.sensor.max_range_m;
+    restart(sim, config);
+    // Uniform clutter over the radar's disc, from a fixed LCG: the same plots every run.
+    let mut seed = 0x2545_f491u32;
+    let mut uniform = move || {
+        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+        (seed >> 8) as f32 / (1u32 << 24) as f32
     };
-    for k in 0..40 {
-        sim.next_scan_into(out);
-        let parts = out.plots.len().div_ceil(MAX_PLOTS_PER_MESSAGE).max(1) as u8;
+    let (mut ticks, mut scans, mut plots, mut tracks) = (0u64, 0u32, 0usize, 0usize);
+    // The plot half (plots in, predict, gate) apart from the whole.
+    let mut plot_ticks = 0u64;
+    for k in 0..BENCH_SCANS {
+        sim.next_scan_into(&mut bench.out);
+        let out = &mut bench.out;
+        let time_ms = bench.time_base_ms + out.time_ms;
+        // The top-up clutter goes after the simulator's plots, with no source.
+        while out.plots.len() < load.plots {
+            // The larger of two uniforms has density 2u: uniform over the disc's area.
+            let u = uniform().max(uniform());
+            let plot = Plot {
+                range_m: max_range_m * u,
+                bearing_rad: core::f32::consts::TAU * uniform(),
+            };
+            if out.plots.push(plot).is_err() {
+                break;
+            }
+        }
+        let out = &bench.out;
+        let all = &out.plots;
+        let parts = all.len().div_ceil(MAX_PLOTS_PER_MESSAGE).max(1) as u8;
         let mut t = 0u32;
-        for (i, chunk) in out.plots.chunks(MAX_PLOTS_PER_MESSAGE).enumerate() {
+        for (i, chunk) in all.chunks(MAX_PLOTS_PER_MESSAGE).enumerate() {
             let batch = HostToDevice::Plots(PlotBatch {
                 scan: out.scan,
-                time_ms: out.time_ms,
+                time_ms,
                 part: i as u8,
                 parts,
                 plots: chunk.iter().copied().collect(),
@@ -127,11 +187,13 @@ fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
             });
             t += dt;
         }
+        let t_plots = t;
         let tracker = device.tracker();
         let n = tracker.table().tracks().len();
         let mut assignments: heapless::Vec<Assignment, 64> = heapless::Vec::new();
-        let mut taken = [false; 256];
-        let mut gated = [false; 256];
+        let (taken, gated) = (&mut bench.taken, &mut bench.gated);
+        taken.fill(false);
+        gated.fill(false);
         for i in 0..n {
             if let Some(g) = tracker.table().gated(i) {
                 for &p in &g.plots {
@@ -147,9 +209,14 @@ fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
                 });
             }
         }
-        let initiate: heapless::Vec<u16, 256> = (0..out.plots.len() as u16)
-            .filter(|&p| !gated[usize::from(p)])
-            .collect();
+        let target_plot = |p: usize| out.plot_source.get(p).is_some_and(|s| s.is_some());
+        let initiate = &mut bench.initiate;
+        initiate.clear();
+        for (p, &in_gate) in gated.iter().enumerate().take(all.len()) {
+            if !in_gate && (load.initiate_clutter || target_plot(p)) {
+                let _ = initiate.push(p as u16);
+            }
+        }
         let per = 48;
         let aparts = assignments
             .len()
@@ -181,23 +248,99 @@ fn scan_row(counter: &mut icount::InstructionCounter, device: &mut Device) {
             t += dt;
         }
         // Score the scans once the picture has settled (tracks confirmed).
-        if k >= 20 {
+        if k >= BENCH_SCANS / 2 {
             ticks += u64::from(t);
+            plot_ticks += u64::from(t_plots);
             scans += 1;
-            plots += out.plots.len();
+            plots += all.len();
+            tracks += n;
+        }
+        if k + 1 == BENCH_SCANS {
+            bench.time_base_ms = time_ms + 60_000;
         }
     }
     let per_scan = (ticks * u64::from(icount::INSTRUCTIONS_PER_TICK)) as f32 / scans as f32;
+    let plot_half = (plot_ticks * u64::from(icount::INSTRUCTIONS_PER_TICK)) as f32 / scans as f32;
     println!(
-        "# scan row: {} plots a scan on average",
-        plots / scans as usize
+        "# {}: {} tracks and {} plots a scan on average; plots in, predict and gate {}, assignments applied {}",
+        name,
+        tracks / scans as usize,
+        plots / scans as usize,
+        plot_half,
+        per_scan - plot_half
     );
     row(
-        "scan-40-targets-200-plots",
+        name,
         "f32",
         per_scan,
         core::mem::size_of::<tracker_core::tracker::Tracker>(),
     );
+}
+
+/// The scan benches' storage, once. Its own frame: the values pass through the stack on
+/// their way to .bss, and that space is free again before the benches run.
+#[inline(never)]
+fn scan_storage() -> Option<(
+    &'static mut ScanBench,
+    &'static mut tracker_core::sim::Scenario,
+)> {
+    use tracker_core::sim::{ScanOutput, Scenario, ScenarioConfig};
+    let bench = cortex_m::singleton!(: ScanBench = ScanBench {
+        out: ScanOutput::default(),
+        gated: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
+        taken: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
+        initiate: heapless::Vec::new(),
+        time_base_ms: 0,
+    })?;
+    let sim = cortex_m::singleton!(: Scenario = Scenario::new(ScenarioConfig::open_sea(1, 1)))?;
+    Some((bench, sim))
+}
+
+/// A new scenario in place. Its own frame, as [`scan_storage`].
+#[inline(never)]
+fn restart(sim: &mut tracker_core::sim::Scenario, config: tracker_core::sim::ScenarioConfig) {
+    *sim = tracker_core::sim::Scenario::new(config);
+}
+
+/// The scan rows: today's product picture (40 targets, the simulator's clutter, every
+/// plot in no gate starting a track, so the table runs full), then the growth with tracks
+/// and plots.
+// Its own frame: inlined into `main`, every row's locals would share one huge frame.
+#[inline(never)]
+fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
+    let Some((bench, sim)) = scan_storage() else {
+        board::exit(1)
+    };
+    let product = ScanLoad {
+        targets: 40,
+        sim_clutter: 160.0,
+        plots: 0,
+        initiate_clutter: true,
+    };
+    scan_row(
+        counter,
+        device,
+        bench,
+        sim,
+        "scan-40-targets-200-plots",
+        product,
+    );
+    for (name, targets, plots) in [
+        ("scan-16-tracks-50-plots", 16, 50),
+        ("scan-16-tracks-200-plots", 16, 200),
+        ("scan-16-tracks-250-plots", 16, 250),
+        ("scan-64-tracks-50-plots", 64, 50),
+        ("scan-64-tracks-200-plots", 64, 200),
+        ("scan-64-tracks-250-plots", 64, 250),
+    ] {
+        let load = ScanLoad {
+            targets,
+            sim_clutter: 0.0,
+            plots,
+            initiate_clutter: false,
+        };
+        scan_row(counter, device, bench, sim, name, load);
+    }
 }
 
 /// RAM per track: the table's slot (sized for the largest filter, so any can be chosen at
@@ -286,7 +429,7 @@ fn main() -> ! {
 
     filter_rows::<f32>(&mut counter);
     filter_rows::<Fix>(&mut counter);
-    scan_row(&mut counter, device);
+    scan_rows(&mut counter, device);
     capacity_rows();
     let kalman = KalmanConfig::new(0.1, QModel::Continuous, 100.0);
     filter_row::<f32, _>(&mut counter, "kalman-cv", kalman.build_cv::<f32>().ok());
