@@ -107,6 +107,7 @@ fn filter_costs_are_within_budget() {
         "kalman-cv",
         "kalman-ca",
         "grnn",
+        "imm",
     ];
     for r in rows
         .iter()

@@ -367,6 +367,10 @@ fn capacity_rows() {
         ("track-slot-sswt", size_of::<Sswt<f32>>()),
         ("track-slot-kalman-cv", size_of::<KalmanCv<f32>>()),
         ("track-slot-kalman-ca", size_of::<KalmanCa<f32>>()),
+        (
+            "track-slot-imm",
+            size_of::<tracker_core::filter::imm::Imm<f32>>(),
+        ),
     ] {
         row(name, "f32", 0.0, overhead + filter);
     }
@@ -441,5 +445,15 @@ fn main() -> ! {
             .build::<f32>()
             .ok(),
     );
+    // The IMM as the product runs it (CV + CA, plots of 40 m).
+    let imm = match tracker_core::filter::FilterConfig::tracking(
+        tracker_core::filter::FilterKind::Imm,
+        40.0,
+        20.0,
+    ) {
+        tracker_core::filter::FilterConfig::Imm(c) => c.build::<f32>().ok(),
+        _ => None,
+    };
+    filter_row::<f32, _>(&mut counter, "imm", imm);
     board::exit(0)
 }

@@ -60,9 +60,12 @@ pub struct FilterScore {
     pub vector_delay_scans: f64,
 }
 
-/// The detector's scores.
+/// A manoeuvre detector's scores: the GRNN's (paper 003), or the IMM's (a manoeuvre while
+/// the CA mode is the more probable).
 #[derive(Clone, Debug)]
 pub struct DetectorScore {
+    /// Whose.
+    pub name: &'static str,
     /// Fraction of scans on straight runs (after the warm-up) with a manoeuvre declared.
     pub false_alarm_rate: f64,
     /// Detection delays after the onset, scans, sorted.
@@ -75,7 +78,7 @@ pub struct DetectorScore {
 ///
 /// # Errors
 /// A filter refusing its configuration (a bug, not a run-time condition).
-pub fn run(runs: u64, sigma_m: f64) -> anyhow::Result<(Vec<FilterScore>, DetectorScore)> {
+pub fn run(runs: u64, sigma_m: f64) -> anyhow::Result<(Vec<FilterScore>, Vec<DetectorScore>)> {
     let filters: Vec<(&'static str, FilterConfig)> = vec![
         ("grnn", FilterConfig::Grnn(GrnnConfig::default())),
         (
@@ -131,36 +134,49 @@ pub fn run(runs: u64, sigma_m: f64) -> anyhow::Result<(Vec<FilterScore>, Detecto
             vector_delay_scans: delay_sum / runs as f64,
         });
     }
-    // The detector: straight runs for false alarms, manoeuvring runs for the delay.
-    let grnn = FilterConfig::Grnn(GrnnConfig::default());
-    let (mut alarms, mut scans) = (0usize, 0usize);
-    let mut delays = Vec::new();
-    let mut missed = 0;
-    for seed in 0..runs {
-        let (_, straight) = manoeuvring_run(10_000 + seed, sigma_m, false);
-        let rows = replay::run(&grnn, ScalarKind::F64, &straight)?;
-        alarms += rows[50..].iter().filter(|r| r.manoeuvre).count();
-        scans += rows.len() - 50;
-        let (_, turning) = manoeuvring_run(20_000 + seed, sigma_m, true);
-        let rows = replay::run(&grnn, ScalarKind::F64, &turning)?;
-        match rows[ONSET..].iter().position(|r| r.manoeuvre) {
-            Some(d) => delays.push(d),
-            None => missed += 1,
+    // The detectors: straight runs for false alarms, manoeuvring runs for the delay.
+    let detectors = [
+        ("grnn", FilterConfig::Grnn(GrnnConfig::default())),
+        (
+            "imm",
+            FilterConfig::tracking(tracker_core::filter::FilterKind::Imm, sigma_m as f32, 20.0),
+        ),
+    ];
+    let mut detected = Vec::new();
+    for (name, spec) in &detectors {
+        let (mut alarms, mut scans) = (0usize, 0usize);
+        let mut delays = Vec::new();
+        let mut missed = 0;
+        for seed in 0..runs {
+            let (_, straight) = manoeuvring_run(10_000 + seed, sigma_m, false);
+            let rows = replay::run(spec, ScalarKind::F64, &straight)?;
+            alarms += rows[50..].iter().filter(|r| r.manoeuvre).count();
+            scans += rows.len() - 50;
+            let (_, turning) = manoeuvring_run(20_000 + seed, sigma_m, true);
+            let rows = replay::run(spec, ScalarKind::F64, &turning)?;
+            match rows[ONSET..].iter().position(|r| r.manoeuvre) {
+                Some(d) => delays.push(d),
+                None => missed += 1,
+            }
         }
-    }
-    delays.sort();
-    Ok((
-        scores,
-        DetectorScore {
+        delays.sort();
+        detected.push(DetectorScore {
+            name,
             false_alarm_rate: alarms as f64 / scans.max(1) as f64,
             delays,
             missed,
-        },
-    ))
+        });
+    }
+    Ok((scores, detected))
 }
 
 /// The report as text.
-pub fn report(runs: u64, sigma_m: f64, scores: &[FilterScore], d: &DetectorScore) -> String {
+pub fn report(
+    runs: u64,
+    sigma_m: f64,
+    scores: &[FilterScore],
+    detectors: &[DetectorScore],
+) -> String {
     let mut s = format!(
         "{runs} Monte Carlo runs, position noise {sigma_m} m, 3 s scans; a 60° turn at 2.9°/s slowing from 8 to 6 m/s\n\n\
          {:<22} {:>16} {:>14} {:>22}\n",
@@ -172,24 +188,28 @@ pub fn report(runs: u64, sigma_m: f64, scores: &[FilterScore], d: &DetectorScore
             f.name, f.rms_velocity_mps, f.rms_course_deg, f.vector_delay_scans
         );
     }
-    let pct = |p: f64| {
-        d.delays
-            .get(((d.delays.len() as f64 - 1.0) * p).round() as usize)
-            .copied()
-            .unwrap_or(0)
-    };
-    s += &format!(
-        "\nGRNN manoeuvre detector: false alarms on {:.4} % of straight-run scans; detected in {} of {} runs, \
-         within 5 scans of the onset in {}; delay median {} scans, 90th percentile {}, 95th {}, max {}\n",
-        d.false_alarm_rate * 100.0,
-        d.delays.len(),
-        d.delays.len() + d.missed,
-        d.delays.iter().filter(|&&k| k <= 5).count(),
-        pct(0.5),
-        pct(0.9),
-        pct(0.95),
-        pct(1.0)
-    );
+    for d in detectors {
+        let pct = |p: f64| {
+            d.delays
+                .get(((d.delays.len() as f64 - 1.0) * p).round() as usize)
+                .copied()
+                .unwrap_or(0)
+        };
+        s += &format!(
+            "\n{} manoeuvre detector: false alarms on {:.4} % of straight-run scans; detected in {} of {} runs, \
+             within 5 scans of the onset in {}; delay median {} scans, 90th percentile {}, 95th {}, max {}",
+            d.name,
+            d.false_alarm_rate * 100.0,
+            d.delays.len(),
+            d.delays.len() + d.missed,
+            d.delays.iter().filter(|&&k| k <= 5).count(),
+            pct(0.5),
+            pct(0.9),
+            pct(0.95),
+            pct(1.0)
+        );
+    }
+    s += "\n";
     s
 }
 
@@ -199,7 +219,9 @@ mod tests {
 
     #[test]
     fn the_detector_meets_its_stated_bounds() {
-        let (scores, d) = run(100, 5.0).unwrap();
+        let (scores, detectors) = run(100, 5.0).unwrap();
+        let d = &detectors[0];
+        assert_eq!(d.name, "grnn");
         assert_eq!(scores.len(), 4);
         assert_eq!(d.missed, 0);
         assert!(d.false_alarm_rate < 5e-4, "{}", d.false_alarm_rate);
