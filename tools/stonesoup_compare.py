@@ -65,8 +65,8 @@ MAX_SPEED_MPS = 20.0
 CHI2_2DOF_99 = 9.21
 CONFIRM_HITS = 3
 TENTATIVE_MAX_COASTS = 2
-KEEP_M, KEEP_N = 5, 10  # a confirmed track is lost with fewer than 5 hits in its last 10 scans
-CONFIRMED_MAX_COASTS = KEEP_N - KEEP_M + 1  # the nearest UpdateTimeStepsDeleter: 6 in a row
+KEEP_M, KEEP_N = 5, 10  # the tracker's earlier rule: lost with fewer than 5 hits in its last 10 scans
+CONFIRMED_MAX_COASTS = 6  # the tracker's rule now (LOST_AFTER_COASTS): 6 misses in a row
 
 
 # ----------------------------------------------------------------------------------------
@@ -377,7 +377,7 @@ def main():
     ap.add_argument("--deleter", choices=["update-time-steps", "keep-m-of-n"],
                     default="update-time-steps",
                     help="Stone Soup's deleter of confirmed tracks: UpdateTimeStepsDeleter(6) "
-                    "(six misses in a row), or our KEEP 5-of-10 rule as a custom Deleter")
+                    "(six misses in a row, our rule), or our earlier 5-of-10 rule as a custom Deleter")
     ap.add_argument("--reuse", action="store_true",
                     help="reuse our runs already recorded in --workdir (Stone Soup only)")
     ap.add_argument("--markdown", help="also write the results table here")
