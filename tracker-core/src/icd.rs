@@ -392,7 +392,7 @@ pub struct AssignmentBatch {
     pub parts: u8,
     /// The assignments of this part.
     pub assignments: Vec<Assignment, MAX_ASSIGNMENTS_PER_MESSAGE>,
-    /// Indices of plots in no gate that should start tentative tracks.
+    /// Indices of plots that should start tentative tracks (the host's choice).
     pub initiate: Vec<u16, MAX_ASSIGNMENTS_PER_MESSAGE>,
 }
 

@@ -8,7 +8,7 @@
 //! consume. It knows nothing of the simulator, of scoring, of terminals or of NMEA.
 //!
 //! Stone Soup's parts, on the host: [`associate`] is the hypothesiser (refined gate) and the
-//! associator (GNN); the initiator's choice (plots in no gate) is made there too; the
+//! associator (GNN, two stages); the initiator's choice (which plots start tracks) is made there too; the
 //! predictor, updater and deleter run on the device.
 //!
 //! | module | what |
