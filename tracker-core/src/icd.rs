@@ -428,6 +428,14 @@ pub enum TrackStatus {
     Lost,
 }
 
+impl TrackStatus {
+    /// Confirmed or coasting: a track the operator is shown, scored against the truth, and
+    /// given its plots before tentative ones.
+    pub const fn is_firm(self) -> bool {
+        matches!(self, TrackStatus::Confirmed | TrackStatus::Coasting)
+    }
+}
+
 /// A track's filtered state in the local frame (east/north metres from the origin the
 /// own-ship positions are given in).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -22,7 +22,7 @@ mod truth;
 use std::collections::{BTreeMap, BTreeSet};
 
 use tracker_core::geo;
-use tracker_core::icd::{TrackState, TrackStatus};
+use tracker_core::icd::TrackState;
 
 pub use summary::Summary;
 pub use truth::{ScanTruth, TargetTruth};
@@ -102,7 +102,7 @@ impl Scorer {
         let own = truth.own;
         let mut followed: BTreeSet<u32> = BTreeSet::new();
         for t in tracks {
-            if !matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting) {
+            if !t.status.is_firm() {
                 continue;
             }
             let distance = |x: &TargetTruth| {
@@ -198,7 +198,7 @@ impl Scorer {
             .collect();
         let ys: Vec<[f64; 2]> = tracks
             .iter()
-            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
+            .filter(|t| t.status.is_firm())
             .map(|t| t.position_m.map(f64::from))
             .collect();
         let d = ospa::set_distance(&xs, &ys, ospa::OSPA_C_M, ospa::OSPA_P);
@@ -211,7 +211,7 @@ impl Scorer {
     pub fn matched(&self, tracks: &[TrackState]) -> BTreeMap<u16, u32> {
         tracks
             .iter()
-            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
+            .filter(|t| t.status.is_firm())
             .filter_map(|t| {
                 let r = self.tracks.get(&t.track)?;
                 // Matched this very scan, not some scan before it.
@@ -367,6 +367,7 @@ impl crate::sink::ScanSink for ScoreSink {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use tracker_core::icd::TrackStatus;
 
     fn target(id: u32, east_m: f32, in_range: bool) -> TargetTruth {
         TargetTruth {

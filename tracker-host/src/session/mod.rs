@@ -134,6 +134,15 @@ impl ScanReport {
     }
 }
 
+/// The numbers of the confirmed and coasting tracks among `tracks`.
+fn firm_tracks(tracks: &[TrackState]) -> std::collections::BTreeSet<u16> {
+    tracks
+        .iter()
+        .filter(|t| t.status.is_firm())
+        .map(|t| t.track)
+        .collect()
+}
+
 /// The host half of the tracker.
 pub struct Session {
     device: DeviceLink,
@@ -258,11 +267,7 @@ impl Session {
             }
             Err(e) => return Err(e),
         };
-        self.firm = tracks
-            .iter()
-            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
-            .map(|t| t.track)
-            .collect();
+        self.firm = firm_tracks(&tracks);
         let numbered = self.numbers.scan(own, &tracks, &self.config.alarms);
         let host_time = started.elapsed();
         self.host_times.push(host_time);
@@ -300,11 +305,7 @@ impl Session {
     /// The handshake or the track report fails.
     pub fn restart_host(&mut self) -> anyhow::Result<Vec<TrackState>> {
         let tracks = self.device.restart_host()?;
-        self.firm = tracks
-            .iter()
-            .filter(|t| matches!(t.status, TrackStatus::Confirmed | TrackStatus::Coasting))
-            .map(|t| t.track)
-            .collect();
+        self.firm = firm_tracks(&tracks);
         Ok(tracks)
     }
 
