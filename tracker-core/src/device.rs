@@ -214,7 +214,6 @@ impl Device {
             HostToDevice::Echo(bytes) => Reply::One(DeviceToHost::Echo(bytes.clone())),
             HostToDevice::GetStats => Reply::One(DeviceToHost::Stats(self.stats)),
             HostToDevice::Configure(config) => ack(self.tracker.configure(*config)),
-            HostToDevice::OwnShip(nav) => ack(self.tracker.own_ship(nav)),
             HostToDevice::Command(command) => ack(self.tracker.command(*command)),
             HostToDevice::Plots(batch) => match self.tracker.plots(batch) {
                 Ok(Some(parts)) => Reply::Gated { parts },
@@ -371,19 +370,14 @@ mod tests {
 
     #[test]
     fn a_retried_request_is_answered_again_not_redone() {
-        use crate::icd::{AssignmentBatch, Plot, PlotBatch};
+        use crate::icd::{AssignmentBatch, PlotBatch};
         let mut dev = Device::new(CONFIG);
-        let plots = heapless::Vec::from_slice(&[Plot {
-            range_m: 1000.0,
-            bearing_rad: 0.0,
-        }])
-        .unwrap();
         let scan = HostToDevice::Plots(PlotBatch {
             scan: 0,
             time_ms: 0,
             part: 0,
             parts: 1,
-            plots,
+            plots_m: heapless::Vec::from_slice(&[[0.0, 1000.0]]).unwrap(),
         });
         let first = exchange(&mut dev, &request(5, &scan));
         let assign = HostToDevice::Assign(AssignmentBatch {
@@ -407,20 +401,15 @@ mod tests {
 
     #[test]
     fn a_scan_through_the_link_answers_in_parts() {
-        use crate::icd::{AssignmentBatch, Plot, PlotBatch};
+        use crate::icd::{AssignmentBatch, PlotBatch, MAX_TRACKS_PER_MESSAGE};
         let mut dev = Device::new(CONFIG);
-        let plots: heapless::Vec<Plot, 48> = (0..30)
-            .map(|i| Plot {
-                range_m: 1000.0 + 500.0 * i as f32,
-                bearing_rad: 0.1 * i as f32,
-            })
-            .collect();
+        let n = MAX_TRACKS_PER_MESSAGE as u16 + 6;
         let batch = PlotBatch {
             scan: 0,
             time_ms: 0,
             part: 0,
             parts: 1,
-            plots,
+            plots_m: (0..n).map(|i| [500.0 * f32::from(i), 1000.0]).collect(),
         };
         let r = exchange(&mut dev, &request(5, &HostToDevice::Plots(batch)));
         assert!(matches!(r[..], [(_, DeviceToHost::Gated(_))]), "{r:?}");
@@ -429,10 +418,10 @@ mod tests {
             part: 0,
             parts: 1,
             assignments: heapless::Vec::new(),
-            initiate: (0..30).collect(),
+            initiate: (0..n).collect(),
         };
         let r = exchange(&mut dev, &request(6, &HostToDevice::Assign(assign)));
-        // 30 tracks at 24 a message: two parts, both answering request 6.
+        // More tracks than a message holds: two parts, both answering request 6.
         assert_eq!(r.len(), 2, "{r:?}");
         for (i, (h, body)) in r.iter().enumerate() {
             assert_eq!(h.request_id, 6);

@@ -20,12 +20,18 @@ use serde::{Deserialize, Serialize};
 use crate::filter::kalman::{KalmanConfig, QModel};
 use crate::filter::FilterConfig;
 
+pub mod fixed;
+
 /// Bumped on every incompatible change to the types of this module.
 ///
 /// 3: the filter configuration is the core's [`FilterConfig`] (every filter, its full
-/// design); own ship is [`OwnShipPosition`] (the device uses the position alone); a track's
-/// `innovation_cov_m2` is named for what it holds.
-pub const PROTOCOL_VERSION: u16 = 3;
+/// design); a track's `innovation_cov_m2` is named for what it holds.
+///
+/// 4: lengths and speeds in fixed point ([`fixed`]); plots go to the device as positions
+/// in the local frame (the host converts them, as it must for its own refined gate, so the
+/// device needs neither own ship nor trigonometry); track states no longer repeat the
+/// innovation covariance their gate carried; fewer, fuller parts.
+pub const PROTOCOL_VERSION: u16 = 4;
 
 /// Largest decoded frame: header + body + CRC, before COBS.
 pub const MAX_FRAME_BYTES: usize = 1024;
@@ -37,10 +43,11 @@ pub const MAX_ENCODED_FRAME_BYTES: usize = cobs::max_encoding_length(MAX_FRAME_B
 pub const MAX_ECHO_BYTES: usize = 1000;
 
 /// Radar plots carried by one [`HostToDevice::Plots`] message (a scan may take several).
-pub const MAX_PLOTS_PER_MESSAGE: usize = 48;
+/// At most ten bytes each (two five-byte varints), so a full message fits a frame.
+pub const MAX_PLOTS_PER_MESSAGE: usize = 96;
 
-/// Track states carried by one [`DeviceToHost::Tracks`] message.
-pub const MAX_TRACKS_PER_MESSAGE: usize = 24;
+/// Track states carried by one [`DeviceToHost::Tracks`] message (at most 30 bytes each).
+pub const MAX_TRACKS_PER_MESSAGE: usize = 32;
 
 /// Plot indices one track's rough gate can return in a [`GatedPlots`] entry.
 pub const MAX_PLOTS_PER_GATE: usize = 8;
@@ -131,8 +138,6 @@ pub enum HostToDevice {
     Configure(TrackerConfig),
     /// Radar plots of one scan (possibly one part of several).
     Plots(PlotBatch),
-    /// Own ship's position for the plots that follow.
-    OwnShip(OwnShipPosition),
     /// The host's choice of plot for each gated track, closing a scan.
     Assign(AssignmentBatch),
     /// Operator commands: acquire or cancel targets.
@@ -149,7 +154,6 @@ impl HostToDevice {
             self,
             HostToDevice::Configure(_)
                 | HostToDevice::Plots(_)
-                | HostToDevice::OwnShip(_)
                 | HostToDevice::Assign(_)
                 | HostToDevice::Command(_)
         )
@@ -158,7 +162,7 @@ impl HostToDevice {
 
 /// Number of [`HostToDevice`] variants this version knows. A frame naming a higher
 /// variant index is an unknown message (a newer host), not a damaged one.
-pub const HOST_TO_DEVICE_VARIANTS: u32 = 9;
+pub const HOST_TO_DEVICE_VARIANTS: u32 = 8;
 
 /// Messages from the device to the host.
 ///
@@ -308,7 +312,9 @@ impl TrackerConfig {
     };
 }
 
-/// One radar plot: a detection in polar coordinates relative to own ship.
+/// One radar plot: a detection in polar coordinates relative to own ship, as a radar or
+/// the simulator gives it. Not itself on the wire: the host sends plots as local
+/// positions ([`PlotBatch`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Plot {
@@ -318,7 +324,11 @@ pub struct Plot {
     pub bearing_rad: f32,
 }
 
-/// Plots of one scan, or one part of them.
+/// Plots of one scan, or one part of them, as positions in the local frame.
+///
+/// The host converts each plot from range and bearing (it needs the position for its own
+/// refined gate), rounds it to [`fixed::LENGTH_RESOLUTION_M`] and uses the rounded
+/// position itself ([`fixed::position_on_grid`]), so both sides hold the same plots.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct PlotBatch {
     /// Scan number, increasing by one per antenna revolution.
@@ -329,20 +339,10 @@ pub struct PlotBatch {
     pub part: u8,
     /// Number of parts this scan is sent in.
     pub parts: u8,
-    /// The plots of this part.
-    pub plots: Vec<Plot, MAX_PLOTS_PER_MESSAGE>,
-}
-
-/// Own ship's position for the next scan: the device turns the scan's plots (range and
-/// bearing from own ship) into local positions with it. Own-ship navigation (sensors,
-/// dead reckoning) runs on the host; the device needs nothing else.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-#[cfg_attr(feature = "defmt", derive(defmt::Format))]
-pub struct OwnShipPosition {
-    /// Milliseconds since the tracker started (the scan's time).
-    pub time_ms: u64,
-    /// Position east, north, metres in the local frame.
-    pub position_m: [f32; 2],
+    /// The plots of this part: east, north, metres in the local frame (tenths of a metre
+    /// on the wire).
+    #[serde(with = "fixed::positions_m")]
+    pub plots_m: Vec<[f32; 2], MAX_PLOTS_PER_MESSAGE>,
 }
 
 /// The plots inside one track's rough gate.
@@ -350,9 +350,12 @@ pub struct OwnShipPosition {
 pub struct GatedPlots {
     /// Track number.
     pub track: u16,
-    /// Predicted position east, north, metres relative to own ship.
+    /// Predicted position east, north, metres in the local frame (tenths on the wire).
+    #[serde(with = "fixed::position_m")]
     pub predicted_m: [f32; 2],
-    /// Innovation covariance [s_xx, s_xy, s_yy], m², for the host's refined gate.
+    /// Innovation covariance [s_xx, s_xy, s_yy], m², for the host's refined gate (its
+    /// Cholesky factor in tenths of a metre on the wire).
+    #[serde(with = "fixed::covariance_m2")]
     pub innovation_cov_m2: [f32; 3],
     /// Indices into the scan's plots, in the order they were sent.
     pub plots: Vec<u16, MAX_PLOTS_PER_GATE>,
@@ -445,14 +448,12 @@ pub struct TrackState {
     pub track: u16,
     /// Life-cycle state.
     pub status: TrackStatus,
-    /// Position east, north, metres.
+    /// Position east, north, metres (tenths on the wire).
+    #[serde(with = "fixed::position_m")]
     pub position_m: [f32; 2],
-    /// Velocity east, north, m/s.
+    /// Velocity east, north, m/s (hundredths on the wire).
+    #[serde(with = "fixed::velocity_mps")]
     pub velocity_mps: [f32; 2],
-    /// Covariance [s_xx, s_xy, s_yy] (m²) of the innovation at the track's last prediction
-    /// (S = H·P⁻·Hᵀ + R for the Kalman filters, modelled for the others): what its gate
-    /// used.
-    pub innovation_cov_m2: [f32; 3],
     /// Scans since the track started.
     pub age_scans: u16,
     /// Hits in the last 10 scans, one bit a scan, newest lowest.
@@ -516,13 +517,8 @@ mod tests {
 
     #[test]
     fn every_host_message_round_trips() {
-        let mut plots = Vec::new();
-        plots
-            .push(Plot {
-                range_m: 1852.0,
-                bearing_rad: 0.5,
-            })
-            .unwrap();
+        // Values on the wire's grid come back exactly.
+        let plots_m = Vec::from_slice(&[[1852.0, -0.5], [-123_456.7, 9.9]]).unwrap();
         let msgs = [
             HostToDevice::Hello,
             HostToDevice::Echo(largest_echo()),
@@ -533,11 +529,7 @@ mod tests {
                 time_ms: 21_000,
                 part: 0,
                 parts: 1,
-                plots,
-            }),
-            HostToDevice::OwnShip(OwnShipPosition {
-                time_ms: 1000,
-                position_m: [1.0, 2.0],
+                plots_m,
             }),
             HostToDevice::Assign(AssignmentBatch {
                 scan: 7,
@@ -575,6 +567,33 @@ mod tests {
                 ..LinkStats::default()
             }),
             DeviceToHost::Ack,
+            DeviceToHost::Gated(GatedBatch {
+                scan: 9,
+                part: 0,
+                parts: 1,
+                gates: Vec::from_slice(&[GatedPlots {
+                    track: 300,
+                    predicted_m: [-2000.5, 15_000.0],
+                    // Cholesky factor [50, 2, 40] m: exact on the grid.
+                    innovation_cov_m2: [2500.0, 100.0, 1604.0],
+                    plots: Vec::from_slice(&[0, 200]).unwrap(),
+                }])
+                .unwrap(),
+            }),
+            DeviceToHost::Tracks(TrackBatch {
+                scan: 9,
+                part: 0,
+                parts: 1,
+                tracks: Vec::from_slice(&[TrackState {
+                    track: 300,
+                    status: TrackStatus::Confirmed,
+                    position_m: [-2000.5, 15_000.0],
+                    velocity_mps: [5.25, -0.5],
+                    age_scans: 40,
+                    hit_history: 0x3ff,
+                }])
+                .unwrap(),
+            }),
             DeviceToHost::Error(ErrorCode::VersionMismatch { device: 1 }),
         ];
         for m in &msgs {
@@ -606,9 +625,8 @@ mod tests {
                 TrackState {
                     track: u16::MAX,
                     status: TrackStatus::Coasting,
-                    position_m: [1e5; 2],
-                    velocity_mps: [1.0; 2],
-                    innovation_cov_m2: [1.0; 3],
+                    position_m: [f32::MAX; 2],
+                    velocity_mps: [f32::MIN; 2],
                     age_scans: u16::MAX,
                     hit_history: u16::MAX,
                 },
@@ -621,14 +639,7 @@ mod tests {
             time_ms: u64::MAX,
             part: 0,
             parts: 1,
-            plots: core::iter::repeat_n(
-                Plot {
-                    range_m: 1.0,
-                    bearing_rad: 1.0,
-                },
-                MAX_PLOTS_PER_MESSAGE,
-            )
-            .collect(),
+            plots_m: core::iter::repeat_n([f32::MIN, f32::MAX], MAX_PLOTS_PER_MESSAGE).collect(),
         };
         let full_gates = GatedBatch {
             scan: u32::MAX,
@@ -637,8 +648,9 @@ mod tests {
             gates: core::iter::repeat_n(
                 GatedPlots {
                     track: u16::MAX,
-                    predicted_m: [1.0; 2],
-                    innovation_cov_m2: [1.0; 3],
+                    predicted_m: [f32::MIN; 2],
+                    // Every Cholesky entry past i32's range: the longest encoding.
+                    innovation_cov_m2: [1e20, 1e20, 2e20],
                     plots: core::iter::repeat_n(u16::MAX, MAX_PLOTS_PER_GATE).collect(),
                 },
                 MAX_GATES_PER_MESSAGE,

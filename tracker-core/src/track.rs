@@ -195,7 +195,6 @@ impl Track {
             status: self.status,
             position_m: e.position_m,
             velocity_mps: e.velocity_mps,
-            innovation_cov_m2: self.innovation_cov,
             age_scans: self.age_scans,
             hit_history: self.hits & ((1 << KEEP_N) - 1),
         }

@@ -11,10 +11,10 @@ use heapless::Vec;
 
 use crate::bounded::take_up_to;
 use crate::filter::Measurement;
-use crate::geo::{self, EastNorth};
+use crate::geo::EastNorth;
 use crate::icd::{
-    Assignment, AssignmentBatch, ErrorCode, GatedBatch, OwnShipPosition, PlotBatch, TrackBatch,
-    TrackCommand, TrackerConfig, MAX_GATES_PER_MESSAGE, MAX_TRACKS_PER_MESSAGE,
+    Assignment, AssignmentBatch, ErrorCode, GatedBatch, PlotBatch, TrackBatch, TrackCommand,
+    TrackerConfig, MAX_GATES_PER_MESSAGE, MAX_TRACKS_PER_MESSAGE,
 };
 use crate::track::{ApplyReport, TrackTable, MAX_TRACKS};
 
@@ -37,7 +37,6 @@ enum Phase {
 #[derive(Clone, Debug)]
 pub struct Tracker {
     table: TrackTable,
-    own_position_m: EastNorth,
     phase: Phase,
     scan_time_ms: u64,
     last_scan_time_ms: Option<u64>,
@@ -59,7 +58,6 @@ impl Tracker {
     pub const fn new() -> Self {
         Tracker {
             table: TrackTable::new(),
-            own_position_m: [0.0, 0.0],
             phase: Phase::Idle,
             scan_time_ms: 0,
             last_scan_time_ms: None,
@@ -95,23 +93,11 @@ impl Tracker {
         self.table.configure(config)
     }
 
-    /// Takes own ship's position for converting the next plots to the local frame.
-    ///
-    /// # Errors
-    /// [`ErrorCode::InvalidValue`] for a position that is not finite (nothing changes).
-    pub fn own_ship(&mut self, own: &OwnShipPosition) -> Result<(), ErrorCode> {
-        if !own.position_m.iter().all(|v| v.is_finite()) {
-            return Err(ErrorCode::InvalidValue);
-        }
-        self.own_position_m = own.position_m;
-        Ok(())
-    }
-
     /// Takes one part of a scan's plots. Returns the number of gate parts to send when the
     /// scan is complete, `None` while more parts are due.
     ///
     /// # Errors
-    /// [`ErrorCode::OutOfSequence`] for a part out of order or a scan not later than the last; [`ErrorCode::CapacityExceeded`] past [`MAX_PLOTS_PER_SCAN`]; [`ErrorCode::InvalidValue`] for a non-finite or negative plot (the scan is dropped).
+    /// [`ErrorCode::OutOfSequence`] for a part out of order or a scan not later than the last; [`ErrorCode::CapacityExceeded`] past [`MAX_PLOTS_PER_SCAN`]; [`ErrorCode::InvalidValue`] for a plot no filter would take (beyond [`crate::filter::MAX_POSITION_M`]; the scan is dropped).
     pub fn plots(&mut self, batch: &PlotBatch) -> Result<Option<u8>, ErrorCode> {
         let expected = match self.phase {
             Phase::Plots { scan, next, parts } if scan == batch.scan && parts == batch.parts => {
@@ -128,26 +114,20 @@ impl Tracker {
             }
             self.plots.clear();
         }
-        if self.plots.len() + batch.plots.len() > MAX_PLOTS_PER_SCAN {
+        if self.plots.len() + batch.plots_m.len() > MAX_PLOTS_PER_SCAN {
             self.phase = Phase::Idle;
             return Err(ErrorCode::CapacityExceeded);
         }
-        let valid = |v: f32| v.is_finite();
         if batch
-            .plots
+            .plots_m
             .iter()
-            .any(|p| !valid(p.range_m) || !valid(p.bearing_rad) || p.range_m < 0.0)
+            .any(|&p| Measurement::<f32>::new(p).is_err())
         {
             self.phase = Phase::Idle;
             return Err(ErrorCode::InvalidValue);
         }
-        for p in &batch.plots {
-            let _ = self.plots.push(geo::polar_to_local(
-                self.own_position_m,
-                p.range_m,
-                p.bearing_rad,
-            ));
-        }
+        // Capacity was checked above.
+        let _ = self.plots.extend_from_slice(&batch.plots_m);
         if batch.part + 1 < batch.parts {
             self.phase = Phase::Plots {
                 scan: batch.scan,
@@ -289,25 +269,21 @@ fn parts_for(items: usize, per_part: usize) -> u8 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::icd::Plot;
 
-    fn plots(scan: u32, time_ms: u64, part: u8, parts: u8, ps: &[Plot]) -> PlotBatch {
+    fn plots(scan: u32, time_ms: u64, part: u8, parts: u8, ps: &[EastNorth]) -> PlotBatch {
         PlotBatch {
             scan,
             time_ms,
             part,
             parts,
-            plots: ps.iter().copied().collect(),
+            plots_m: ps.iter().copied().collect(),
         }
     }
 
     #[test]
     fn a_scan_in_two_parts_then_assignments() {
         let mut t = Tracker::new();
-        let p = Plot {
-            range_m: 1000.0,
-            bearing_rad: 0.0,
-        };
+        let p = [0.0, 1000.0];
         assert_eq!(t.plots(&plots(0, 0, 0, 2, &[p])), Ok(None));
         assert_eq!(t.plots(&plots(0, 0, 1, 2, &[p])), Ok(Some(1)));
         let a = AssignmentBatch {
@@ -327,10 +303,7 @@ mod tests {
     #[test]
     fn out_of_order_parts_are_refused() {
         let mut t = Tracker::new();
-        let p = Plot {
-            range_m: 1000.0,
-            bearing_rad: 0.0,
-        };
+        let p = [0.0, 1000.0];
         assert_eq!(
             t.plots(&plots(0, 0, 1, 2, &[p])),
             Err(ErrorCode::OutOfSequence)
@@ -357,12 +330,9 @@ mod tests {
             t.plots(&plots(1, 5000, 0, 1, &[p])),
             Err(ErrorCode::OutOfSequence)
         );
-        let nan = Plot {
-            range_m: f32::NAN,
-            bearing_rad: 0.0,
-        };
+        let far = [0.0, 2.0e7];
         assert_eq!(
-            t.plots(&plots(1, 7500, 0, 1, &[nan])),
+            t.plots(&plots(1, 7500, 0, 1, &[far])),
             Err(ErrorCode::InvalidValue)
         );
     }

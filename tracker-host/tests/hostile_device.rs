@@ -62,7 +62,6 @@ impl Hostile {
             status: TrackStatus::Confirmed,
             position_m: [value, 1000.0],
             velocity_mps: [1.0, value],
-            innovation_cov_m2: [100.0, 0.0, 100.0],
             age_scans: 10,
             hit_history: 0x3ff,
         }

@@ -128,7 +128,6 @@ fn positions_are_valid_in_every_hemisphere_and_across_the_antimeridian() {
             status: TrackStatus::Confirmed,
             position_m: [east, north],
             velocity_mps: [3.0, -2.0],
-            innovation_cov_m2: [100.0, 0.0, 100.0],
             age_scans: 10,
             hit_history: 0x3ff,
         };
@@ -261,7 +260,6 @@ fn tracker_host_tools_check() {
                 status: TrackStatus::Confirmed,
                 position_m: [e, n],
                 velocity_mps: [-3.0, 2.0],
-                innovation_cov_m2: [100.0; 3],
                 age_scans: 10,
                 hit_history: 0x3ff,
             };

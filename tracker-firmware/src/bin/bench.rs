@@ -113,6 +113,8 @@ struct ScanBench {
     gated: [bool; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
     taken: [bool; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
     initiate: heapless::Vec<u16, { tracker_core::tracker::MAX_PLOTS_PER_SCAN }>,
+    /// The scan's plots in the local frame, as the host sends them.
+    local: heapless::Vec<[f32; 2], { tracker_core::tracker::MAX_PLOTS_PER_SCAN }>,
     /// Scan times go on from row to row: the device refuses a scan not later than the last.
     time_base_ms: u64,
 }
@@ -120,10 +122,10 @@ struct ScanBench {
 /// Scans a bench runs: the first half settles the picture, the second is counted.
 const BENCH_SCANS: u32 = 40;
 
-/// Instructions per scan of the device's tracking work: plots in (converted to the local
-/// frame), every track predicted and rough-gated, assignments applied (updates, coasts,
-/// initiations, life cycle). The assignments are the nearest gated plot, chosen outside
-/// the measurement (the host's job). Prints the row, and a comment with the tracks and
+/// Instructions per scan of the device's tracking work: plots in (already in the local
+/// frame: the host converts them, outside the count), every track predicted and
+/// rough-gated, assignments applied (updates, coasts, initiations, life cycle). The
+/// assignments are the nearest gated plot, chosen outside the measurement (the host's job). Prints the row, and a comment with the tracks and
 /// plots it averaged.
 // Its own frame: inlined into `main`, every row's locals would share one huge frame.
 #[inline(never)]
@@ -136,6 +138,7 @@ fn scan_row(
     load: ScanLoad,
 ) {
     use tracker_core::device::Reply;
+    use tracker_core::icd::fixed::position_on_grid;
     use tracker_core::icd::{
         Assignment, AssignmentBatch, Plot, PlotBatch, TrackCommand, MAX_PLOTS_PER_MESSAGE,
     };
@@ -172,15 +175,25 @@ fn scan_row(
         }
         let out = &bench.out;
         let all = &out.plots;
+        // The host's part: plots to the local frame (own ship at the origin), on the grid.
+        let local = &mut bench.local;
+        local.clear();
+        for p in all {
+            let _ = local.push(position_on_grid(tracker_core::geo::polar_to_local(
+                [0.0, 0.0],
+                p.range_m,
+                p.bearing_rad,
+            )));
+        }
         let parts = all.len().div_ceil(MAX_PLOTS_PER_MESSAGE).max(1) as u8;
         let mut t = 0u32;
-        for (i, chunk) in all.chunks(MAX_PLOTS_PER_MESSAGE).enumerate() {
+        for (i, chunk) in local.chunks(MAX_PLOTS_PER_MESSAGE).enumerate() {
             let batch = HostToDevice::Plots(PlotBatch {
                 scan: out.scan,
                 time_ms,
                 part: i as u8,
                 parts,
-                plots: chunk.iter().copied().collect(),
+                plots_m: chunk.iter().copied().collect(),
             });
             let dt = counter.ticks(|| {
                 black_box(device.handle(black_box(&batch)));
@@ -200,13 +213,14 @@ fn scan_row(
                     gated[usize::from(p)] = true;
                 }
                 let plot = g.plots.iter().copied().find(|&p| !taken[usize::from(p)]);
+                // As the host does: only updates are sent, the rest coast.
                 if let Some(p) = plot {
                     taken[usize::from(p)] = true;
+                    let _ = assignments.push(Assignment {
+                        track: g.track,
+                        plot,
+                    });
                 }
-                let _ = assignments.push(Assignment {
-                    track: g.track,
-                    plot,
-                });
             }
         }
         let target_plot = |p: usize| out.plot_source.get(p).is_some_and(|s| s.is_some());
@@ -290,6 +304,7 @@ fn scan_storage() -> Option<(
         gated: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
         taken: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
         initiate: heapless::Vec::new(),
+        local: heapless::Vec::new(),
         time_base_ms: 0,
     })?;
     let sim = cortex_m::singleton!(: Scenario = Scenario::new(ScenarioConfig::open_sea(1, 1)))?;

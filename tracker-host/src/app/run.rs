@@ -225,6 +225,8 @@ impl Run {
             link_retries: stats.retries,
             link_bytes_sent: stats.bytes_sent,
             link_bytes_received: stats.bytes_received,
+            link_bytes_per_scan: (stats.bytes_sent + stats.bytes_received) as f64
+                / (self.scans.max(1) as f64),
             own_ship_nmea: self.nmea_counts(),
             events: {
                 let mut e = self.session.events();
@@ -310,6 +312,8 @@ pub struct RunReport {
     pub link_bytes_sent: u64,
     /// Bytes the host received.
     pub link_bytes_received: u64,
+    /// Bytes both ways per scan, mean (frames, CRC and COBS included).
+    pub link_bytes_per_scan: f64,
     /// What became of the own-ship sentences, when own ship came from NMEA.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub own_ship_nmea: Option<NavCounts>,
@@ -361,7 +365,7 @@ impl RunReport {
             self.link_retries,
             self.link_bytes_sent,
             self.link_bytes_received,
-            (self.link_bytes_sent + self.link_bytes_received) as f64 / self.scans.max(1) as f64
+            self.link_bytes_per_scan
         );
         s
     }

@@ -14,7 +14,7 @@ use clap::{Parser, Subcommand};
 use crate::app::run::Run;
 use crate::app::{demo, track};
 use crate::display::plain::{Plain, PlainMode};
-use crate::lab::{arpa, bench_mcu, compare, precision, replay, replay_nav, reproduce};
+use crate::lab::{arpa, bench_mcu, compare, link_budget, precision, replay, replay_nav, reproduce};
 use crate::link::faults::{FaultRates, FaultyTransport};
 use crate::link::qemu::{self, QemuOptions};
 use crate::link::{self, check, Client, LinkSpec};
@@ -207,6 +207,12 @@ pub enum Command {
         /// Bench ELF (default: the workspace's release build of the `bench` binary).
         #[arg(long, value_name = "ELF")]
         elf: Option<PathBuf>,
+    },
+    /// Bytes on the link a scan, and the largest picture a serial line carries.
+    LinkBudget {
+        /// Line speeds, baud (8N1).
+        #[arg(long, value_delimiter = ',', default_value = "115200,38400")]
+        baud: Vec<u32>,
     },
 }
 
@@ -486,6 +492,10 @@ where
         Command::BenchMcu { elf } => {
             let rows = bench_mcu::run(elf.as_deref().or(cli.firmware.as_deref()))?;
             say(&bench_mcu::to_csv(&rows));
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::LinkBudget { baud } => {
+            say(&link_budget::report(&baud));
             Ok(ExitCode::SUCCESS)
         }
     }

@@ -10,6 +10,7 @@
 //! | [`arpa`] | `arpa` | the IMO ARPA accuracy test by Monte Carlo (paper 004's EKFs) |
 //! | [`reproduce`] | `reproduce` | the seed papers' experiments, report and plots |
 //! | [`bench_mcu`] | `bench-mcu` | instruction counts on the emulated Cortex-M4F |
+//! | [`link_budget`] | `link-budget` | bytes a scan on the link; the largest picture a UART carries |
 //!
 //! [`noise`] and [`kinematics`] are the experiments' shared noise and f64 geometry.
 
@@ -17,6 +18,7 @@ pub mod arpa;
 pub mod bench_mcu;
 pub mod compare;
 pub mod kinematics;
+pub mod link_budget;
 pub mod noise;
 pub mod precision;
 pub mod replay;

@@ -385,7 +385,6 @@ mod tests {
             status: TrackStatus::Confirmed,
             position_m: [east_m, 0.0],
             velocity_mps: [0.0, 0.0],
-            innovation_cov_m2: [1.0, 0.0, 1.0],
             age_scans: 10,
             hit_history: 0x3ff,
         }

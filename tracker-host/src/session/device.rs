@@ -7,9 +7,9 @@
 use anyhow::{bail, Context};
 use tracker_core::geo::EastNorth;
 use tracker_core::icd::{
-    AssignmentBatch, DeviceInfo, DeviceToHost, ErrorCode, GatedPlots, HostToDevice,
-    OwnShipPosition, Plot, PlotBatch, TrackCommand, TrackState, TrackStatus, TrackerConfig,
-    MAX_ASSIGNMENTS_PER_MESSAGE, MAX_PLOTS_PER_MESSAGE,
+    Assignment, AssignmentBatch, DeviceInfo, DeviceToHost, ErrorCode, GatedPlots, HostToDevice,
+    PlotBatch, TrackCommand, TrackState, TrackStatus, TrackerConfig, MAX_ASSIGNMENTS_PER_MESSAGE,
+    MAX_PLOTS_PER_MESSAGE,
 };
 
 use super::associate::Associated;
@@ -107,7 +107,6 @@ fn check_tracks(tracks: &[TrackState], max_tracks: usize) -> Result<(), InvalidR
             .position_m
             .iter()
             .chain(&t.velocity_mps)
-            .chain(&t.innovation_cov_m2)
             .all(|v| v.is_finite());
         let sane = t
             .position_m
@@ -197,8 +196,8 @@ impl DeviceLink {
         Ok(())
     }
 
-    /// One scan through the device: own ship, the plots (`plots_m` are the same plots in the
-    /// local frame, converted as the device converts them), the rough gates, `associate`'s
+    /// One scan through the device: the plots (`plots_m`, local frame, already on the
+    /// wire's grid so that both sides hold the same values), the rough gates, `associate`'s
     /// choice, the track states. A device that was reset meanwhile is configured again and
     /// the scan redone.
     ///
@@ -208,15 +207,10 @@ impl DeviceLink {
         &mut self,
         scan: u32,
         time_ms: u64,
-        own_position_m: EastNorth,
-        plots: &[Plot],
+        plots_m: &[EastNorth],
         associate: impl Fn(&[GatedPlots]) -> Associated,
     ) -> anyhow::Result<(Associated, Vec<TrackState>)> {
-        let own = OwnShipPosition {
-            time_ms,
-            position_m: own_position_m,
-        };
-        match self.scan_once(scan, own, plots, &associate) {
+        match self.scan_once(scan, time_ms, plots_m, &associate) {
             Ok(done) => Ok(done),
             Err(refused) => {
                 let reset = self.recover_from_reset(scan)?;
@@ -228,7 +222,7 @@ impl DeviceLink {
                 }
 
                 self.last_tracks.clear();
-                self.scan_once(scan, own, plots, &associate)
+                self.scan_once(scan, time_ms, plots_m, &associate)
             }
         }
     }
@@ -237,16 +231,12 @@ impl DeviceLink {
     fn scan_once(
         &mut self,
         scan: u32,
-        own: OwnShipPosition,
-        plots: &[Plot],
+        time_ms: u64,
+        plots: &[EastNorth],
         associate: &impl Fn(&[GatedPlots]) -> Associated,
     ) -> anyhow::Result<(Associated, Vec<TrackState>)> {
-        expect_ack(
-            self.client.request(&HostToDevice::OwnShip(own))?,
-            "own ship",
-        )?;
         // Plots, in parts; the last part's answer is the rough gates.
-        let chunks: Vec<&[Plot]> = if plots.is_empty() {
+        let chunks: Vec<&[EastNorth]> = if plots.is_empty() {
             vec![&[]]
         } else {
             plots.chunks(MAX_PLOTS_PER_MESSAGE).collect()
@@ -256,10 +246,10 @@ impl DeviceLink {
         for (i, chunk) in chunks.iter().enumerate() {
             let batch = PlotBatch {
                 scan,
-                time_ms: own.time_ms,
+                time_ms,
                 part: i as u8,
                 parts,
-                plots: chunk.iter().copied().collect(),
+                plots_m: chunk.iter().copied().collect(),
             };
             for reply in self.client.request_all(&HostToDevice::Plots(batch))? {
                 match reply {
@@ -295,8 +285,14 @@ impl DeviceLink {
 
     fn send_assignments(&mut self, scan: u32, a: &Associated) -> anyhow::Result<Vec<TrackState>> {
         let per = MAX_ASSIGNMENTS_PER_MESSAGE;
-        let parts = a
+        // The device coasts every track not named: only the updates go on the wire.
+        let updates: Vec<Assignment> = a
             .assignments
+            .iter()
+            .filter(|x| x.plot.is_some())
+            .copied()
+            .collect();
+        let parts = updates
             .len()
             .div_ceil(per)
             .max(a.initiate.len().div_ceil(per))
@@ -308,13 +304,7 @@ impl DeviceLink {
                 scan,
                 part: part as u8,
                 parts: parts_u8,
-                assignments: a
-                    .assignments
-                    .iter()
-                    .skip(part * per)
-                    .take(per)
-                    .copied()
-                    .collect(),
+                assignments: updates.iter().skip(part * per).take(per).copied().collect(),
                 initiate: a
                     .initiate
                     .iter()

@@ -29,6 +29,7 @@ use std::time::{Duration, Instant};
 use anyhow::bail;
 use tracker_core::filter::{FilterConfig, FilterKind};
 use tracker_core::geo::{self, EastNorth};
+use tracker_core::icd::fixed::position_on_grid;
 use tracker_core::icd::{Plot, TrackCommand, TrackState, TrackStatus, TrackerConfig};
 
 use crate::link::{Client, ClientStats};
@@ -208,20 +209,24 @@ impl Session {
                 radar.time_s
             );
         }
-        // The same conversion as the device's, in the same f32 arithmetic.
+        // Rounded as the wire rounds them, so the device holds the very same plots.
         let plots_m: Vec<EastNorth> = radar
             .plots
             .iter()
-            .map(|p| geo::polar_to_local(own.position_m, p.range_m, p.bearing_rad))
+            .map(|p| {
+                position_on_grid(geo::polar_to_local(
+                    own.position_m,
+                    p.range_m,
+                    p.bearing_rad,
+                ))
+            })
             .collect();
         let gate = self.config.refined_gate_d2;
         let mode = self.config.association;
         let firm = &self.firm;
-        let done = self
-            .device
-            .scan(radar.scan, time_ms, own.position_m, &radar.plots, |gates| {
-                associate::associate(mode, gates, &plots_m, gate, |t| firm.contains(&t))
-            });
+        let done = self.device.scan(radar.scan, time_ms, &plots_m, |gates| {
+            associate::associate(mode, gates, &plots_m, gate, |t| firm.contains(&t))
+        });
         self.last_time_ms = Some(time_ms);
         let stats = self.device.client().stats();
         if stats.late_answers > 0 && !self.warned_slow {

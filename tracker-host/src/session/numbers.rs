@@ -145,7 +145,6 @@ mod tests {
             status,
             position_m: [0.0, north],
             velocity_mps: [0.0, 0.0],
-            innovation_cov_m2: [100.0, 0.0, 100.0],
             age_scans: 4,
             hit_history: hits,
         }

@@ -163,7 +163,6 @@ pub(crate) fn example() -> TargetData {
         status: TrackStatus::Confirmed,
         position_m: [3000.0, 4000.0],
         velocity_mps: [-5.0, 0.0],
-        innovation_cov_m2: [100.0, 0.0, 100.0],
         age_scans: 12,
         hit_history: 0xFFF,
     };
@@ -182,7 +181,6 @@ mod tests {
             status: TrackStatus::Confirmed,
             position_m: [0.0, 4000.0],
             velocity_mps: [0.0, -5.0],
-            innovation_cov_m2: [0.0; 3],
             age_scans: 40,
             hit_history: 0x3ff,
         };
