@@ -14,6 +14,7 @@ use tracker_core::device::Device;
 use tracker_core::filter::alpha_beta::AlphaBetaGains;
 use tracker_core::filter::alpha_beta_gamma::AbgGains;
 use tracker_core::filter::alpha_beta_gamma_eta::AbgeGains;
+use tracker_core::filter::gh_fixed_scan::FixedScanGh;
 use tracker_core::filter::kalman::{KalmanConfig, QModel};
 use tracker_core::filter::sswt::SswtConfig;
 use tracker_core::filter::{Filter, Interval, Measurement};
@@ -88,6 +89,67 @@ fn filter_row<S: Scalar, F: Filter<S>>(
         scan(black_box(&mut filter), black_box(dt), black_box(z));
     });
     row(name, S::NAME, per_scan, core::mem::size_of::<F>());
+}
+
+/// Tracks in the fixed-scan g-h rows: a full track table.
+const FIXED_SCAN_TRACKS: usize = tracker_core::track::MAX_TRACKS;
+
+/// Scans the fixed-scan g-h rows time.
+const FIXED_SCAN_SCANS: u32 = 20;
+
+/// Instructions per track for one scan of the constant-gain g-h filters as the track table
+/// runs them ([`FixedScanGh`]): the interval compared once for the scan (the table's
+/// `predict`, which then predicts nothing), then every track updated with its plot and its
+/// next scan predicted (the table's `apply`), the loop included. The filters are reached
+/// through `black_box` every scan, so their states live in memory as in the table.
+// Its own frame: inlined into `main`, every row's locals would share one huge frame.
+#[inline(never)]
+fn fixed_scan_row<S: Scalar, const N: usize>(
+    counter: &mut icount::InstructionCounter,
+    name: &str,
+    general: Option<tracker_core::filter::gh::GhFilter<S, N>>,
+) {
+    let Some(proto) = general.as_ref().and_then(FixedScanGh::from_filter) else {
+        row(name, S::NAME, f32::NAN, 0);
+        return;
+    };
+    let Ok(dt) = Interval::new(S::of(2.5)) else {
+        return;
+    };
+    let Ok(origin) = Measurement::new([S::of(1234.5), S::of(-987.25)]) else {
+        return;
+    };
+    let mut filters = [proto; FIXED_SCAN_TRACKS];
+    let mut zs = [origin; FIXED_SCAN_TRACKS];
+    for (i, (f, z)) in filters.iter_mut().zip(&mut zs).enumerate() {
+        let at = [
+            S::of(1234.5 + 250.0 * i as f64),
+            S::of(-987.25 - 125.0 * i as f64),
+        ];
+        *z = Measurement::new(at).unwrap_or(origin);
+        // Started and predicted at the table's interval, as the table starts a track.
+        f.start(*z);
+        f.predict(dt);
+    }
+    // The interval the table's tracks hold their predictions for.
+    let held = Some(dt);
+    let per_scan = icount::per_call(counter, FIXED_SCAN_SCANS, || {
+        let filters = black_box(&mut filters);
+        if black_box(held) != Some(dt) {
+            for f in filters.iter_mut() {
+                f.predict(dt);
+            }
+        }
+        for (f, z) in filters.iter_mut().zip(black_box(&zs)) {
+            f.update(*z);
+        }
+    });
+    row(
+        name,
+        S::NAME,
+        per_scan / FIXED_SCAN_TRACKS as f32,
+        core::mem::size_of::<FixedScanGh<S, N>>(),
+    );
 }
 
 /// What a scan bench feeds the device.
@@ -350,8 +412,7 @@ fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
 #[inline(never)]
 fn capacity_rows() {
     use core::mem::size_of;
-    use tracker_core::filter::alpha_beta::AlphaBeta;
-    use tracker_core::filter::alpha_beta_gamma::AlphaBetaGamma;
+    use tracker_core::filter::gh_fixed_scan::{FixedScanAlphaBeta, FixedScanAlphaBetaGamma};
     use tracker_core::filter::kalman::{ca::KalmanCa, cv::KalmanCv};
     use tracker_core::filter::sswt::Sswt;
     use tracker_core::track::{Track, TrackFilter};
@@ -359,10 +420,13 @@ fn capacity_rows() {
     let overhead = slot - size_of::<TrackFilter>();
     row("track-slot", "f32", 0.0, slot);
     for (name, filter) in [
-        ("track-slot-alpha-beta", size_of::<AlphaBeta<f32>>()),
+        (
+            "track-slot-alpha-beta",
+            size_of::<FixedScanAlphaBeta<f32>>(),
+        ),
         (
             "track-slot-alpha-beta-gamma",
-            size_of::<AlphaBetaGamma<f32>>(),
+            size_of::<FixedScanAlphaBetaGamma<f32>>(),
         ),
         ("track-slot-sswt", size_of::<Sswt<f32>>()),
         ("track-slot-kalman-cv", size_of::<KalmanCv<f32>>()),
@@ -408,6 +472,23 @@ fn filter_rows<S: Scalar>(counter: &mut icount::InstructionCounter) {
         start: AlphaBetaGains::BenedictBordner { alpha: 0.5 },
     };
     filter_row::<S, _>(counter, "sswt", sswt.build::<S>().ok());
+    fixed_scan_row::<S, 2>(
+        counter,
+        "alpha-beta-fixed-scan",
+        AlphaBetaGains::BenedictBordner { alpha: 0.5 }
+            .build::<S>()
+            .ok(),
+    );
+    fixed_scan_row::<S, 3>(
+        counter,
+        "alpha-beta-gamma-fixed-scan",
+        AbgGains::FadingMemory { xi: 0.9 }.build::<S>().ok(),
+    );
+    fixed_scan_row::<S, 4>(
+        counter,
+        "alpha-beta-gamma-eta-fixed-scan",
+        AbgeGains::FadingMemory { xi: 0.9 }.build::<S>().ok(),
+    );
 }
 
 #[entry]
