@@ -365,8 +365,8 @@ fn restart(sim: &mut tracker_core::sim::Scenario, config: tracker_core::sim::Sce
 }
 
 /// The scan rows: today's product picture (40 targets, the simulator's clutter, every
-/// plot in no gate starting a track, so the table runs full), then the growth with tracks
-/// and plots.
+/// plot in no gate starting a track, so the table runs full), the growth with tracks and
+/// plots, then a full table with the g-h filters and the CV Kalman filter side by side.
 // Its own frame: inlined into `main`, every row's locals would share one huge frame.
 #[inline(never)]
 fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
@@ -403,6 +403,44 @@ fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
         };
         scan_row(counter, device, bench, sim, name, load);
     }
+    // The device's scan with each of the filters the table runs differently: the g-h
+    // filters in their fixed-scan form, the CV Kalman filter predicted and updated.
+    use tracker_core::filter::FilterKind;
+    let load = ScanLoad {
+        targets: 64,
+        sim_clutter: 0.0,
+        plots: 64,
+        initiate_clutter: false,
+    };
+    for (name, kind) in [
+        ("scan-64-tracks-64-plots-alpha-beta", FilterKind::AlphaBeta),
+        (
+            "scan-64-tracks-64-plots-alpha-beta-gamma",
+            FilterKind::AlphaBetaGamma,
+        ),
+        ("scan-64-tracks-64-plots-kalman-cv", FilterKind::KalmanCv),
+    ] {
+        configure(device, Some(kind));
+        scan_row(counter, device, bench, sim, name, load);
+    }
+    configure(device, None);
+}
+
+/// Configures the device's tracks to run `filter` as the product does
+/// ([`tracker_core::filter::FilterConfig::tracking`], 50 m plots, 20 m/s targets), or
+/// back to the default configuration. Its own frame: the request is a kilobyte, too much
+/// for [`scan_rows`]'s frame on the bench's stack.
+#[inline(never)]
+fn configure(device: &mut Device, filter: Option<tracker_core::filter::FilterKind>) {
+    use tracker_core::icd::TrackerConfig;
+    let config = match filter {
+        Some(kind) => TrackerConfig {
+            filter: tracker_core::filter::FilterConfig::tracking(kind, 50.0, 20.0),
+            ..TrackerConfig::DEFAULT
+        },
+        None => TrackerConfig::DEFAULT,
+    };
+    let _ = device.handle(&HostToDevice::Configure(config));
 }
 
 /// RAM per track: the table's slot (sized for the largest filter, so any can be chosen at
