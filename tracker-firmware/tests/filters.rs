@@ -3,6 +3,8 @@
 #![no_std]
 #![no_main]
 
+use tracker_core::filter::gh::GhFilter;
+use tracker_core::filter::gh_fixed_scan::FixedScanGh;
 use tracker_core::filter::{Filter, Interval, Measurement};
 use tracker_core::scalar::Scalar;
 use tracker_firmware as _; // panic handler, HardFault handler, defmt transport
@@ -102,9 +104,57 @@ pub fn soak<F: Filter<f32>>(mut f: F, check: impl Fn(&F) -> bool) -> u32 {
     checks
 }
 
+/// Runs a general g-h filter and its fixed-scan form side by side for `n` scans of a turning
+/// target (every fifth scan without a plot, a longer interval every 37th), predicting the
+/// fixed-scan one only when the interval changes, as the track table does. True when every
+/// prediction and estimate has the same bits.
+pub fn fixed_scan_matches<S: Scalar, const N: usize>(general: GhFilter<S, N>, n: usize) -> bool {
+    let Some(mut f) = FixedScanGh::from_filter(&general) else {
+        return false;
+    };
+    let mut g = general;
+    let bits = |v: [S; 2]| v.map(|x| x.to_f64().to_bits());
+    let z = |t: f64| {
+        let east = 3000.0 + 7.0 * t + 300.0 * libm::sin(t / 60.0);
+        Measurement::new([S::of(east), S::of(-500.0 - 4.0 * t)])
+    };
+    let Ok(first) = z(0.0) else { return false };
+    g.start(first);
+    f.start(first);
+    let (mut t, mut held) = (0.0, false);
+    for k in 0..n {
+        let dt_s = if k % 37 == 36 { 3.0 } else { 2.5 };
+        t += dt_s;
+        let (Ok(dt), Ok(plot)) = (Interval::new(S::of(dt_s)), z(t)) else {
+            return false;
+        };
+        let pg = g.predict(dt);
+        let pf = if held && dt.seconds() == f.interval() {
+            f.prediction()
+        } else {
+            f.predict(dt)
+        };
+        if k % 5 == 4 {
+            f.coast();
+        } else {
+            g.update(plot);
+            f.update(plot);
+        }
+        held = true;
+        let (eg, ef) = (g.estimate(), f.estimate());
+        let same = bits(pg) == bits(pf)
+            && bits(eg.position_m) == bits(ef.position_m)
+            && bits(eg.velocity_mps) == bits(ef.velocity_mps);
+        if !same {
+            return false;
+        }
+    }
+    true
+}
+
 #[defmt_test::tests]
 mod tests {
-    use super::track_polynomial;
+    use super::{fixed_scan_matches, track_polynomial};
     use tracker_core::filter::alpha_beta::AlphaBetaGains;
     use tracker_core::filter::alpha_beta_gamma::AbgGains;
     use tracker_core::filter::alpha_beta_gamma_eta::AbgeGains;
@@ -150,6 +200,19 @@ mod tests {
         defmt::assert!(e < 1.0 && libm::fabs(v) < 0.05, "f32 {} {}", e, v);
         let (e, v) = track_polynomial::<Fix, _>(&mut design.build::<Fix>().unwrap(), &c, 2.0, 250);
         defmt::assert!(e < 0.1 && libm::fabs(v) < 0.05, "fixed {} {}", e, v);
+    }
+
+    #[test]
+    fn the_fixed_scan_form_is_the_general_filter_bit_for_bit() {
+        let ab = AlphaBetaGains::BenedictBordner { alpha: 0.5 };
+        let abg = AbgGains::FadingMemory { xi: 0.6 };
+        let abge = AbgeGains::FadingMemory { xi: 0.7 };
+        defmt::assert!(fixed_scan_matches(ab.build::<f32>().unwrap(), 500));
+        defmt::assert!(fixed_scan_matches(ab.build::<Fix>().unwrap(), 500));
+        defmt::assert!(fixed_scan_matches(abg.build::<f32>().unwrap(), 500));
+        defmt::assert!(fixed_scan_matches(abg.build::<Fix>().unwrap(), 500));
+        defmt::assert!(fixed_scan_matches(abge.build::<f32>().unwrap(), 500));
+        defmt::assert!(fixed_scan_matches(abge.build::<Fix>().unwrap(), 500));
     }
 
     #[test]

@@ -99,20 +99,21 @@ impl<S: Scalar, const N: usize> GhFilter<S, N> {
         }
     }
 
-    /// Rescales the per-scan derivatives to a new interval: q_i ·= (T_new/T_old)^i. Off the
-    /// hot path: scans usually repeat the same interval.
+    /// Rescales the per-scan derivatives to a new interval ([`rescale_derivatives`]). Off
+    /// the hot path: scans usually repeat the same interval.
     #[cold]
     fn change_interval(&mut self, dt: S) {
-        if self.scan_s > S::ZERO {
-            for q in &mut self.q {
-                for (i, qi) in q.iter_mut().enumerate().skip(1) {
-                    for _ in 0..i {
-                        *qi = qi.rescale(dt, self.scan_s);
-                    }
-                }
-            }
-        }
+        rescale_derivatives(&mut self.q, self.scan_s, dt);
         self.scan_s = dt;
+    }
+
+    /// The gains, when they are the same every scan (`None` for the least-squares
+    /// schedules): what [`super::gh_fixed_scan::FixedScanGh`] is built from.
+    pub fn constant_gains(&self) -> Option<[S::Gain; N]> {
+        match self.schedule {
+            Schedule::Constant(g) => Some(g),
+            _ => None,
+        }
     }
 
     /// Per-axis derivatives in physical units: `[x, v, a, j][..N]` (m, m/s, m/s², m/s³).
@@ -156,13 +157,7 @@ impl<S: Scalar, const N: usize> Filter<S> for GhFilter<S, N> {
             self.change_interval(dt);
         }
         for q in &mut self.q {
-            for i in 0..N {
-                let mut acc = q[i];
-                for j in i + 1..N {
-                    acc = acc.plus(q[j].times(BINOMIAL[j][i]));
-                }
-                q[i] = acc;
-            }
+            *q = shifted(q);
         }
         self.prediction = [self.q[0][0], self.q[1][0]];
         self.prediction
@@ -203,6 +198,37 @@ impl<S: Scalar, const N: usize> Filter<S> for GhFilter<S, N> {
 
     fn innovation(&self) -> Vec2<S> {
         self.innovation
+    }
+}
+
+/// One scan of prediction of one axis in per-scan units, the binomial shift
+/// `q_i ← Σ_{j ≥ i} C(j, i)·q_j`, summed from `q_i` upwards. Every g-h form predicts
+/// through this one function, so they agree bit for bit.
+#[inline]
+pub(crate) fn shifted<S: Scalar, const N: usize>(q: &[S; N]) -> [S; N] {
+    let mut out = *q;
+    for (i, o) in out.iter_mut().enumerate() {
+        let mut acc = q[i];
+        for j in i + 1..N {
+            acc = acc.plus(q[j].times(BINOMIAL[j][i]));
+        }
+        *o = acc;
+    }
+    out
+}
+
+/// Rescales both axes' per-scan derivatives from interval `from` to `to`:
+/// `q_i ·= (to/from)^i`, one factor at a time. Nothing to do while `from` is zero (no
+/// interval yet: the derivatives are still zero).
+pub(crate) fn rescale_derivatives<S: Scalar, const N: usize>(q: &mut [[S; N]; 2], from: S, to: S) {
+    if from > S::ZERO {
+        for q in q {
+            for (i, qi) in q.iter_mut().enumerate().skip(1) {
+                for _ in 0..i {
+                    *qi = qi.rescale(to, from);
+                }
+            }
+        }
     }
 }
 

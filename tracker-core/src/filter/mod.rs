@@ -9,6 +9,7 @@
 //! | file | filter | source |
 //! |---|---|---|
 //! | [`gh`] | the g-h-k-l engine the next three share | Brookner's notation |
+//! | [`gh_fixed_scan`] | the same engine for scans at a fixed interval: what the track table runs for constant gains | – |
 //! | [`alpha_beta`] | α-β: fixed, Benedict–Bordner, least-squares schedule, fading memory | thesis eq. 2-1 to 2-4 |
 //! | [`alpha_beta_gamma`] | α-β-γ, critically damped, and the paper as printed | `000` eq. 1-7 |
 //! | [`alpha_beta_gamma_eta`] | α-β-γ-η (constant jerk), critically damped | `001` eq. 1-8 |
@@ -29,6 +30,7 @@ pub mod alpha_beta_gamma;
 pub mod alpha_beta_gamma_eta;
 pub mod config;
 pub mod gh;
+pub mod gh_fixed_scan;
 pub mod grnn;
 pub mod imm;
 pub mod kalman;

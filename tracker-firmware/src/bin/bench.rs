@@ -14,6 +14,7 @@ use tracker_core::device::Device;
 use tracker_core::filter::alpha_beta::AlphaBetaGains;
 use tracker_core::filter::alpha_beta_gamma::AbgGains;
 use tracker_core::filter::alpha_beta_gamma_eta::AbgeGains;
+use tracker_core::filter::gh_fixed_scan::FixedScanGh;
 use tracker_core::filter::kalman::{KalmanConfig, QModel};
 use tracker_core::filter::sswt::SswtConfig;
 use tracker_core::filter::{Filter, Interval, Measurement};
@@ -88,6 +89,67 @@ fn filter_row<S: Scalar, F: Filter<S>>(
         scan(black_box(&mut filter), black_box(dt), black_box(z));
     });
     row(name, S::NAME, per_scan, core::mem::size_of::<F>());
+}
+
+/// Tracks in the fixed-scan g-h rows: a full track table.
+const FIXED_SCAN_TRACKS: usize = tracker_core::track::MAX_TRACKS;
+
+/// Scans the fixed-scan g-h rows time.
+const FIXED_SCAN_SCANS: u32 = 20;
+
+/// Instructions per track for one scan of the constant-gain g-h filters as the track table
+/// runs them ([`FixedScanGh`]): the interval compared once for the scan (the table's
+/// `predict`, which then predicts nothing), then every track updated with its plot and its
+/// next scan predicted (the table's `apply`), the loop included. The filters are reached
+/// through `black_box` every scan, so their states live in memory as in the table.
+// Its own frame: inlined into `main`, every row's locals would share one huge frame.
+#[inline(never)]
+fn fixed_scan_row<S: Scalar, const N: usize>(
+    counter: &mut icount::InstructionCounter,
+    name: &str,
+    general: Option<tracker_core::filter::gh::GhFilter<S, N>>,
+) {
+    let Some(proto) = general.as_ref().and_then(FixedScanGh::from_filter) else {
+        row(name, S::NAME, f32::NAN, 0);
+        return;
+    };
+    let Ok(dt) = Interval::new(S::of(2.5)) else {
+        return;
+    };
+    let Ok(origin) = Measurement::new([S::of(1234.5), S::of(-987.25)]) else {
+        return;
+    };
+    let mut filters = [proto; FIXED_SCAN_TRACKS];
+    let mut zs = [origin; FIXED_SCAN_TRACKS];
+    for (i, (f, z)) in filters.iter_mut().zip(&mut zs).enumerate() {
+        let at = [
+            S::of(1234.5 + 250.0 * i as f64),
+            S::of(-987.25 - 125.0 * i as f64),
+        ];
+        *z = Measurement::new(at).unwrap_or(origin);
+        // Started and predicted at the table's interval, as the table starts a track.
+        f.start(*z);
+        f.predict(dt);
+    }
+    // The interval the table's tracks hold their predictions for.
+    let held = Some(dt);
+    let per_scan = icount::per_call(counter, FIXED_SCAN_SCANS, || {
+        let filters = black_box(&mut filters);
+        if black_box(held) != Some(dt) {
+            for f in filters.iter_mut() {
+                f.predict(dt);
+            }
+        }
+        for (f, z) in filters.iter_mut().zip(black_box(&zs)) {
+            f.update(*z);
+        }
+    });
+    row(
+        name,
+        S::NAME,
+        per_scan / FIXED_SCAN_TRACKS as f32,
+        core::mem::size_of::<FixedScanGh<S, N>>(),
+    );
 }
 
 /// What a scan bench feeds the device.
@@ -318,8 +380,8 @@ fn restart(sim: &mut tracker_core::sim::Scenario, config: tracker_core::sim::Sce
 }
 
 /// The scan rows: today's product picture (40 targets, the simulator's clutter, every
-/// plot in no gate starting a track, so the table runs full), then the growth with tracks
-/// and plots.
+/// plot in no gate starting a track, so the table runs full), the growth with tracks and
+/// plots, then a full table with the g-h filters and the CV Kalman filter side by side.
 // Its own frame: inlined into `main`, every row's locals would share one huge frame.
 #[inline(never)]
 fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
@@ -356,6 +418,44 @@ fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
         };
         scan_row(counter, device, bench, sim, name, load);
     }
+    // The device's scan with each of the filters the table runs differently: the g-h
+    // filters in their fixed-scan form, the CV Kalman filter predicted and updated.
+    use tracker_core::filter::FilterKind;
+    let load = ScanLoad {
+        targets: 64,
+        sim_clutter: 0.0,
+        plots: 64,
+        initiate_clutter: false,
+    };
+    for (name, kind) in [
+        ("scan-64-tracks-64-plots-alpha-beta", FilterKind::AlphaBeta),
+        (
+            "scan-64-tracks-64-plots-alpha-beta-gamma",
+            FilterKind::AlphaBetaGamma,
+        ),
+        ("scan-64-tracks-64-plots-kalman-cv", FilterKind::KalmanCv),
+    ] {
+        configure(device, Some(kind));
+        scan_row(counter, device, bench, sim, name, load);
+    }
+    configure(device, None);
+}
+
+/// Configures the device's tracks to run `filter` as the product does
+/// ([`tracker_core::filter::FilterConfig::tracking`], 50 m plots, 20 m/s targets), or
+/// back to the default configuration. Its own frame: the request is a kilobyte, too much
+/// for [`scan_rows`]'s frame on the bench's stack.
+#[inline(never)]
+fn configure(device: &mut Device, filter: Option<tracker_core::filter::FilterKind>) {
+    use tracker_core::icd::TrackerConfig;
+    let config = match filter {
+        Some(kind) => TrackerConfig {
+            filter: tracker_core::filter::FilterConfig::tracking(kind, 50.0, 20.0),
+            ..TrackerConfig::DEFAULT
+        },
+        None => TrackerConfig::DEFAULT,
+    };
+    let _ = device.handle(&HostToDevice::Configure(config));
 }
 
 /// RAM per track: the table's slot (sized for the largest filter, so any can be chosen at
@@ -365,8 +465,7 @@ fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
 #[inline(never)]
 fn capacity_rows() {
     use core::mem::size_of;
-    use tracker_core::filter::alpha_beta::AlphaBeta;
-    use tracker_core::filter::alpha_beta_gamma::AlphaBetaGamma;
+    use tracker_core::filter::gh_fixed_scan::{FixedScanAlphaBeta, FixedScanAlphaBetaGamma};
     use tracker_core::filter::kalman::{ca::KalmanCa, cv::KalmanCv};
     use tracker_core::filter::sswt::Sswt;
     use tracker_core::track::{Track, TrackFilter};
@@ -374,10 +473,13 @@ fn capacity_rows() {
     let overhead = slot - size_of::<TrackFilter>();
     row("track-slot", "f32", 0.0, slot);
     for (name, filter) in [
-        ("track-slot-alpha-beta", size_of::<AlphaBeta<f32>>()),
+        (
+            "track-slot-alpha-beta",
+            size_of::<FixedScanAlphaBeta<f32>>(),
+        ),
         (
             "track-slot-alpha-beta-gamma",
-            size_of::<AlphaBetaGamma<f32>>(),
+            size_of::<FixedScanAlphaBetaGamma<f32>>(),
         ),
         ("track-slot-sswt", size_of::<Sswt<f32>>()),
         ("track-slot-kalman-cv", size_of::<KalmanCv<f32>>()),
@@ -423,6 +525,23 @@ fn filter_rows<S: Scalar>(counter: &mut icount::InstructionCounter) {
         start: AlphaBetaGains::BenedictBordner { alpha: 0.5 },
     };
     filter_row::<S, _>(counter, "sswt", sswt.build::<S>().ok());
+    fixed_scan_row::<S, 2>(
+        counter,
+        "alpha-beta-fixed-scan",
+        AlphaBetaGains::BenedictBordner { alpha: 0.5 }
+            .build::<S>()
+            .ok(),
+    );
+    fixed_scan_row::<S, 3>(
+        counter,
+        "alpha-beta-gamma-fixed-scan",
+        AbgGains::FadingMemory { xi: 0.9 }.build::<S>().ok(),
+    );
+    fixed_scan_row::<S, 4>(
+        counter,
+        "alpha-beta-gamma-eta-fixed-scan",
+        AbgeGains::FadingMemory { xi: 0.9 }.build::<S>().ok(),
+    );
 }
 
 #[entry]
