@@ -264,6 +264,13 @@ impl Track {
     }
 }
 
+/// A slot no assignment named yet, in `apply` (no plot index reaches it: a scan has at
+/// most 256 plots).
+const NO_PLOT: u16 = u16::MAX;
+
+/// A slot an assignment told to coast, in `apply`.
+const COAST: u16 = u16::MAX - 1;
+
 /// What a scan's `apply` did, for the counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -500,9 +507,13 @@ impl TrackTable {
             return Err(ErrorCode::OutOfSequence);
         };
         let plot = |i: u16| plots.get(usize::from(i)).copied();
+        let mut from = 0;
         for a in assignments {
-            let known = self.tracks.iter().any(|t| t.id == a.track);
-            if !known || a.plot.is_some_and(|p| plot(p).is_none()) {
+            let Some(slot) = self.slot_of(a.track, from) else {
+                return Err(ErrorCode::InvalidValue);
+            };
+            from = slot + 1;
+            if a.plot.is_some_and(|p| plot(p).is_none()) {
                 return Err(ErrorCode::InvalidValue);
             }
         }
@@ -512,17 +523,26 @@ impl TrackTable {
         let mut report = ApplyReport::default();
         // Lost tracks were reported once; now they go.
         self.tracks.retain(|t| t.status != TrackStatus::Lost);
+        // Each slot's plot, in one walk over the assignments (a track's first assignment
+        // counts; one to a track just dropped as lost finds no slot).
+        let mut plot_of = [NO_PLOT; MAX_TRACKS];
+        let mut from = 0;
+        for a in assignments {
+            if let Some(slot) = self.slot_of(a.track, from) {
+                from = slot + 1;
+                if let Some(p) = plot_of.get_mut(slot) {
+                    if *p == NO_PLOT {
+                        *p = a.plot.unwrap_or(COAST);
+                    }
+                }
+            }
+        }
         let mut failed: Vec<u16, MAX_TRACKS> = Vec::new();
         let all_predicted = self.all_predicted;
-        for t in &mut self.tracks {
+        for (t, &p) in self.tracks.iter_mut().zip(plot_of.iter()) {
             // Not predicted for this scan (see `all_predicted`): updated in place, or left.
             let in_place = !all_predicted && t.time_ms != open_ms;
-            let assigned = assignments
-                .iter()
-                .find(|a| a.track == t.id)
-                .and_then(|a| a.plot)
-                .and_then(plot)
-                .and_then(|z| Measurement::new(z).ok());
+            let assigned = plot(p).and_then(|z| Measurement::new(z).ok());
             t.hits <<= 1;
             t.age_scans = t.age_scans.saturating_add(1);
             match assigned {
@@ -565,6 +585,18 @@ impl TrackTable {
             }
         }
         Ok(report)
+    }
+
+    /// The slot of track `id`, looked for from slot `from` on first: the host lists its
+    /// assignments in the order of the gates, which is the table's, so a walk over them
+    /// finds each slot in one step instead of searching the whole table.
+    fn slot_of(&self, id: u16, from: usize) -> Option<usize> {
+        let after = self
+            .tracks
+            .get(from..)
+            .and_then(|rest| rest.iter().position(|t| t.id == id))
+            .map(|i| i + from);
+        after.or_else(|| self.tracks.iter().position(|t| t.id == id))
     }
 
     /// Starts a tentative track on a plot (also the operator's manual acquisition).
@@ -768,6 +800,37 @@ mod tests {
         assert_eq!(t.tracks()[0].status, TrackStatus::Lost);
         scan(&mut t, 20 * 2500, &[]);
         assert!(t.tracks().is_empty());
+    }
+
+    #[test]
+    fn assignments_in_any_order_reach_their_tracks() {
+        // Three tracks; the scan's assignments listed backwards, one track named twice
+        // (its first assignment counts) and one not named (it coasts).
+        let starts = [[0.0, 0.0], [3000.0, 0.0], [6000.0, 0.0]];
+        let mut t = table();
+        scan(&mut t, 0, &starts);
+        let ids: std::vec::Vec<u16> = t.tracks().iter().map(|x| x.id).collect();
+        t.predict(2500);
+        let plots = [[10.0, 0.0], [3010.0, 0.0], [6010.0, 0.0]];
+        t.gate(&plots, 2.5);
+        let assignments = [
+            Assignment {
+                track: ids[2],
+                plot: Some(2),
+            },
+            Assignment {
+                track: ids[0],
+                plot: None,
+            },
+            Assignment {
+                track: ids[0],
+                plot: Some(0),
+            },
+        ];
+        let r = t.apply(2500, &plots, &assignments, &[]).unwrap();
+        assert_eq!((r.updated, r.coasted), (1, 2));
+        let hit = |i: usize| t.tracks()[i].hits & 1 == 1;
+        assert_eq!([hit(0), hit(1), hit(2)], [false, false, true]);
     }
 
     #[test]

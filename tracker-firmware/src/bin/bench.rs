@@ -175,8 +175,6 @@ struct ScanBench {
     gated: [bool; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
     taken: [bool; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
     initiate: heapless::Vec<u16, { tracker_core::tracker::MAX_PLOTS_PER_SCAN }>,
-    /// The scan's plots in the local frame, as the host sends them.
-    local: heapless::Vec<[f32; 2], { tracker_core::tracker::MAX_PLOTS_PER_SCAN }>,
     /// Scan times go on from row to row: the device refuses a scan not later than the last.
     time_base_ms: u64,
 }
@@ -237,25 +235,26 @@ fn scan_row(
         }
         let out = &bench.out;
         let all = &out.plots;
-        // The host's part: plots to the local frame (own ship at the origin), on the grid.
-        let local = &mut bench.local;
-        local.clear();
-        for p in all {
-            let _ = local.push(position_on_grid(tracker_core::geo::polar_to_local(
-                [0.0, 0.0],
-                p.range_m,
-                p.bearing_rad,
-            )));
-        }
         let parts = all.len().div_ceil(MAX_PLOTS_PER_MESSAGE).max(1) as u8;
         let mut t = 0u32;
-        for (i, chunk) in local.chunks(MAX_PLOTS_PER_MESSAGE).enumerate() {
+        for (i, chunk) in all.chunks(MAX_PLOTS_PER_MESSAGE).enumerate() {
+            // The host's part, outside the count: plots to the local frame (own ship at
+            // the origin), on the wire's grid.
             let batch = HostToDevice::Plots(PlotBatch {
                 scan: out.scan,
                 time_ms,
                 part: i as u8,
                 parts,
-                plots_m: chunk.iter().copied().collect(),
+                plots_m: chunk
+                    .iter()
+                    .map(|p| {
+                        position_on_grid(tracker_core::geo::polar_to_local(
+                            [0.0, 0.0],
+                            p.range_m,
+                            p.bearing_rad,
+                        ))
+                    })
+                    .collect(),
             });
             let dt = counter.ticks(|| {
                 black_box(device.handle(black_box(&batch)));
@@ -366,7 +365,6 @@ fn scan_storage() -> Option<(
         gated: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
         taken: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
         initiate: heapless::Vec::new(),
-        local: heapless::Vec::new(),
         time_base_ms: 0,
     })?;
     let sim = cortex_m::singleton!(: Scenario = Scenario::new(ScenarioConfig::open_sea(1, 1)))?;
