@@ -225,7 +225,7 @@ mod tests {
     #[test]
     fn covariance_survives_as_its_cholesky_factor() {
         // An elongated, tilted gate: 200 m by 30 m at 30°.
-        let (a, b, th) = (200.0f32, 30.0f32, 0.5236f32);
+        let (a, b, th) = (200.0f32, 30.0f32, core::f32::consts::FRAC_PI_6);
         let (c, s) = (libm::cosf(th), libm::sinf(th));
         let cov = [
             a * a * c * c + b * b * s * s,

@@ -495,7 +495,7 @@ where
             Ok(ExitCode::SUCCESS)
         }
         Command::LinkBudget { baud } => {
-            say(&link_budget::report(&baud));
+            say(&link_budget::report(baud));
             Ok(ExitCode::SUCCESS)
         }
     }
