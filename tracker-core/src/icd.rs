@@ -17,6 +17,8 @@
 use heapless::{String, Vec};
 use serde::{Deserialize, Serialize};
 
+use crate::bounded::take_up_to;
+
 use crate::filter::kalman::{KalmanConfig, QModel};
 use crate::filter::FilterConfig;
 
@@ -399,6 +401,36 @@ pub struct AssignmentBatch {
     pub initiate: Vec<u16, MAX_ASSIGNMENTS_PER_MESSAGE>,
 }
 
+impl AssignmentBatch {
+    /// The parts carrying one scan's `updates` and `initiate` list, in order: as many as
+    /// the longer of the two needs at [`MAX_ASSIGNMENTS_PER_MESSAGE`] a part, and at least
+    /// one (an empty part still closes the scan). More than 255 parts cannot be numbered;
+    /// the count saturates and the device refuses the scan as out of sequence.
+    pub fn parts<'a>(
+        scan: u32,
+        updates: &'a [Assignment],
+        initiate: &'a [u16],
+    ) -> impl Iterator<Item = AssignmentBatch> + 'a {
+        let per = MAX_ASSIGNMENTS_PER_MESSAGE;
+        let parts = updates
+            .len()
+            .div_ceil(per)
+            .max(initiate.len().div_ceil(per))
+            .max(1);
+        let numbered = u8::try_from(parts).unwrap_or(u8::MAX);
+        (0..numbered).map(move |part| {
+            let from = usize::from(part) * per;
+            AssignmentBatch {
+                scan,
+                part,
+                parts: numbered,
+                assignments: take_up_to(updates.iter().skip(from).copied()),
+                initiate: take_up_to(initiate.iter().skip(from).copied()),
+            }
+        })
+    }
+}
+
 /// Operator commands.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -599,6 +631,31 @@ mod tests {
         for m in &msgs {
             round_trip(m);
         }
+    }
+
+    #[test]
+    fn assignments_split_into_parts_in_order() {
+        let updates: std::vec::Vec<Assignment> = (0..50)
+            .map(|i| Assignment {
+                track: i,
+                plot: Some(i),
+            })
+            .collect();
+        let initiate: std::vec::Vec<u16> = (0..100).collect();
+        let parts: std::vec::Vec<AssignmentBatch> =
+            AssignmentBatch::parts(4, &updates, &initiate).collect();
+        assert_eq!(parts.len(), 3);
+        let all_updates: std::vec::Vec<Assignment> =
+            parts.iter().flat_map(|p| p.assignments.clone()).collect();
+        let all_initiate: std::vec::Vec<u16> =
+            parts.iter().flat_map(|p| p.initiate.clone()).collect();
+        assert_eq!((all_updates, all_initiate), (updates, initiate));
+        for (i, p) in parts.iter().enumerate() {
+            assert_eq!((p.scan, p.part, p.parts), (4, i as u8, 3));
+        }
+        // Nothing to say still closes the scan.
+        let empty: std::vec::Vec<AssignmentBatch> = AssignmentBatch::parts(4, &[], &[]).collect();
+        assert_eq!(empty.len(), 1);
     }
 
     #[test]

@@ -182,14 +182,7 @@ impl<S: Scalar, const N: usize> Filter<S> for GhFilter<S, N> {
     }
 
     fn estimate(&self) -> Estimate<S> {
-        let velocity = |q: &[S; N]| match q.get(1) {
-            Some(&vt) if self.scan_s > S::ZERO => vt.div(self.scan_s),
-            _ => S::ZERO,
-        };
-        Estimate {
-            position_m: [self.q[0][0], self.q[1][0]],
-            velocity_mps: [velocity(&self.q[0]), velocity(&self.q[1])],
-        }
+        estimate_of(&self.q, self.scan_s)
     }
 
     fn prediction(&self) -> Vec2<S> {
@@ -233,6 +226,19 @@ pub(crate) fn rescale_derivatives<S: Scalar, const N: usize>(q: &mut [[S; N]; 2]
 }
 
 /// The closed-loop matrix (I − K·H)·Φ of a constant-gain filter, one axis, per-scan units.
+/// Position and velocity from a g-h state (per axis `[x, v·T, …]`) whose scaled terms are
+/// for the interval `scan_s` (no velocity before an interval is known).
+pub(crate) fn estimate_of<S: Scalar, const N: usize>(q: &[[S; N]; 2], scan_s: S) -> Estimate<S> {
+    let velocity = |q: &[S; N]| match q.get(1) {
+        Some(&vt) if scan_s > S::ZERO => vt.div(scan_s),
+        _ => S::ZERO,
+    };
+    Estimate {
+        position_m: [q[0][0], q[1][0]],
+        velocity_mps: [velocity(&q[0]), velocity(&q[1])],
+    }
+}
+
 #[cfg(test)]
 fn closed_loop<const N: usize>(gains: [f64; N]) -> nalgebra::SMatrix<f64, N, N> {
     use nalgebra::SMatrix;

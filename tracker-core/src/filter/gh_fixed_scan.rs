@@ -160,14 +160,7 @@ impl<S: Scalar, const N: usize> FixedScanGh<S, N> {
 
     /// Position and velocity at the last scan closed.
     pub fn estimate(&self) -> Estimate<S> {
-        let velocity = |q: &[S; N]| match q.get(1) {
-            Some(&vt) if self.scan_s > S::ZERO => vt.div(self.scan_s),
-            _ => S::ZERO,
-        };
-        Estimate {
-            position_m: [self.q[0][0], self.q[1][0]],
-            velocity_mps: [velocity(&self.q[0]), velocity(&self.q[1])],
-        }
+        super::gh::estimate_of(&self.q, self.scan_s)
     }
 
     /// The position the next update or coast takes as its prior.

@@ -292,30 +292,8 @@ fn scan_row(
                 let _ = initiate.push(p as u16);
             }
         }
-        let per = 48;
-        let aparts = assignments
-            .len()
-            .div_ceil(per)
-            .max(initiate.len().div_ceil(per))
-            .max(1);
-        for part in 0..aparts {
-            let batch = HostToDevice::Assign(AssignmentBatch {
-                scan: out.scan,
-                part: part as u8,
-                parts: aparts as u8,
-                assignments: assignments
-                    .iter()
-                    .skip(part * per)
-                    .take(per)
-                    .copied()
-                    .collect(),
-                initiate: initiate
-                    .iter()
-                    .skip(part * per)
-                    .take(per)
-                    .copied()
-                    .collect(),
-            });
+        for batch in AssignmentBatch::parts(out.scan, &assignments, initiate) {
+            let batch = HostToDevice::Assign(batch);
             let dt = counter.ticks(|| {
                 let reply = device.handle(black_box(&batch));
                 black_box(matches!(reply, Reply::Tracks { .. }));

@@ -20,9 +20,8 @@
 use tracker_core::frame;
 use tracker_core::icd::{
     Assignment, AssignmentBatch, DeviceToHost, GatedBatch, GatedPlots, Header, HostToDevice,
-    PlotBatch, TrackBatch, TrackState, TrackStatus, MAX_ASSIGNMENTS_PER_MESSAGE,
-    MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, MAX_GATES_PER_MESSAGE, MAX_PLOTS_PER_MESSAGE,
-    MAX_TRACKS_PER_MESSAGE, PROTOCOL_VERSION,
+    PlotBatch, TrackBatch, TrackState, TrackStatus, MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES,
+    MAX_GATES_PER_MESSAGE, MAX_PLOTS_PER_MESSAGE, MAX_TRACKS_PER_MESSAGE, PROTOCOL_VERSION,
 };
 use tracker_core::track::MAX_TRACKS;
 use tracker_core::tracker::MAX_PLOTS_PER_SCAN;
@@ -110,26 +109,10 @@ pub fn scan_bytes(tracks: usize, plots: usize) -> usize {
         .take(MAX_TRACKS - tracks.min(MAX_TRACKS))
         .map(|i| i as u16)
         .collect();
-    let per = MAX_ASSIGNMENTS_PER_MESSAGE;
-    let assign_parts = updates
-        .len()
-        .div_ceil(per)
-        .max(initiate.len().div_ceil(per))
-        .max(1);
-    for part in 0..assign_parts {
-        bytes += frame_bytes(&HostToDevice::Assign(AssignmentBatch {
-            scan,
-            part: part as u8,
-            parts: assign_parts as u8,
-            assignments: updates.iter().skip(part * per).take(per).copied().collect(),
-            initiate: initiate
-                .iter()
-                .skip(part * per)
-                .take(per)
-                .copied()
-                .collect(),
-        }));
-        if part + 1 < assign_parts {
+    let assign: Vec<AssignmentBatch> = AssignmentBatch::parts(scan, &updates, &initiate).collect();
+    for (part, batch) in assign.iter().enumerate() {
+        bytes += frame_bytes(&HostToDevice::Assign(batch.clone()));
+        if part + 1 < assign.len() {
             bytes += frame_bytes(&DeviceToHost::Ack);
         }
     }

@@ -8,8 +8,7 @@ use anyhow::{bail, Context};
 use tracker_core::geo::EastNorth;
 use tracker_core::icd::{
     Assignment, AssignmentBatch, DeviceInfo, DeviceToHost, ErrorCode, GatedPlots, HostToDevice,
-    PlotBatch, TrackCommand, TrackState, TrackStatus, TrackerConfig, MAX_ASSIGNMENTS_PER_MESSAGE,
-    MAX_PLOTS_PER_MESSAGE,
+    PlotBatch, TrackCommand, TrackState, TrackStatus, TrackerConfig, MAX_PLOTS_PER_MESSAGE,
 };
 
 use super::associate::Associated;
@@ -284,7 +283,6 @@ impl DeviceLink {
     }
 
     fn send_assignments(&mut self, scan: u32, a: &Associated) -> anyhow::Result<Vec<TrackState>> {
-        let per = MAX_ASSIGNMENTS_PER_MESSAGE;
         // The device coasts every track not named: only the updates go on the wire.
         let updates: Vec<Assignment> = a
             .assignments
@@ -292,27 +290,8 @@ impl DeviceLink {
             .filter(|x| x.plot.is_some())
             .copied()
             .collect();
-        let parts = updates
-            .len()
-            .div_ceil(per)
-            .max(a.initiate.len().div_ceil(per))
-            .max(1);
-        let parts_u8 = u8::try_from(parts).context("too many assignment parts")?;
         let mut tracks = Vec::new();
-        for part in 0..parts {
-            let batch = AssignmentBatch {
-                scan,
-                part: part as u8,
-                parts: parts_u8,
-                assignments: updates.iter().skip(part * per).take(per).copied().collect(),
-                initiate: a
-                    .initiate
-                    .iter()
-                    .skip(part * per)
-                    .take(per)
-                    .copied()
-                    .collect(),
-            };
+        for batch in AssignmentBatch::parts(scan, &updates, &a.initiate) {
             for reply in self.client.request_all(&HostToDevice::Assign(batch))? {
                 match reply {
                     DeviceToHost::Ack => {}
