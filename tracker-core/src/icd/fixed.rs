@@ -24,20 +24,28 @@ pub const LENGTH_RESOLUTION_M: f32 = 0.1;
 /// Resolution of a speed on the wire, m/s.
 pub const SPEED_RESOLUTION_MPS: f32 = 0.01;
 
-/// `x / resolution` rounded to the nearest whole number (halves away from zero); values
-/// past `i32`'s range saturate and NaN becomes 0 (Rust's float-to-int conversion).
-fn to_steps(x: f32, per_unit: f32) -> i32 {
-    libm::roundf(x * per_unit) as i32
+/// Steps of a length per metre, and of a speed per metre a second.
+const LENGTH_STEPS_PER_M: f32 = 10.0;
+const SPEED_STEPS_PER_MPS: f32 = 100.0;
+
+/// `x · steps_per_unit` rounded to the nearest whole number (halves away from zero);
+/// values past `i32`'s range saturate and NaN becomes 0 (Rust's float-to-int conversion).
+fn to_steps(x: f32, steps_per_unit: f32) -> i32 {
+    libm::roundf(x * steps_per_unit) as i32
+}
+
+fn from_steps(n: i32, steps_per_unit: f32) -> f32 {
+    n as f32 / steps_per_unit
 }
 
 /// A length as whole tenths of a metre.
 pub fn length_to_tenths(x_m: f32) -> i32 {
-    to_steps(x_m, 10.0)
+    to_steps(x_m, LENGTH_STEPS_PER_M)
 }
 
 /// Tenths of a metre as a length, m.
 pub fn length_from_tenths(n: i32) -> f32 {
-    n as f32 / 10.0
+    from_steps(n, LENGTH_STEPS_PER_M)
 }
 
 /// `x_m` as the far side of the link will see it: rounded to [`LENGTH_RESOLUTION_M`].
@@ -50,12 +58,25 @@ pub fn position_on_grid(p_m: [f32; 2]) -> [f32; 2] {
     [on_length_grid(p_m[0]), on_length_grid(p_m[1])]
 }
 
-fn speed_to_hundredths(v_mps: f32) -> i32 {
-    to_steps(v_mps, 100.0)
+/// An east, north pair as two varints of `steps_per_unit`.
+fn serialize_pair<S: Serializer>(
+    v: &[f32; 2],
+    steps_per_unit: f32,
+    s: S,
+) -> Result<S::Ok, S::Error> {
+    (
+        to_steps(v[0], steps_per_unit),
+        to_steps(v[1], steps_per_unit),
+    )
+        .serialize(s)
 }
 
-fn speed_from_hundredths(n: i32) -> f32 {
-    n as f32 / 100.0
+fn deserialize_pair<'de, D: Deserializer<'de>>(
+    d: D,
+    steps_per_unit: f32,
+) -> Result<[f32; 2], D::Error> {
+    let (e, n) = <(i32, i32)>::deserialize(d)?;
+    Ok([from_steps(e, steps_per_unit), from_steps(n, steps_per_unit)])
 }
 
 /// S = [s_xx, s_xy, s_yy] (m²) as its Cholesky factor [l11, l21, l22] (m), in tenths.
@@ -91,7 +112,7 @@ pub mod position_m {
     /// # Errors
     /// The serializer's.
     pub fn serialize<S: Serializer>(p: &[f32; 2], s: S) -> Result<S::Ok, S::Error> {
-        (length_to_tenths(p[0]), length_to_tenths(p[1])).serialize(s)
+        serialize_pair(p, LENGTH_STEPS_PER_M, s)
     }
 
     /// Deserializes from `(i32, i32)` tenths of a metre.
@@ -99,8 +120,7 @@ pub mod position_m {
     /// # Errors
     /// The deserializer's.
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<[f32; 2], D::Error> {
-        let (e, n) = <(i32, i32)>::deserialize(d)?;
-        Ok([length_from_tenths(e), length_from_tenths(n)])
+        deserialize_pair(d, LENGTH_STEPS_PER_M)
     }
 }
 
@@ -113,7 +133,7 @@ pub mod velocity_mps {
     /// # Errors
     /// The serializer's.
     pub fn serialize<S: Serializer>(v: &[f32; 2], s: S) -> Result<S::Ok, S::Error> {
-        (speed_to_hundredths(v[0]), speed_to_hundredths(v[1])).serialize(s)
+        serialize_pair(v, SPEED_STEPS_PER_MPS, s)
     }
 
     /// Deserializes from `(i32, i32)` hundredths of a metre a second.
@@ -121,8 +141,7 @@ pub mod velocity_mps {
     /// # Errors
     /// The deserializer's.
     pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<[f32; 2], D::Error> {
-        let (e, n) = <(i32, i32)>::deserialize(d)?;
-        Ok([speed_from_hundredths(e), speed_from_hundredths(n)])
+        deserialize_pair(d, SPEED_STEPS_PER_MPS)
     }
 }
 

@@ -17,6 +17,8 @@
 //!
 //! A UART frame of 8N1 is ten bits a byte.
 
+use std::ops::Range;
+
 use tracker_core::frame;
 use tracker_core::icd::{
     Assignment, AssignmentBatch, DeviceToHost, GatedBatch, GatedPlots, Header, HostToDevice,
@@ -54,33 +56,36 @@ fn position_m(i: usize) -> [f32; 2] {
     [x, -x - 3.0]
 }
 
+/// `items` split at `per` a part, as the session splits a scan's messages: (part, parts,
+/// the part's items); at least one part, an empty one for no items.
+fn in_parts(items: usize, per: usize) -> impl Iterator<Item = (u8, u8, Range<usize>)> {
+    let parts = items.div_ceil(per).max(1);
+    (0..parts).map(move |p| (p as u8, parts as u8, p * per..items.min((p + 1) * per)))
+}
+
 /// Bytes on the wire, both ways, for one scan of `tracks` tracks and `plots` plots.
 pub fn scan_bytes(tracks: usize, plots: usize) -> usize {
     let scan = 5_000u32;
     let time_ms = 12_500_000u64;
     let mut bytes = 0;
     // Plots out, in parts; each part but the last answered by an acknowledgement.
-    let plot_parts = plots.div_ceil(MAX_PLOTS_PER_MESSAGE).max(1);
-    for part in 0..plot_parts {
-        let n = MAX_PLOTS_PER_MESSAGE.min(plots - (part * MAX_PLOTS_PER_MESSAGE).min(plots));
+    for (part, parts, range) in in_parts(plots, MAX_PLOTS_PER_MESSAGE) {
         bytes += frame_bytes(&HostToDevice::Plots(PlotBatch {
             scan,
             time_ms,
-            part: part as u8,
-            parts: plot_parts as u8,
-            plots_m: (0..n).map(position_m).collect(),
+            part,
+            parts,
+            plots_m: range.map(position_m).collect(),
         }));
-        if part + 1 < plot_parts {
+        if part + 1 < parts {
             bytes += frame_bytes(&DeviceToHost::Ack);
         }
     }
     // The rough gates back.
     let track_number = |i: usize| 200 + i as u16;
     let plot_index = |i: usize| (i % plots.max(1)) as u16;
-    let gate_parts = tracks.div_ceil(MAX_GATES_PER_MESSAGE).max(1);
-    for part in 0..gate_parts {
-        let first = part * MAX_GATES_PER_MESSAGE;
-        let gates = (first..tracks.min(first + MAX_GATES_PER_MESSAGE))
+    for (part, parts, range) in in_parts(tracks, MAX_GATES_PER_MESSAGE) {
+        let gates = range
             .map(|i| GatedPlots {
                 track: track_number(i),
                 predicted_m: position_m(i),
@@ -93,8 +98,8 @@ pub fn scan_bytes(tracks: usize, plots: usize) -> usize {
             .collect();
         bytes += frame_bytes(&DeviceToHost::Gated(GatedBatch {
             scan,
-            part: part as u8,
-            parts: gate_parts as u8,
+            part,
+            parts,
             gates,
         }));
     }
@@ -118,10 +123,8 @@ pub fn scan_bytes(tracks: usize, plots: usize) -> usize {
     }
     // The track states back, the new tracks among them.
     let reported = (tracks + initiate.len()).min(MAX_TRACKS);
-    let track_parts = reported.div_ceil(MAX_TRACKS_PER_MESSAGE).max(1);
-    for part in 0..track_parts {
-        let first = part * MAX_TRACKS_PER_MESSAGE;
-        let states = (first..reported.min(first + MAX_TRACKS_PER_MESSAGE))
+    for (part, parts, range) in in_parts(reported, MAX_TRACKS_PER_MESSAGE) {
+        let states = range
             .map(|i| TrackState {
                 track: track_number(i),
                 status: TrackStatus::Confirmed,
@@ -133,8 +136,8 @@ pub fn scan_bytes(tracks: usize, plots: usize) -> usize {
             .collect();
         bytes += frame_bytes(&DeviceToHost::Tracks(TrackBatch {
             scan,
-            part: part as u8,
-            parts: track_parts as u8,
+            part,
+            parts,
             tracks: states,
         }));
     }
