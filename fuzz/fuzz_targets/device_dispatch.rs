@@ -57,7 +57,7 @@ fuzz_target!(|data: &[u8]| {
             "{replies} reply frames for {frames} frames"
         );
         let table = device.tracker().table();
-        assert!(table.tracks().len() <= MAX_TRACKS);
+        assert!(table.len() <= MAX_TRACKS);
         for t in table.tracks() {
             let s = t.state();
             assert!(

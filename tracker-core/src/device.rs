@@ -391,7 +391,7 @@ mod tests {
         // The reply was lost; the host resends request 6: same answer, one track, not two.
         let again = exchange(&mut dev, &request(6, &assign));
         assert_eq!(a, again);
-        assert_eq!(dev.tracker().table().tracks().len(), 1);
+        assert_eq!(dev.tracker().table().len(), 1);
         assert_eq!(dev.stats().duplicate_requests, 1);
         assert!(matches!(first[0].1, DeviceToHost::Gated(_)));
         // A new id is a new request (here out of sequence: no scan open).
@@ -440,6 +440,6 @@ mod tests {
             ),
         );
         assert_eq!(r[0].1, DeviceToHost::Ack);
-        assert_eq!(dev.tracker().table().tracks().len(), 0);
+        assert_eq!(dev.tracker().table().len(), 0);
     }
 }

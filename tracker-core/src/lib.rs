@@ -34,6 +34,7 @@
 mod bounded;
 pub mod device;
 pub mod filter;
+mod float;
 pub mod frame;
 pub mod geo;
 pub mod icd;

@@ -16,6 +16,9 @@ pub const EAST_BUCKETS: usize = 64;
 /// Plots an index can hold; the device's [`MAX_PLOTS_PER_SCAN`](crate::tracker::MAX_PLOTS_PER_SCAN).
 pub const MAX_INDEXED_PLOTS: usize = crate::tracker::MAX_PLOTS_PER_SCAN;
 
+// A strip number is kept in a byte while the index is built.
+const _: () = assert!(EAST_BUCKETS <= 256);
+
 /// The plots of one scan in east strips.
 #[derive(Clone, Debug)]
 pub struct EastIndex {
@@ -42,8 +45,8 @@ impl EastIndex {
             if !(z[0].is_finite() && z[1].is_finite()) {
                 return None;
             }
-            west = west.min(z[0]);
-            east = east.max(z[0]);
+            west = crate::float::min(west, z[0]);
+            east = crate::float::max(east, z[0]);
         }
         let span = east - west;
         let per_m = if span > 0.0 && span.is_finite() {
@@ -58,10 +61,12 @@ impl EastIndex {
             per_m,
         };
         // Counting sort: counts, then each strip's end, then placement from the back so a
-        // strip keeps plot order.
-        for z in plots {
-            let b = index.bucket(z[0]) + 1;
-            if let Some(c) = index.start.get_mut(b) {
+        // strip keeps plot order. Each plot's strip is worked out once.
+        let mut strip = [0u8; MAX_INDEXED_PLOTS];
+        for (z, s) in plots.iter().zip(strip.iter_mut()) {
+            let b = index.bucket(z[0]);
+            *s = b as u8;
+            if let Some(c) = index.start.get_mut(b + 1) {
                 *c += 1;
             }
         }
@@ -72,9 +77,8 @@ impl EastIndex {
             }
         }
         // `start[b + 1]` is now strip b's end; placing from the back leaves it at its start.
-        for (i, z) in plots.iter().enumerate().rev() {
-            let b = index.bucket(z[0]) + 1;
-            if let Some(end) = index.start.get_mut(b) {
+        for (i, &b) in strip.iter().enumerate().take(plots.len()).rev() {
+            if let Some(end) = index.start.get_mut(usize::from(b) + 1) {
                 *end -= 1;
                 if let Some(slot) = index.order.get_mut(usize::from(*end)) {
                     *slot = i as u16;

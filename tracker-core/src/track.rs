@@ -36,6 +36,7 @@ use crate::filter::sswt::Sswt;
 use crate::filter::{
     Estimate, Filter, FilterConfig, FilterError, FilterKind, Interval, Measurement,
 };
+use crate::float::{max, min};
 use crate::geo::EastNorth;
 use crate::icd::{
     Assignment, ErrorCode, GatedPlots, TrackState, TrackStatus, TrackerConfig, MAX_PLOTS_PER_GATE,
@@ -148,6 +149,24 @@ impl TrackFilter {
     /// scan closes.
     pub fn is_fixed_scan(&self) -> bool {
         each_filter!(self, _f => false, fixed _g => true)
+    }
+
+    /// Becomes a copy of `prototype`. A slot reused for a track of the same filter (in the
+    /// product always: a table runs one filter) copies that filter's state only, not the
+    /// whole slot-sized enum (up to 464 B, about 350 instructions on the M4F a copy).
+    pub fn reset_to(&mut self, prototype: &TrackFilter) {
+        match (self, prototype) {
+            (TrackFilter::AlphaBeta(f), TrackFilter::AlphaBeta(p)) => *f = *p,
+            (TrackFilter::AlphaBetaScheduled(f), TrackFilter::AlphaBetaScheduled(p)) => *f = *p,
+            (TrackFilter::AlphaBetaGamma(f), TrackFilter::AlphaBetaGamma(p)) => *f = *p,
+            (TrackFilter::AlphaBetaGammaEta(f), TrackFilter::AlphaBetaGammaEta(p)) => *f = *p,
+            (TrackFilter::Sswt(f), TrackFilter::Sswt(p)) => *f = *p,
+            (TrackFilter::KalmanCv(f), TrackFilter::KalmanCv(p)) => *f = *p,
+            (TrackFilter::KalmanCa(f), TrackFilter::KalmanCa(p)) => *f = *p,
+            (TrackFilter::Grnn(f), TrackFilter::Grnn(p)) => *f = *p,
+            (TrackFilter::Imm(f), TrackFilter::Imm(p)) => *f = *p,
+            (this, p) => *this = *p,
+        }
     }
 
     /// (Re)starts on a first plot.
@@ -288,14 +307,28 @@ pub struct ApplyReport {
 }
 
 /// The track table.
+///
+/// Tracks live in slots that never move: `order` lists the live tracks' slots in the
+/// table's order (the order they started in, which is the order of the gates and states on
+/// the wire), and a dropped track's slot is marked free for the next start. Dropping or
+/// starting a track moves a byte of `order`, not a 512-byte slot: on the device, with a
+/// table refilled from clutter every scan, moving slots was half of a scan's work.
 #[derive(Clone, Debug)]
 pub struct TrackTable {
     config: TrackerConfig,
     /// A fresh filter of the configured kind, built once per configuration: building one
     /// does the gain design (in f64), too slow to repeat for every new track on the MCU.
     prototype: Option<TrackFilter>,
-    tracks: Vec<Track, MAX_TRACKS>,
+    /// Every slot used so far, live or free.
+    slots: Vec<Track, MAX_TRACKS>,
+    /// The live tracks' slots, in table order.
+    order: Vec<u8, MAX_TRACKS>,
+    /// Bit `i` set: slot `i` is free.
+    free: u64,
     next_id: u16,
+    /// Track numbers have wrapped past `u16::MAX`: a new number must be checked against
+    /// the live ones (before, every live number is below `next_id`).
+    ids_wrapped: bool,
     /// The interval every fixed-scan g-h track's held prediction was made for, when they
     /// all share one: a scan that comes this long after the last needs no prediction from
     /// them (see [`TrackTable::predict`]).
@@ -320,8 +353,11 @@ impl TrackTable {
         TrackTable {
             config: TrackerConfig::DEFAULT,
             prototype: None,
-            tracks: Vec::new(),
+            slots: Vec::new(),
+            order: Vec::new(),
+            free: 0,
             next_id: 1,
+            ids_wrapped: false,
             ahead: None,
             open_ms: None,
             all_predicted: true,
@@ -354,14 +390,33 @@ impl TrackTable {
         &self.config
     }
 
-    /// The tracks.
-    pub fn tracks(&self) -> &[Track] {
-        &self.tracks
+    /// The tracks, in table order.
+    pub fn tracks(&self) -> Tracks<'_> {
+        Tracks {
+            slots: &self.slots,
+            order: self.order.iter(),
+        }
+    }
+
+    /// The track at `index` in table order.
+    pub fn track(&self, index: usize) -> Option<&Track> {
+        let slot = *self.order.get(index)?;
+        self.slots.get(usize::from(slot))
+    }
+
+    /// Live tracks.
+    pub fn len(&self) -> usize {
+        self.order.len()
+    }
+
+    /// True when no track is live.
+    pub fn is_empty(&self) -> bool {
+        self.order.is_empty()
     }
 
     /// True when one more track would fill the table: the capacity warning.
     pub fn nearly_full(&self) -> bool {
-        self.tracks.len() + 1 >= MAX_TRACKS
+        self.order.len() + 1 >= MAX_TRACKS
     }
 
     /// Predicts every track to `time_ms` and opens the scan. A track already at or past that
@@ -383,19 +438,21 @@ impl TrackTable {
     pub fn predict(&mut self, time_ms: u64) {
         if let Some(open_ms) = self.open_ms {
             let all = self.all_predicted;
-            for t in self
-                .tracks
-                .iter_mut()
-                .filter(|t| all || t.time_ms == open_ms)
-            {
-                t.filter.coast();
+            for &slot in &self.order {
+                match self.slots.get_mut(usize::from(slot)) {
+                    Some(t) if all || t.time_ms == open_ms => t.filter.coast(),
+                    _ => {}
+                }
             }
         }
         let ahead = self.ahead;
         // The interval from the last time seen, and whether the fixed-scan tracks hold it.
         let mut last: Option<(u64, Option<Interval<f32>>, bool)> = None;
         let (mut one_interval, mut all_predicted) = (true, true);
-        for t in &mut self.tracks {
+        for &slot in &self.order {
+            let Some(t) = self.slots.get_mut(usize::from(slot)) else {
+                continue;
+            };
             let (dt, held) = match last {
                 Some((from, dt, held)) if from == t.time_ms => (dt, held),
                 _ => {
@@ -437,16 +494,17 @@ impl TrackTable {
         let cfg = self.config;
         let plot_var = cfg.plot_sigma_m * cfg.plot_sigma_m;
         let index = EastIndex::new(plots);
-        for t in &mut self.tracks {
+        for &slot in &self.order {
+            let Some(t) = self.slots.get_mut(usize::from(slot)) else {
+                continue;
+            };
             t.innovation_cov = t.filter.innovation_cov(plot_var, t.coasts);
-            let sigma = libm::sqrtf(t.innovation_cov[0].max(t.innovation_cov[2]));
+            let sigma = libm::sqrtf(max(t.innovation_cov[0], t.innovation_cov[2]));
             // max/min, not clamp: clamp panics on NaN or crossed bounds, and the firmware
             // must have no reachable panic.
-            let mut radius = (cfg.gate_sigmas * sigma)
-                .max(cfg.min_gate_m)
-                .min(cfg.max_gate_m);
+            let mut radius = min(max(cfg.gate_sigmas * sigma, cfg.min_gate_m), cfg.max_gate_m);
             if t.age_scans <= 1 && !t.filter.kind().has_covariance() {
-                radius = (radius + cfg.max_speed_mps * scan_s).min(cfg.max_gate_m);
+                radius = min(radius + cfg.max_speed_mps * scan_s, cfg.max_gate_m);
             }
             let p = t.filter.prediction();
             let r2 = radius * radius;
@@ -480,7 +538,7 @@ impl TrackTable {
 
     /// The rough-gate result of one track (after [`TrackTable::gate`]).
     pub fn gated(&self, index: usize) -> Option<GatedPlots> {
-        let t = self.tracks.get(index)?;
+        let t = self.track(index)?;
         Some(GatedPlots {
             track: t.id,
             predicted_m: t.filter.prediction(),
@@ -509,10 +567,10 @@ impl TrackTable {
         let plot = |i: u16| plots.get(usize::from(i)).copied();
         let mut from = 0;
         for a in assignments {
-            let Some(slot) = self.slot_of(a.track, from) else {
+            let Some(at) = self.position_of(a.track, from) else {
                 return Err(ErrorCode::InvalidValue);
             };
-            from = slot + 1;
+            from = at + 1;
             if a.plot.is_some_and(|p| plot(p).is_none()) {
                 return Err(ErrorCode::InvalidValue);
             }
@@ -522,24 +580,34 @@ impl TrackTable {
         }
         let mut report = ApplyReport::default();
         // Lost tracks were reported once; now they go.
-        self.tracks.retain(|t| t.status != TrackStatus::Lost);
-        // Each slot's plot, in one walk over the assignments (a track's first assignment
-        // counts; one to a track just dropped as lost finds no slot).
+        let mut lost = 0u64;
+        for (at, t) in self.tracks().enumerate() {
+            if t.status == TrackStatus::Lost {
+                lost |= 1 << at;
+            }
+        }
+        self.drop_at(lost);
+        // Each track's plot, by its place in the table, in one walk over the assignments
+        // (a track's first assignment counts; one to a track just dropped as lost finds no
+        // track).
         let mut plot_of = [NO_PLOT; MAX_TRACKS];
         let mut from = 0;
         for a in assignments {
-            if let Some(slot) = self.slot_of(a.track, from) {
-                from = slot + 1;
-                if let Some(p) = plot_of.get_mut(slot) {
+            if let Some(at) = self.position_of(a.track, from) {
+                from = at + 1;
+                if let Some(p) = plot_of.get_mut(at) {
                     if *p == NO_PLOT {
                         *p = a.plot.unwrap_or(COAST);
                     }
                 }
             }
         }
-        let mut failed: Vec<u16, MAX_TRACKS> = Vec::new();
+        let mut failed = 0u64;
         let all_predicted = self.all_predicted;
-        for (t, &p) in self.tracks.iter_mut().zip(plot_of.iter()) {
+        for (at, (&slot, &p)) in self.order.iter().zip(plot_of.iter()).enumerate() {
+            let Some(t) = self.slots.get_mut(usize::from(slot)) else {
+                continue;
+            };
             // Not predicted for this scan (see `all_predicted`): updated in place, or left.
             let in_place = !all_predicted && t.time_ms != open_ms;
             let assigned = plot(p).and_then(|z| Measurement::new(z).ok());
@@ -568,16 +636,19 @@ impl TrackTable {
             }
             match next_status(t) {
                 Some(status) => t.status = status,
-                None => {
-                    let _ = failed.push(t.id);
-                }
+                None => failed |= 1 << at,
             }
         }
-        self.tracks.retain(|t| !failed.contains(&t.id));
-        report.dropped = failed.len() as u16;
+        report.dropped = self.drop_at(failed);
         self.open_ms = None;
         for &p in initiate {
             if let Some(z) = plot(p).and_then(|z| Measurement::new(z).ok()) {
+                // A full table refuses without trying (a table refilled from clutter is
+                // full on most scans, and most of a scan's initiations are refused).
+                if self.order.is_full() {
+                    report.refused_full += 1;
+                    continue;
+                }
                 match self.start_track(time_ms, z) {
                     Ok(_) => report.initiated += 1,
                     Err(_) => report.refused_full += 1,
@@ -587,16 +658,41 @@ impl TrackTable {
         Ok(report)
     }
 
-    /// The slot of track `id`, looked for from slot `from` on first: the host lists its
-    /// assignments in the order of the gates, which is the table's, so a walk over them
-    /// finds each slot in one step instead of searching the whole table.
-    fn slot_of(&self, id: u16, from: usize) -> Option<usize> {
+    /// Drops the tracks at the places in the table whose bits are set in `at` (bit 0: the
+    /// first track); their slots become free. Returns how many went.
+    fn drop_at(&mut self, at: u64) -> u16 {
+        if at == 0 {
+            return 0;
+        }
+        let (mut place, mut dropped, mut free) = (0u32, 0u16, self.free);
+        self.order.retain(|&slot| {
+            let drop = (at >> place) & 1 == 1;
+            place += 1;
+            if drop {
+                free |= 1 << (slot & 63);
+                dropped += 1;
+            }
+            !drop
+        });
+        self.free = free;
+        dropped
+    }
+
+    /// The place in the table of track `id`, looked for from place `from` on first: the
+    /// host lists its assignments in the order of the gates, which is the table's, so a
+    /// walk over them finds each track in one step instead of searching the whole table.
+    fn position_of(&self, id: u16, from: usize) -> Option<usize> {
+        let is = |slot: &u8| {
+            self.slots
+                .get(usize::from(*slot))
+                .is_some_and(|t| t.id == id)
+        };
         let after = self
-            .tracks
+            .order
             .get(from..)
-            .and_then(|rest| rest.iter().position(|t| t.id == id))
+            .and_then(|rest| rest.iter().position(is))
             .map(|i| i + from);
-        after.or_else(|| self.tracks.iter().position(|t| t.id == id))
+        after.or_else(|| self.order.iter().position(is))
     }
 
     /// Starts a tentative track on a plot (also the operator's manual acquisition).
@@ -604,48 +700,74 @@ impl TrackTable {
     /// # Errors
     /// [`ErrorCode::CapacityExceeded`] when the table is full; [`ErrorCode::InvalidValue`] when the configured filter cannot be built.
     pub fn start_track(&mut self, time_ms: u64, z: Measurement<f32>) -> Result<u16, ErrorCode> {
-        if self.tracks.is_full() {
+        if self.order.is_full() {
             return Err(ErrorCode::CapacityExceeded);
         }
-        let mut filter = match self.prototype {
-            Some(f) => f,
-            None => {
-                let f =
-                    TrackFilter::build(&self.config.filter).map_err(|_| ErrorCode::InvalidValue)?;
-                self.prototype = Some(f);
-                f
+        if self.prototype.is_none() {
+            let f = TrackFilter::build(&self.config.filter).map_err(|_| ErrorCode::InvalidValue)?;
+            self.prototype = Some(f);
+        }
+        let id = self.next_id;
+        // Track numbers wrap past u16::MAX, skipping 0 and, once wrapped, any still in use.
+        loop {
+            self.next_id = self.next_id.wrapping_add(1);
+            if self.next_id == 0 {
+                self.next_id = 1;
+                self.ids_wrapped = true;
             }
+            if !self.ids_wrapped || !self.tracks().any(|t| t.id == self.next_id) {
+                break;
+            }
+        }
+        let Some(prototype) = &self.prototype else {
+            return Err(ErrorCode::InvalidValue);
         };
-        filter.start(z);
+        // A free slot is written in place; a new slot is pushed while the table has never
+        // been this full.
+        let slot = if self.free != 0 {
+            let slot = self.free.trailing_zeros();
+            self.free &= !(1 << slot);
+            slot as usize
+        } else {
+            let fresh = Track {
+                id,
+                status: TrackStatus::Tentative,
+                filter: *prototype,
+                hits: 1,
+                age_scans: 1,
+                coasts: 0,
+                time_ms,
+                gated: Vec::new(),
+                innovation_cov: [0.0; 3],
+            };
+            self.slots
+                .push(fresh)
+                .map_err(|_| ErrorCode::CapacityExceeded)?;
+            self.slots.len() - 1
+        };
+        let (Some(t), Ok(place)) = (self.slots.get_mut(slot), u8::try_from(slot)) else {
+            return Err(ErrorCode::CapacityExceeded);
+        };
+        t.id = id;
+        t.status = TrackStatus::Tentative;
+        t.filter.reset_to(prototype);
+        t.hits = 1;
+        t.age_scans = 1;
+        t.coasts = 0;
+        t.time_ms = time_ms;
+        t.gated.clear();
+        t.innovation_cov = [0.0; 3];
+        t.filter.start(z);
         if self.open_ms.is_some() {
             // Inside an open scan, apply closes it with the others; its interval is set at
             // its first predict, so the next scan predicts every track.
             self.ahead = None;
-        } else if let (Some(dt), true) = (self.ahead, filter.is_fixed_scan()) {
+        } else if let (Some(dt), true) = (self.ahead, t.filter.is_fixed_scan()) {
             // Predicted now at the table's interval, as every other fixed-scan track is.
-            filter.predict(dt);
+            t.filter.predict(dt);
         }
-        let id = self.next_id;
-        // Track numbers wrap past u16::MAX, skipping 0 and any still in use.
-        loop {
-            self.next_id = self.next_id.wrapping_add(1).max(1);
-            if !self.tracks.iter().any(|t| t.id == self.next_id) {
-                break;
-            }
-        }
-        let track = Track {
-            id,
-            status: TrackStatus::Tentative,
-            filter,
-            hits: 1,
-            age_scans: 1,
-            coasts: 0,
-            time_ms,
-            gated: Vec::new(),
-            innovation_cov: [0.0; 3],
-        };
-        self.tracks
-            .push(track)
+        self.order
+            .push(place)
             .map_err(|_| ErrorCode::CapacityExceeded)?;
         Ok(id)
     }
@@ -655,20 +777,50 @@ impl TrackTable {
     /// # Errors
     /// [`ErrorCode::InvalidValue`] when no track has that number.
     pub fn cancel(&mut self, id: u16) -> Result<(), ErrorCode> {
-        let before = self.tracks.len();
-        self.tracks.retain(|t| t.id != id);
-        if self.tracks.len() == before {
-            Err(ErrorCode::InvalidValue)
-        } else {
-            Ok(())
+        match self.position_of(id, 0) {
+            Some(at) => {
+                self.drop_at(1 << at);
+                Ok(())
+            }
+            None => Err(ErrorCode::InvalidValue),
         }
     }
 
     /// Drops every track.
     pub fn cancel_all(&mut self) {
-        self.tracks.clear();
+        self.order.clear();
+        self.free = match self.slots.len() {
+            0 => 0,
+            n => u64::MAX >> (64 - n as u32),
+        };
     }
 }
+
+/// The tracks of a [`TrackTable`] in table order ([`TrackTable::tracks`]).
+#[derive(Clone, Debug)]
+pub struct Tracks<'a> {
+    slots: &'a [Track],
+    order: core::slice::Iter<'a, u8>,
+}
+
+impl<'a> Iterator for Tracks<'a> {
+    type Item = &'a Track;
+
+    fn next(&mut self) -> Option<&'a Track> {
+        // Every place in `order` names a slot that exists.
+        let slot = *self.order.next()?;
+        self.slots.get(usize::from(slot))
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.order.size_hint()
+    }
+}
+
+impl ExactSizeIterator for Tracks<'_> {}
+
+// `free` and the drop masks are one bit a slot or place.
+const _: () = assert!(MAX_TRACKS <= 64);
 
 /// The nearest plots offered, kept sorted by (distance², plot number): the result does not
 /// depend on the order the plots are offered in.
@@ -758,7 +910,7 @@ mod tests {
         t.predict(time_ms);
         t.gate(plots, 2.5);
         let mut used = std::vec::Vec::new();
-        let assignments: std::vec::Vec<Assignment> = (0..t.tracks().len())
+        let assignments: std::vec::Vec<Assignment> = (0..t.len())
             .map(|i| {
                 let g = t.gated(i).unwrap();
                 let plot = g.plots.iter().copied().find(|p| !used.contains(p));
@@ -770,7 +922,7 @@ mod tests {
             })
             .collect();
         let in_no_gate: std::vec::Vec<u16> = (0..plots.len() as u16)
-            .filter(|p| !(0..t.tracks().len()).any(|i| t.gated(i).unwrap().plots.contains(p)))
+            .filter(|p| !(0..t.len()).any(|i| t.gated(i).unwrap().plots.contains(p)))
             .collect();
         t.apply(time_ms, plots, &assignments, &in_no_gate).unwrap()
     }
@@ -782,24 +934,28 @@ mod tests {
         for k in 0..3 {
             scan(&mut t, k * 2500, &[at(k)]);
         }
-        assert_eq!(t.tracks().len(), 1);
-        assert_eq!(t.tracks()[0].status, TrackStatus::Confirmed);
+        assert_eq!(t.len(), 1);
+        assert_eq!(t.track(0).unwrap().status, TrackStatus::Confirmed);
         // Hits and misses alternating keep it (half its scans missed); then misses: coasting
         // until the sixth in a row.
         for k in 3..13 {
             let plots = if k % 2 == 0 { vec![at(k)] } else { vec![] };
             scan(&mut t, k * 2500, &plots);
-            assert_ne!(t.tracks()[0].status, TrackStatus::Lost, "scan {k}");
+            assert_ne!(t.track(0).unwrap().status, TrackStatus::Lost, "scan {k}");
         }
         scan(&mut t, 13 * 2500, &[at(13)]);
         for k in 14..19 {
             scan(&mut t, k * 2500, &[]);
-            assert_eq!(t.tracks()[0].status, TrackStatus::Coasting, "scan {k}");
+            assert_eq!(
+                t.track(0).unwrap().status,
+                TrackStatus::Coasting,
+                "scan {k}"
+            );
         }
         scan(&mut t, 19 * 2500, &[]);
-        assert_eq!(t.tracks()[0].status, TrackStatus::Lost);
+        assert_eq!(t.track(0).unwrap().status, TrackStatus::Lost);
         scan(&mut t, 20 * 2500, &[]);
-        assert!(t.tracks().is_empty());
+        assert!(t.is_empty());
     }
 
     #[test]
@@ -809,7 +965,7 @@ mod tests {
         let starts = [[0.0, 0.0], [3000.0, 0.0], [6000.0, 0.0]];
         let mut t = table();
         scan(&mut t, 0, &starts);
-        let ids: std::vec::Vec<u16> = t.tracks().iter().map(|x| x.id).collect();
+        let ids: std::vec::Vec<u16> = t.tracks().map(|x| x.id).collect();
         t.predict(2500);
         let plots = [[10.0, 0.0], [3010.0, 0.0], [6010.0, 0.0]];
         t.gate(&plots, 2.5);
@@ -829,19 +985,81 @@ mod tests {
         ];
         let r = t.apply(2500, &plots, &assignments, &[]).unwrap();
         assert_eq!((r.updated, r.coasted), (1, 2));
-        let hit = |i: usize| t.tracks()[i].hits & 1 == 1;
+        let hit = |i: usize| t.track(i).unwrap().hits & 1 == 1;
         assert_eq!([hit(0), hit(1), hit(2)], [false, false, true]);
+    }
+
+    #[test]
+    fn freed_slots_are_reused_and_the_order_is_the_order_tracks_started_in() {
+        // Against a packed list of ids: drops (tentative failures, cancels) and starts in
+        // any mix keep the table's order the order of starting, and the slots bounded.
+        let mut t = table();
+        let mut model: std::vec::Vec<u16> = std::vec::Vec::new();
+        let mut noise = crate::filter::testing::Noise::new(11);
+        for k in 0..200u64 {
+            // Clutter only: each plot starts a track that dies after two misses.
+            let n = (noise.gauss(1.0).abs() * 20.0) as usize % 40;
+            let plots: std::vec::Vec<EastNorth> = (0..n)
+                .map(|i| {
+                    [
+                        (k * 977 % 50_000) as f32 + 3_000.0 * i as f32,
+                        -(k as f32) * 150.0,
+                    ]
+                })
+                .collect();
+            t.predict(k * 2500);
+            t.gate(&plots, 2.5);
+            let before: std::vec::Vec<u16> = t.tracks().map(|x| x.id).collect();
+            assert_eq!(before, model, "scan {k}");
+            let fresh: std::vec::Vec<u16> = (0..plots.len() as u16).collect();
+            let r = t.apply(k * 2500, &plots, &[], &fresh).unwrap();
+            // Every track coasted: the tentative ones with two misses went.
+            let survivors: std::vec::Vec<u16> = t.tracks().map(|x| x.id).collect();
+            model.retain(|id| survivors.contains(id));
+            assert!(
+                survivors.starts_with(&model),
+                "scan {k}: old tracks first, in order"
+            );
+            let started = survivors.len() - model.len();
+            assert_eq!(started, usize::from(r.initiated));
+            model.extend_from_slice(&survivors[model.len()..]);
+            assert!(model.windows(2).all(|w| w[0] < w[1]), "numbers increase");
+            if k % 17 == 5 && !model.is_empty() {
+                let id = model.remove(model.len() / 2);
+                t.cancel(id).unwrap();
+                assert_eq!(t.cancel(id), Err(ErrorCode::InvalidValue));
+            }
+            assert!(t.slots.len() <= MAX_TRACKS);
+            assert_eq!(t.free.count_ones() as usize + t.len(), t.slots.len());
+        }
+        t.cancel_all();
+        assert!(t.is_empty());
+        assert_eq!(t.free.count_ones() as usize, t.slots.len());
+    }
+
+    #[test]
+    fn track_numbers_wrap_past_the_largest_skipping_live_ones() {
+        let mut t = table();
+        let z = |e: f32| Measurement::new([e, 0.0]).unwrap();
+        let keep = t.start_track(0, z(0.0)).unwrap();
+        assert_eq!(keep, 1);
+        t.next_id = u16::MAX;
+        assert_eq!(t.start_track(0, z(1.0)).unwrap(), u16::MAX);
+        // 0 is skipped, and 1 is live: the next number is 2.
+        assert_eq!(t.start_track(0, z(2.0)).unwrap(), 2);
+        let ids: std::vec::Vec<u16> = t.tracks().map(|x| x.id).collect();
+        assert_eq!(ids, [1, u16::MAX, 2]);
     }
 
     #[test]
     fn a_clutter_plot_makes_a_tentative_track_that_dies() {
         let mut t = table();
         scan(&mut t, 0, &[[5000.0, 5000.0]]);
-        assert_eq!(t.tracks()[0].status, TrackStatus::Tentative);
+        assert_eq!(t.track(0).unwrap().status, TrackStatus::Tentative);
         scan(&mut t, 2500, &[]);
-        assert_eq!(t.tracks().len(), 1, "one miss: 3 of 4 still possible");
+        assert_eq!(t.len(), 1, "one miss: 3 of 4 still possible");
         scan(&mut t, 5000, &[]);
-        assert!(t.tracks().is_empty(), "two misses: dropped");
+        assert!(t.is_empty(), "two misses: dropped");
     }
 
     #[test]
@@ -853,7 +1071,7 @@ mod tests {
         t.gate(&plots, 2.5);
         let g = t.gated(0).unwrap();
         assert_eq!(g.plots.as_slice(), &[0, 1, 2, 3, 4, 5, 6, 7]);
-        let before = t.tracks().to_vec();
+        let before: std::vec::Vec<Track> = t.tracks().cloned().collect();
         let bad = [Assignment {
             track: 999,
             plot: Some(0),
@@ -874,14 +1092,14 @@ mod tests {
             t.apply(2500, &plots, &[], &[99]),
             Err(ErrorCode::InvalidValue)
         );
-        assert_eq!(t.tracks(), before.as_slice());
+        assert_eq!(t.tracks().cloned().collect::<std::vec::Vec<_>>(), before);
     }
 
     #[test]
     fn the_table_refuses_past_capacity_and_warns_before() {
         let mut t = table();
         for i in 0..MAX_TRACKS {
-            assert!(!t.tracks().is_empty() || i == 0);
+            assert!(!t.is_empty() || i == 0);
             t.start_track(0, Measurement::new([i as f32 * 1000.0, 0.0]).unwrap())
                 .unwrap();
         }
@@ -891,7 +1109,7 @@ mod tests {
             Err(ErrorCode::CapacityExceeded)
         );
         t.cancel_all();
-        assert!(t.tracks().is_empty());
+        assert!(t.is_empty());
     }
 
     #[test]
@@ -906,8 +1124,8 @@ mod tests {
             for k in 0..20u64 {
                 scan(&mut t, k * 2500, &[[100.0 + 8.0 * 2.5 * k as f32, 50.0]]);
             }
-            assert_eq!(t.tracks().len(), 1, "{filter:?}");
-            let s = t.tracks()[0].state();
+            assert_eq!(t.len(), 1, "{filter:?}");
+            let s = t.track(0).unwrap().state();
             assert_eq!(s.status, TrackStatus::Confirmed, "{filter:?}");
             assert!((s.velocity_mps[0] - 8.0).abs() < 0.5, "{filter:?}: {s:?}");
         }
@@ -972,7 +1190,7 @@ mod tests {
                 plots.push([20_000.0 + 37.0 * k as f32, -15_000.0]);
             }
             // The shadow first, from the tracks' own times, as the table predicted before.
-            let ids: std::vec::Vec<u16> = t.tracks().iter().map(|tr| tr.id).collect();
+            let ids: std::vec::Vec<u16> = t.tracks().map(|tr| tr.id).collect();
             for tr in t.tracks() {
                 let dt_s = time_ms.saturating_sub(tr.time_ms) as f32 / 1000.0;
                 if let (Ok(dt), Some(g)) = (Interval::new(dt_s), shadow.get_mut(&tr.id)) {
@@ -989,7 +1207,7 @@ mod tests {
             }
             // A track the table could not predict keeps a prediction of its own (see
             // `TrackTable::predict`); every predicted one has the general filter's.
-            for tr in t.tracks().iter().filter(|tr| tr.time_ms == time_ms) {
+            for tr in t.tracks().filter(|tr| tr.time_ms == time_ms) {
                 let g = &shadow[&tr.id];
                 assert_eq!(
                     bits(tr.filter.prediction()),
@@ -1003,7 +1221,7 @@ mod tests {
             }
             t.gate(&plots, 2.5);
             let mut used = std::vec::Vec::new();
-            let assignments: std::vec::Vec<Assignment> = (0..t.tracks().len())
+            let assignments: std::vec::Vec<Assignment> = (0..t.len())
                 .map(|i| {
                     let g = t.gated(i).unwrap();
                     let plot = match k {
@@ -1059,7 +1277,7 @@ mod tests {
                     tr.id
                 );
             }
-            shadow.retain(|id, _| t.tracks().iter().any(|tr| tr.id == *id) || !ids.contains(id));
+            shadow.retain(|id, _| t.tracks().any(|tr| tr.id == *id) || !ids.contains(id));
             if k == 100 {
                 // An acquisition between scans, at a time of its own.
                 let z = Measurement::new([9_000.0, 9_000.0]).unwrap();
@@ -1069,13 +1287,7 @@ mod tests {
                 shadow.insert(id, g);
             }
         }
-        assert!(
-            t.tracks()
-                .iter()
-                .filter(|tr| tr.filter.is_fixed_scan())
-                .count()
-                >= 3
-        );
+        assert!(t.tracks().filter(|tr| tr.filter.is_fixed_scan()).count() >= 3);
         // The held predictions were used on most scans, and the gap took the in-place path.
         assert!(skipped > 80, "{skipped}");
         assert!(
@@ -1135,7 +1347,7 @@ mod tests {
             })
             .collect();
         t.gate(&plots, 2.5);
-        for i in 0..t.tracks().len() {
+        for i in 0..t.len() {
             let g = t.gated(i).unwrap();
             let s = g.innovation_cov_m2;
             let radius = (cfg.gate_sigmas * libm::sqrtf(s[0].max(s[2])))

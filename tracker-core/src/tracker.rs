@@ -151,16 +151,13 @@ impl Tracker {
         self.report_scan = batch.scan;
         self.assignments.clear();
         self.initiate.clear();
-        Ok(Some(parts_for(
-            self.table.tracks().len(),
-            MAX_GATES_PER_MESSAGE,
-        )))
+        Ok(Some(parts_for(self.table.len(), MAX_GATES_PER_MESSAGE)))
     }
 
     /// Gate part `part` of the current scan.
     pub fn gated_part(&self, part: u8, parts: u8) -> GatedBatch {
         let start = usize::from(part) * MAX_GATES_PER_MESSAGE;
-        let end = (start + MAX_GATES_PER_MESSAGE).min(self.table.tracks().len());
+        let end = (start + MAX_GATES_PER_MESSAGE).min(self.table.len());
         GatedBatch {
             scan: self.report_scan,
             part,
@@ -213,23 +210,21 @@ impl Tracker {
 
     /// Parts needed to report every track.
     pub fn track_parts(&self) -> u8 {
-        parts_for(self.table.tracks().len(), MAX_TRACKS_PER_MESSAGE)
+        parts_for(self.table.len(), MAX_TRACKS_PER_MESSAGE)
     }
 
     /// Track report part `part`.
     pub fn tracks_part(&self, part: u8, parts: u8) -> TrackBatch {
         let start = usize::from(part) * MAX_TRACKS_PER_MESSAGE;
-        let tracks = self.table.tracks();
-        let end = (start + MAX_TRACKS_PER_MESSAGE).min(tracks.len());
         TrackBatch {
             scan: self.report_scan,
             part,
             parts,
             tracks: take_up_to(
-                tracks
-                    .get(start..end)
-                    .unwrap_or(&[])
-                    .iter()
+                self.table
+                    .tracks()
+                    .skip(start)
+                    .take(MAX_TRACKS_PER_MESSAGE)
                     .map(|t| t.state()),
             ),
         }
@@ -294,7 +289,7 @@ mod tests {
             initiate: Vec::from_slice(&[0]).unwrap(),
         };
         assert_eq!(t.assign(&a), Ok(Some(1)));
-        assert_eq!(t.table().tracks().len(), 1);
+        assert_eq!(t.table().len(), 1);
         let r = t.tracks_part(0, 1);
         assert_eq!(r.tracks.len(), 1);
         assert!((r.tracks[0].position_m[1] - 1000.0).abs() < 0.05);

@@ -115,7 +115,8 @@ impl<S: Scalar> Measurement<S> {
     pub fn new(position_m: Vec2<S>) -> Result<Self, FilterError> {
         let max = S::of(MAX_POSITION_M);
         let min = S::of(-MAX_POSITION_M);
-        let ok = |v: S| v.is_finite() && v <= max && v >= min;
+        // Both bounds are finite, so NaN and the infinities fail one of the comparisons.
+        let ok = |v: S| v <= max && v >= min;
         if ok(position_m[0]) && ok(position_m[1]) {
             Ok(Measurement(position_m))
         } else {

@@ -263,7 +263,7 @@ fn scan_row(
         }
         let t_plots = t;
         let tracker = device.tracker();
-        let n = tracker.table().tracks().len();
+        let n = tracker.table().len();
         let mut assignments: heapless::Vec<Assignment, 64> = heapless::Vec::new();
         let (taken, gated) = (&mut bench.taken, &mut bench.gated);
         taken.fill(false);
