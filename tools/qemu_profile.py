@@ -10,9 +10,9 @@ engineer, outside the product: the bench's figures come from `tracker-host bench
     tools/qemu_profile.py target/thumbv7em-none-eabihf/release/bench \\
         --from scan_row:1 --to scan_row:2 --top 40
 
-`--from SYM:N` / `--to SYM:N` count only between the N-th entry into the function whose
-(mangled or demangled) name contains SYM and the N-th entry into the other (default: the
-whole run). `--regions` counts only inside the bench's measured regions (between entries
+`--from SYM:N` / `--to SYM:M` count only from the N-th entry into the function whose
+demangled path is SYM or ends with `::SYM` to the M-th entry into the other, entries counted from the
+start of the run (default: the whole run). `--regions` counts only inside the bench's measured regions (between entries
 into `icount::region_begin` and `icount::region_end`), so a row's figure and its profile
 agree; the rest of the bench (the simulator, the host's part) is left out. The trace of a whole bench run is a few GB: it is streamed from QEMU, not kept.
 """
@@ -38,8 +38,13 @@ def symbols(elf):
     return table
 
 
+def named(name, needle):
+    """The demangled `name` is `needle`, or ends with `::needle` (a path's tail)."""
+    return name == needle or name.endswith("::" + needle)
+
+
 def entry_points(table, needle):
-    return {a for a, name in table if needle in name}
+    return {a for a, name in table if named(name, needle)}
 
 
 def parse_marker(text):
@@ -71,7 +76,7 @@ def main():
     if args.callers:
         named = sorted(table)
         for k, (a, name) in enumerate(named):
-            if args.callers in name:
+            if named(name, args.callers):
                 end = named[k + 1][0] if k + 1 < len(named) else a + 4096
                 leaf = (a, end)
                 break
@@ -103,10 +108,11 @@ def main():
         if m:
             current = None
             pc = int(m.group(1), 16)
-            if not counting and pc in start_at:
+            # Entries are counted from the start of the run, whether counting or not.
+            if pc in start_at:
                 seen_start += 1
-                counting = seen_start == start[1]
-            elif counting and stop and pc in stop_at:
+                counting = counting or seen_start == start[1]
+            if pc in stop_at:
                 seen_stop += 1
                 if seen_stop == stop[1]:
                     break

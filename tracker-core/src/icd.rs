@@ -14,15 +14,15 @@
 //! Compatibility rule: variants and fields are only ever appended; any change that alters
 //! the encoding of an existing variant bumps [`PROTOCOL_VERSION`].
 
-use heapless::{String, Vec};
+use heapless::Vec;
 use serde::{Deserialize, Serialize};
-
-use crate::bounded::take_up_to;
 
 use crate::filter::kalman::{KalmanConfig, QModel};
 use crate::filter::FilterConfig;
 
 pub mod fixed;
+pub mod records;
+pub mod varint;
 
 /// Bumped on every incompatible change to the types of this module.
 ///
@@ -33,7 +33,12 @@ pub mod fixed;
 /// in the local frame (the host converts them, as it must for its own refined gate, so the
 /// device needs neither own ship nor trigonometry); track states no longer repeat the
 /// innovation covariance their gate carried; fewer, fuller parts.
-pub const PROTOCOL_VERSION: u16 = 4;
+///
+/// 5: messages are read where they lie in the frame (byte strings borrowed, lists packed
+/// into byte strings of [`records`]); gates only for tracks with plots in them, and gates
+/// and states coded against the scan's plots and the host's last report (the base); a
+/// report in parts says which part is the last; track states from a track's second hit.
+pub const PROTOCOL_VERSION: u16 = 5;
 
 /// Largest decoded frame: header + body + CRC, before COBS.
 pub const MAX_FRAME_BYTES: usize = 1024;
@@ -48,21 +53,39 @@ pub const MAX_ECHO_BYTES: usize = 1000;
 /// At most ten bytes each (two five-byte varints), so a full message fits a frame.
 pub const MAX_PLOTS_PER_MESSAGE: usize = 96;
 
-/// Track states carried by one [`DeviceToHost::Tracks`] message (at most 30 bytes each).
-pub const MAX_TRACKS_PER_MESSAGE: usize = 32;
-
-/// Plot indices one track's rough gate can return in a [`GatedPlots`] entry.
+/// Plot indices one track's rough gate can return.
 pub const MAX_PLOTS_PER_GATE: usize = 8;
 
-/// Gate results per [`DeviceToHost::Gated`] message.
-pub const MAX_GATES_PER_MESSAGE: usize = 16;
-
-/// Assignments per [`HostToDevice::Assign`] message.
+/// Assignments (and plots to start tracks from) per [`HostToDevice::Assign`] message.
 pub const MAX_ASSIGNMENTS_PER_MESSAGE: usize = 48;
+
+/// Bytes of records one gate or track report part carries at most: the rest of a frame
+/// after the CRC and the largest header and message head.
+pub const MAX_RECORD_BYTES: usize = MAX_FRAME_BYTES - 64;
 
 /// Request id the device uses when it cannot tell which request a reply belongs to
 /// (the frame was too damaged to read its header). Hosts never send it.
 pub const UNPAIRED_REQUEST_ID: u32 = 0;
+
+/// A byte string: a varint length, then the bytes, read where it lies in the frame.
+///
+/// Postcard writes a byte string as it writes a sequence of `u8`, so an echo's wire is the
+/// same as before protocol 5; here it is read and written as one slice instead of one
+/// serde call a byte.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Bytes<'a>(pub &'a [u8]);
+
+impl Serialize for Bytes<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_bytes(self.0)
+    }
+}
+
+impl<'de: 'a, 'a> Deserialize<'de> for Bytes<'a> {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        <&'a [u8]>::deserialize(d).map(Bytes)
+    }
+}
 
 /// Opens every frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -74,81 +97,35 @@ pub struct Header {
     pub request_id: u32,
 }
 
-/// A byte vector as one byte string. In postcard that is the same bytes as a sequence of
-/// `u8` (a varint length, then the bytes), so the wire is unchanged; but the bytes move as one
-/// slice instead of one serde call each (a 1,000-byte echo cost about 40 instructions a byte
-/// each way).
-mod byte_string {
-    use core::fmt;
-
-    use heapless::Vec;
-    use serde::de::{self, SeqAccess, Visitor};
-    use serde::{Deserializer, Serializer};
-
-    pub fn serialize<S: Serializer, const N: usize>(
-        bytes: &Vec<u8, N>,
-        serializer: S,
-    ) -> Result<S::Ok, S::Error> {
-        serializer.serialize_bytes(bytes)
-    }
-
-    pub fn deserialize<'de, D: Deserializer<'de>, const N: usize>(
-        deserializer: D,
-    ) -> Result<Vec<u8, N>, D::Error> {
-        deserializer.deserialize_bytes(Bytes::<N>)
-    }
-
-    struct Bytes<const N: usize>;
-
-    impl<'de, const N: usize> Visitor<'de> for Bytes<N> {
-        type Value = Vec<u8, N>;
-
-        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-            write!(f, "at most {N} bytes")
-        }
-
-        fn visit_bytes<E: de::Error>(self, v: &[u8]) -> Result<Self::Value, E> {
-            Vec::from_slice(v).map_err(|_| E::invalid_length(v.len(), &self))
-        }
-
-        // Self-describing formats (JSON) may hand the bytes over as a sequence.
-        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
-            let mut out = Vec::new();
-            while let Some(b) = seq.next_element()? {
-                out.push(b)
-                    .map_err(|_| de::Error::invalid_length(N + 1, &self))?;
-            }
-            Ok(out)
-        }
-    }
-}
-
-/// Messages from the host to the device.
+/// Messages from the host to the device, read where they lie in the frame.
 ///
 /// Variant order is part of the wire format: append only.
-// No heap to box into: one message is decoded at a time, so its size is what it is.
-#[allow(clippy::large_enum_variant)]
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum HostToDevice {
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum HostToDevice<'a> {
     /// Handshake: the device answers [`DeviceToHost::HelloAck`] when the versions agree.
     Hello,
-    /// Link test: the device returns the bytes unchanged in [`DeviceToHost::Echo`].
-    Echo(#[serde(with = "byte_string")] Vec<u8, MAX_ECHO_BYTES>),
+    /// Link test: the device returns the bytes unchanged in [`DeviceToHost::Echo`] (at most
+    /// [`MAX_ECHO_BYTES`]).
+    #[serde(borrow)]
+    Echo(Bytes<'a>),
     /// Read the link and dispatch counters ([`DeviceToHost::Stats`]).
     GetStats,
     /// Choose the filter and its parameters for every track from now on.
     Configure(TrackerConfig),
     /// Radar plots of one scan (possibly one part of several).
-    Plots(PlotBatch),
+    #[serde(borrow)]
+    Plots(PlotBatch<'a>),
     /// The host's choice of plot for each gated track, closing a scan.
-    Assign(AssignmentBatch),
+    #[serde(borrow)]
+    Assign(AssignmentBatch<'a>),
     /// Operator commands: acquire or cancel targets.
     Command(TrackCommand),
-    /// Ask for every live track ([`DeviceToHost::Tracks`], possibly in several parts).
+    /// Ask for every live track ([`DeviceToHost::Tracks`], whole records, possibly in
+    /// several parts).
     GetTracks,
 }
 
-impl HostToDevice {
+impl HostToDevice<'_> {
     /// True for requests that change the device's state (the ones a retry must not carry
     /// out twice).
     pub fn changes_state(&self) -> bool {
@@ -166,36 +143,38 @@ impl HostToDevice {
 /// variant index is an unknown message (a newer host), not a damaged one.
 pub const HOST_TO_DEVICE_VARIANTS: u32 = 8;
 
-/// Messages from the device to the host.
+/// Messages from the device to the host, read where they lie in the frame.
 ///
 /// Variant order is part of the wire format: append only.
-// No heap to box into: one message is decoded at a time, so its size is what it is.
-#[allow(clippy::large_enum_variant)]
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub enum DeviceToHost {
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub enum DeviceToHost<'a> {
     /// Handshake reply.
-    HelloAck(DeviceInfo),
+    #[serde(borrow)]
+    HelloAck(DeviceInfo<'a>),
     /// The bytes of a [`HostToDevice::Echo`], unchanged.
-    Echo(#[serde(with = "byte_string")] Vec<u8, MAX_ECHO_BYTES>),
+    #[serde(borrow)]
+    Echo(Bytes<'a>),
     /// Link and dispatch counters.
     Stats(LinkStats),
     /// A request was understood and carried out; nothing else to report.
     Ack,
-    /// Per-track plots inside the rough gates (answers [`HostToDevice::Plots`]).
-    Gated(GatedBatch),
+    /// Rough gates (answers [`HostToDevice::Plots`]).
+    #[serde(borrow)]
+    Gated(GatedBatch<'a>),
     /// Track states (answers [`HostToDevice::Assign`] and [`HostToDevice::GetTracks`]).
-    Tracks(TrackBatch),
+    #[serde(borrow)]
+    Tracks(TrackBatch<'a>),
     /// The request failed; the device state is unchanged by it.
     Error(ErrorCode),
 }
 
 /// What a device reports in its handshake.
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct DeviceInfo {
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct DeviceInfo<'a> {
     /// The device's [`PROTOCOL_VERSION`].
     pub protocol: u16,
     /// Firmware name and version, e.g. `tracker-firmware 0.1.0 (mps2-an386)`.
-    pub firmware: String<48>,
+    pub firmware: &'a str,
     /// Frames are at most this long (decoded bytes).
     pub max_frame_bytes: u16,
     /// Size of the track table.
@@ -331,8 +310,8 @@ pub struct Plot {
 /// The host converts each plot from range and bearing (it needs the position for its own
 /// refined gate), rounds it to [`fixed::LENGTH_RESOLUTION_M`] and uses the rounded
 /// position itself ([`fixed::position_on_grid`]), so both sides hold the same plots.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PlotBatch {
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PlotBatch<'a> {
     /// Scan number, increasing by one per antenna revolution.
     pub scan: u32,
     /// Scan time, milliseconds since the tracker started.
@@ -341,43 +320,52 @@ pub struct PlotBatch {
     pub part: u8,
     /// Number of parts this scan is sent in.
     pub parts: u8,
-    /// The plots of this part: east, north, metres in the local frame (tenths of a metre
-    /// on the wire).
-    #[serde(with = "fixed::positions_m")]
-    pub plots_m: Vec<[f32; 2], MAX_PLOTS_PER_MESSAGE>,
+    /// The scan of the last track report the host holds whole ([`TrackBatch::scan`]): the
+    /// base this scan's gates and states may be coded against; `None` for none.
+    pub base_scan: Option<u32>,
+    /// The plots of this part: east, north, metres in the local frame, as
+    /// [`records::write_plots`] packs them (at most [`MAX_PLOTS_PER_MESSAGE`]).
+    #[serde(borrow)]
+    pub plots: Bytes<'a>,
 }
 
-/// The plots inside one track's rough gate.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// The plots inside one track's rough gate, as the host uses them (decoded from a gate
+/// record, [`records::GateOnGrid::gated`]).
+#[derive(Clone, Debug, PartialEq)]
 pub struct GatedPlots {
     /// Track number.
     pub track: u16,
-    /// Predicted position east, north, metres in the local frame (tenths on the wire).
-    #[serde(with = "fixed::position_m")]
+    /// Predicted position east, north, metres in the local frame.
     pub predicted_m: [f32; 2],
-    /// Innovation covariance [s_xx, s_xy, s_yy], m², for the host's refined gate (its
-    /// Cholesky factor in tenths of a metre on the wire).
-    #[serde(with = "fixed::covariance_m2")]
+    /// Innovation covariance [s_xx, s_xy, s_yy], m², for the host's refined gate.
     pub innovation_cov_m2: [f32; 3],
     /// Indices into the scan's plots, in the order they were sent.
     pub plots: Vec<u16, MAX_PLOTS_PER_GATE>,
 }
 
-/// Rough-gate results of one scan, or one part of them.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct GatedBatch {
+/// Rough gates of one scan, or one part of them: one record a track with plots in its
+/// gate, in table order.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GatedBatch<'a> {
     /// The scan these gates belong to.
     pub scan: u32,
     /// Index of this part, from 0.
     pub part: u8,
-    /// Number of parts.
-    pub parts: u8,
-    /// Per-track gates.
-    pub gates: Vec<GatedPlots, MAX_GATES_PER_MESSAGE>,
+    /// This is the report's last part.
+    pub last: bool,
+    /// The base the records are coded against ([`PlotBatch::base_scan`] when the device
+    /// could use it, else `None`).
+    pub base_scan: Option<u32>,
+    /// Tracks in the device's table (a gate is sent only for those with plots in it): a
+    /// host that knew tracks and hears of none knows the device lost them.
+    pub live_tracks: u16,
+    /// Gate records ([`records::write_gate`]), at most [`MAX_RECORD_BYTES`].
+    #[serde(borrow)]
+    pub gates: Bytes<'a>,
 }
 
 /// The plot the host chose for one track; `plot: None` coasts the track.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct Assignment {
     /// Track number.
@@ -386,48 +374,87 @@ pub struct Assignment {
     pub plot: Option<u16>,
 }
 
-/// Assignments for one scan, or one part of them.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct AssignmentBatch {
+/// Assignments for one scan, or one part of them. A track not named coasts.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct AssignmentBatch<'a> {
     /// The scan the assignments close.
     pub scan: u32,
     /// Index of this part, from 0.
     pub part: u8,
     /// Number of parts.
     pub parts: u8,
-    /// The assignments of this part.
-    pub assignments: Vec<Assignment, MAX_ASSIGNMENTS_PER_MESSAGE>,
-    /// Indices of plots that should start tentative tracks (the host's choice).
-    pub initiate: Vec<u16, MAX_ASSIGNMENTS_PER_MESSAGE>,
+    /// (track, plot) updates in table order ([`records::write_updates`], at most
+    /// [`MAX_ASSIGNMENTS_PER_MESSAGE`]).
+    #[serde(borrow)]
+    pub updates: Bytes<'a>,
+    /// Indices of plots that should start tentative tracks, the host's choice
+    /// ([`records::write_indices`], at most [`MAX_ASSIGNMENTS_PER_MESSAGE`]).
+    #[serde(borrow)]
+    pub initiate: Bytes<'a>,
 }
 
-impl AssignmentBatch {
-    /// The parts carrying one scan's `updates` and `initiate` list, in order: as many as
-    /// the longer of the two needs at [`MAX_ASSIGNMENTS_PER_MESSAGE`] a part, and at least
-    /// one (an empty part still closes the scan). More than 255 parts cannot be numbered;
-    /// the count saturates and the device refuses the scan as out of sequence.
-    pub fn parts<'a>(
-        scan: u32,
-        updates: &'a [Assignment],
-        initiate: &'a [u16],
-    ) -> impl Iterator<Item = AssignmentBatch> + 'a {
+/// Bytes a full [`PlotBatch`]'s plots take at most: two five-byte varints a plot.
+pub const MAX_PLOT_BYTES: usize = MAX_PLOTS_PER_MESSAGE * 10;
+
+impl<'a> PlotBatch<'a> {
+    /// Part `part` of `parts` of a scan's plots, `plots` (at most [`MAX_PLOTS_PER_MESSAGE`];
+    /// more are left out) packed into `buf`.
+    pub fn pack(
+        head: PlotBatch<'static>,
+        plots: &[crate::geo::EastNorth],
+        buf: &'a mut [u8; MAX_PLOT_BYTES],
+    ) -> PlotBatch<'a> {
+        let plots = plots.get(..MAX_PLOTS_PER_MESSAGE).unwrap_or(plots);
+        let mut w = varint::Writer::new(buf);
+        records::write_plots(&mut w, plots);
+        let n = w.len();
+        PlotBatch {
+            plots: Bytes(buf.get(..n).unwrap_or(&[])),
+            ..head
+        }
+    }
+}
+
+/// Bytes one [`AssignmentBatch`]'s two lists take at most.
+pub const MAX_ASSIGNMENT_BYTES: usize = MAX_ASSIGNMENTS_PER_MESSAGE * (5 + 3 + 3);
+
+impl<'a> AssignmentBatch<'a> {
+    /// The number of parts one scan's `updates` (track, plot) and `initiate` lists take at
+    /// [`MAX_ASSIGNMENTS_PER_MESSAGE`] each a part, at least one (an empty part still closes
+    /// the scan). More than 255 parts cannot be numbered: the count saturates and the
+    /// device refuses the scan as out of sequence.
+    pub fn parts(updates: usize, initiate: usize) -> u8 {
         let per = MAX_ASSIGNMENTS_PER_MESSAGE;
-        let parts = updates
-            .len()
-            .div_ceil(per)
-            .max(initiate.len().div_ceil(per))
-            .max(1);
-        let numbered = u8::try_from(parts).unwrap_or(u8::MAX);
-        (0..numbered).map(move |part| {
-            let from = usize::from(part) * per;
-            AssignmentBatch {
-                scan,
-                part,
-                parts: numbered,
-                assignments: take_up_to(updates.iter().skip(from).copied()),
-                initiate: take_up_to(initiate.iter().skip(from).copied()),
-            }
-        })
+        let parts = updates.div_ceil(per).max(initiate.div_ceil(per)).max(1);
+        u8::try_from(parts).unwrap_or(u8::MAX)
+    }
+
+    /// Part `part` of `parts` of a scan's `updates` and `initiate` lists, packed into `buf`.
+    pub fn pack(
+        scan: u32,
+        (part, parts): (u8, u8),
+        updates: &[(u16, u16)],
+        initiate: &[u16],
+        buf: &'a mut [u8; MAX_ASSIGNMENT_BYTES],
+    ) -> AssignmentBatch<'a> {
+        let per = MAX_ASSIGNMENTS_PER_MESSAGE;
+        let from = usize::from(part) * per;
+        let window = |n: usize| from.min(n)..(from + per).min(n);
+        let updates = updates.get(window(updates.len())).unwrap_or(&[]);
+        let initiate = initiate.get(window(initiate.len())).unwrap_or(&[]);
+        let mut w = varint::Writer::new(buf);
+        records::write_updates(&mut w, updates);
+        let split = w.len();
+        records::write_indices(&mut w, initiate);
+        let end = w.len();
+        let (first, second) = buf.split_at(split);
+        AssignmentBatch {
+            scan,
+            part,
+            parts,
+            updates: Bytes(first),
+            initiate: Bytes(second.get(..end - split).unwrap_or(&[])),
+        }
     }
 }
 
@@ -472,19 +499,18 @@ impl TrackStatus {
 }
 
 /// A track's filtered state in the local frame (east/north metres from the origin the
-/// own-ship positions are given in).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// own-ship positions are given in), as the host uses it (decoded from a state record,
+/// [`records::StateOnGrid::state`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct TrackState {
     /// Track number.
     pub track: u16,
     /// Life-cycle state.
     pub status: TrackStatus,
-    /// Position east, north, metres (tenths on the wire).
-    #[serde(with = "fixed::position_m")]
+    /// Position east, north, metres.
     pub position_m: [f32; 2],
-    /// Velocity east, north, m/s (hundredths on the wire).
-    #[serde(with = "fixed::velocity_mps")]
+    /// Velocity east, north, m/s.
     pub velocity_mps: [f32; 2],
     /// Scans since the track started.
     pub age_scans: u16,
@@ -492,108 +518,110 @@ pub struct TrackState {
     pub hit_history: u16,
 }
 
-/// Track states, or one part of them.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct TrackBatch {
-    /// The scan the states belong to.
+/// Track states, or one part of them: one record a reported track
+/// ([`records::reported`]), in table order.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrackBatch<'a> {
+    /// The scan the states belong to (the last the device closed).
     pub scan: u32,
     /// Index of this part, from 0.
     pub part: u8,
-    /// Number of parts.
-    pub parts: u8,
-    /// The states of this part.
-    pub tracks: Vec<TrackState, MAX_TRACKS_PER_MESSAGE>,
+    /// This is the report's last part.
+    pub last: bool,
+    /// The base the records are coded against, or `None` (whole records).
+    pub base_scan: Option<u32>,
+    /// State records ([`records::write_state`]), at most [`MAX_RECORD_BYTES`].
+    #[serde(borrow)]
+    pub states: Bytes<'a>,
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn round_trip<T: Serialize + serde::de::DeserializeOwned + PartialEq + core::fmt::Debug>(
+    fn round_trip<'a, T: Serialize + Deserialize<'a> + PartialEq + core::fmt::Debug>(
         v: &T,
+        buf: &'a mut [u8; MAX_FRAME_BYTES],
     ) {
-        let mut buf = [0u8; MAX_FRAME_BYTES];
-        let bytes = postcard::to_slice(v, &mut buf).expect("fits in a frame");
+        let bytes: &'a [u8] = postcard::to_slice(v, buf).expect("fits in a frame");
         let back: T = postcard::from_bytes(bytes).expect("decodes");
         assert_eq!(&back, v);
     }
 
-    fn largest_echo() -> Vec<u8, MAX_ECHO_BYTES> {
-        let mut v = Vec::new();
-        for i in 0..MAX_ECHO_BYTES {
-            v.push(i as u8).unwrap();
-        }
-        v
+    fn largest_echo() -> std::vec::Vec<u8> {
+        (0..MAX_ECHO_BYTES).map(|i| i as u8).collect()
     }
 
     #[test]
     fn echo_bytes_keep_the_wire_of_a_u8_sequence() {
         let (mut a, mut b) = ([0u8; MAX_FRAME_BYTES], [0u8; MAX_FRAME_BYTES]);
+        let all = largest_echo();
         for n in [0, 1, 127, 128, MAX_ECHO_BYTES] {
-            let v: Vec<u8, MAX_ECHO_BYTES> = largest_echo().iter().copied().take(n).collect();
+            let v = &all[..n];
             // Variant 1 in both enums, then the bytes as a plain sequence of u8.
-            let plain = postcard::to_slice(&(1u32, &v), &mut b).unwrap().to_vec();
-            let h = postcard::to_slice(&HostToDevice::Echo(v.clone()), &mut a).unwrap();
+            let seq: Vec<u8, MAX_ECHO_BYTES> = Vec::from_slice(v).unwrap();
+            let plain = postcard::to_slice(&(1u32, seq), &mut b).unwrap().to_vec();
+            let h = postcard::to_slice(&HostToDevice::Echo(Bytes(v)), &mut a).unwrap();
             assert_eq!(h, plain.as_slice(), "{n}");
-            let d = postcard::to_slice(&DeviceToHost::Echo(v.clone()), &mut a).unwrap();
+            let d = postcard::to_slice(&DeviceToHost::Echo(Bytes(v)), &mut a).unwrap();
             assert_eq!(d, plain.as_slice(), "{n}");
             let back: HostToDevice = postcard::from_bytes(&plain).unwrap();
-            assert_eq!(back, HostToDevice::Echo(v));
+            assert_eq!(back, HostToDevice::Echo(Bytes(v)));
         }
-        // One byte more than the capacity is refused, not truncated.
-        let mut long = [0u8; MAX_ECHO_BYTES + 4];
-        long[0] = 1;
-        long[1..3].copy_from_slice(&[0xe9, 0x07]); // varint 1001
-        assert!(postcard::from_bytes::<HostToDevice>(&long).is_err());
     }
 
     #[test]
     fn every_host_message_round_trips() {
-        // Values on the wire's grid come back exactly.
-        let plots_m = Vec::from_slice(&[[1852.0, -0.5], [-123_456.7, 9.9]]).unwrap();
-        let msgs = [
-            HostToDevice::Hello,
-            HostToDevice::Echo(largest_echo()),
-            HostToDevice::GetStats,
-            HostToDevice::Configure(TrackerConfig::DEFAULT),
-            HostToDevice::Plots(PlotBatch {
+        let mut plot_buf = [0u8; MAX_PLOT_BYTES];
+        let plots = PlotBatch::pack(
+            PlotBatch {
                 scan: 7,
                 time_ms: 21_000,
                 part: 0,
                 parts: 1,
-                plots_m,
-            }),
-            HostToDevice::Assign(AssignmentBatch {
-                scan: 7,
-                part: 0,
-                parts: 1,
-                assignments: Vec::from_slice(&[Assignment {
-                    track: 3,
-                    plot: Some(0),
-                }])
-                .unwrap(),
-                initiate: Vec::new(),
-            }),
+                base_scan: Some(6),
+                plots: Bytes(&[]),
+            },
+            &[[1852.0, -0.5], [-123_456.7, 9.9]],
+            &mut plot_buf,
+        );
+        let mut assign_buf = [0u8; MAX_ASSIGNMENT_BYTES];
+        let assign = AssignmentBatch::pack(7, (0, 1), &[(3, 0), (9, 1)], &[4], &mut assign_buf);
+        let echo = largest_echo();
+        let msgs = [
+            HostToDevice::Hello,
+            HostToDevice::Echo(Bytes(&echo)),
+            HostToDevice::GetStats,
+            HostToDevice::Configure(TrackerConfig::DEFAULT),
+            HostToDevice::Plots(plots),
+            HostToDevice::Assign(assign),
             HostToDevice::Command(TrackCommand::CancelAll),
             HostToDevice::GetTracks,
         ];
         for m in &msgs {
-            round_trip(m);
+            round_trip(m, &mut [0u8; MAX_FRAME_BYTES]);
         }
+        let mut back = std::vec::Vec::new();
+        records::read_plots(plots.plots.0, |p| back.push(p)).unwrap();
+        assert_eq!(back, [[1852.0, -0.5], [-123_456.7, 9.9]]);
+        let mut back = std::vec::Vec::new();
+        records::read_updates(assign.updates.0, |t, p| back.push((t, p))).unwrap();
+        assert_eq!(back, [(3, 0), (9, 1)]);
     }
 
     #[test]
     fn every_device_message_round_trips() {
+        let echo = largest_echo();
         let msgs = [
             DeviceToHost::HelloAck(DeviceInfo {
                 protocol: PROTOCOL_VERSION,
-                firmware: String::try_from("tracker-firmware 0.1.0").unwrap(),
+                firmware: "tracker-firmware 0.1.0",
                 max_frame_bytes: MAX_FRAME_BYTES as u16,
                 max_tracks: 64,
                 max_plots_per_scan: 256,
                 boot_id: 0xdead_beef,
             }),
-            DeviceToHost::Echo(largest_echo()),
+            DeviceToHost::Echo(Bytes(&echo)),
             DeviceToHost::Stats(LinkStats {
                 frames_ok: 3,
                 ..LinkStats::default()
@@ -602,60 +630,42 @@ mod tests {
             DeviceToHost::Gated(GatedBatch {
                 scan: 9,
                 part: 0,
-                parts: 1,
-                gates: Vec::from_slice(&[GatedPlots {
-                    track: 300,
-                    predicted_m: [-2000.5, 15_000.0],
-                    // Cholesky factor [50, 2, 40] m: exact on the grid.
-                    innovation_cov_m2: [2500.0, 100.0, 1604.0],
-                    plots: Vec::from_slice(&[0, 200]).unwrap(),
-                }])
-                .unwrap(),
+                last: true,
+                base_scan: Some(8),
+                live_tracks: 12,
+                gates: Bytes(&[1, 2, 3]),
             }),
             DeviceToHost::Tracks(TrackBatch {
                 scan: 9,
-                part: 0,
-                parts: 1,
-                tracks: Vec::from_slice(&[TrackState {
-                    track: 300,
-                    status: TrackStatus::Confirmed,
-                    position_m: [-2000.5, 15_000.0],
-                    velocity_mps: [5.25, -0.5],
-                    age_scans: 40,
-                    hit_history: 0x3ff,
-                }])
-                .unwrap(),
+                part: 1,
+                last: false,
+                base_scan: None,
+                states: Bytes(&[4, 5]),
             }),
             DeviceToHost::Error(ErrorCode::VersionMismatch { device: 1 }),
         ];
         for m in &msgs {
-            round_trip(m);
+            round_trip(m, &mut [0u8; MAX_FRAME_BYTES]);
         }
     }
 
     #[test]
     fn assignments_split_into_parts_in_order() {
-        let updates: std::vec::Vec<Assignment> = (0..50)
-            .map(|i| Assignment {
-                track: i,
-                plot: Some(i),
-            })
-            .collect();
+        let updates: std::vec::Vec<(u16, u16)> = (0..50).map(|i| (i, i)).collect();
         let initiate: std::vec::Vec<u16> = (0..100).collect();
-        let parts: std::vec::Vec<AssignmentBatch> =
-            AssignmentBatch::parts(4, &updates, &initiate).collect();
-        assert_eq!(parts.len(), 3);
-        let all_updates: std::vec::Vec<Assignment> =
-            parts.iter().flat_map(|p| p.assignments.clone()).collect();
-        let all_initiate: std::vec::Vec<u16> =
-            parts.iter().flat_map(|p| p.initiate.clone()).collect();
-        assert_eq!((all_updates, all_initiate), (updates, initiate));
-        for (i, p) in parts.iter().enumerate() {
-            assert_eq!((p.scan, p.part, p.parts), (4, i as u8, 3));
+        let parts = AssignmentBatch::parts(updates.len(), initiate.len());
+        assert_eq!(parts, 3);
+        let (mut all_updates, mut all_initiate) = (std::vec::Vec::new(), std::vec::Vec::new());
+        for part in 0..parts {
+            let mut buf = [0u8; MAX_ASSIGNMENT_BYTES];
+            let b = AssignmentBatch::pack(4, (part, parts), &updates, &initiate, &mut buf);
+            assert_eq!((b.scan, b.part, b.parts), (4, part, 3));
+            records::read_updates(b.updates.0, |t, p| all_updates.push((t, p))).unwrap();
+            records::read_indices(b.initiate.0, |i| all_initiate.push(i)).unwrap();
         }
+        assert_eq!((all_updates, all_initiate), (updates, initiate));
         // Nothing to say still closes the scan.
-        let empty: std::vec::Vec<AssignmentBatch> = AssignmentBatch::parts(4, &[], &[]).collect();
-        assert_eq!(empty.len(), 1);
+        assert_eq!(AssignmentBatch::parts(0, 0), 1);
     }
 
     #[test]
@@ -674,58 +684,53 @@ mod tests {
             protocol: PROTOCOL_VERSION,
             request_id: u32::MAX,
         };
-        let full_tracks = TrackBatch {
-            scan: u32::MAX,
-            part: 0,
-            parts: 1,
-            tracks: core::iter::repeat_n(
-                TrackState {
-                    track: u16::MAX,
-                    status: TrackStatus::Coasting,
-                    position_m: [f32::MAX; 2],
-                    velocity_mps: [f32::MIN; 2],
-                    age_scans: u16::MAX,
-                    hit_history: u16::MAX,
-                },
-                MAX_TRACKS_PER_MESSAGE,
-            )
-            .collect(),
-        };
-        let full_plots = PlotBatch {
-            scan: u32::MAX,
-            time_ms: u64::MAX,
-            part: 0,
-            parts: 1,
-            plots_m: core::iter::repeat_n([f32::MIN, f32::MAX], MAX_PLOTS_PER_MESSAGE).collect(),
-        };
-        let full_gates = GatedBatch {
-            scan: u32::MAX,
-            part: 0,
-            parts: 1,
-            gates: core::iter::repeat_n(
-                GatedPlots {
-                    track: u16::MAX,
-                    predicted_m: [f32::MIN; 2],
-                    // Every Cholesky entry past i32's range: the longest encoding.
-                    innovation_cov_m2: [1e20, 1e20, 2e20],
-                    plots: core::iter::repeat_n(u16::MAX, MAX_PLOTS_PER_GATE).collect(),
-                },
-                MAX_GATES_PER_MESSAGE,
-            )
-            .collect(),
-        };
         let crc = 4;
+        let echo = largest_echo();
+        let records = [0xFFu8; MAX_RECORD_BYTES];
+        let worst_plots = [0xFFu8; MAX_PLOT_BYTES];
+        let worst_lists = [0xFFu8; MAX_ASSIGNMENT_BYTES];
+        let (updates, initiate) = worst_lists.split_at(MAX_ASSIGNMENTS_PER_MESSAGE * 8);
         for body in [
-            DeviceToHost::Echo(largest_echo()),
-            DeviceToHost::Tracks(full_tracks),
-            DeviceToHost::Gated(full_gates),
+            DeviceToHost::Echo(Bytes(&echo)),
+            DeviceToHost::Tracks(TrackBatch {
+                scan: u32::MAX,
+                part: u8::MAX,
+                last: false,
+                base_scan: Some(u32::MAX),
+                states: Bytes(&records),
+            }),
+            DeviceToHost::Gated(GatedBatch {
+                scan: u32::MAX,
+                part: u8::MAX,
+                last: false,
+                base_scan: Some(u32::MAX),
+                live_tracks: u16::MAX,
+                gates: Bytes(&records),
+            }),
         ] {
             let n = postcard::to_slice(&(header, body), &mut buf).unwrap().len();
             assert!(n + crc <= MAX_FRAME_BYTES, "{n}");
         }
-        let n = postcard::to_slice(&(header, HostToDevice::Plots(full_plots)), &mut buf)
-            .unwrap()
-            .len();
-        assert!(n + crc <= MAX_FRAME_BYTES, "{n}");
+        for body in [
+            HostToDevice::Plots(PlotBatch {
+                scan: u32::MAX,
+                time_ms: u64::MAX,
+                part: u8::MAX,
+                parts: u8::MAX,
+                base_scan: Some(u32::MAX),
+                plots: Bytes(&worst_plots),
+            }),
+            HostToDevice::Assign(AssignmentBatch {
+                scan: u32::MAX,
+                part: u8::MAX,
+                parts: u8::MAX,
+                updates: Bytes(updates),
+                initiate: Bytes(initiate),
+            }),
+            HostToDevice::Configure(TrackerConfig::DEFAULT),
+        ] {
+            let n = postcard::to_slice(&(header, body), &mut buf).unwrap().len();
+            assert!(n + crc <= MAX_FRAME_BYTES, "{n}");
+        }
     }
 }

@@ -45,8 +45,13 @@ impl EastIndex {
             if !(z[0].is_finite() && z[1].is_finite()) {
                 return None;
             }
-            west = crate::float::min(west, z[0]);
-            east = crate::float::max(east, z[0]);
+            // Finite (checked above): plain comparisons.
+            if z[0] < west {
+                west = z[0];
+            }
+            if z[0] > east {
+                east = z[0];
+            }
         }
         let span = east - west;
         let per_m = if span > 0.0 && span.is_finite() {

@@ -278,6 +278,26 @@ impl Track {
         &self.filter
     }
 
+    /// The plots inside this scan's rough gate (after [`TrackTable::gate`]), nearest first.
+    pub fn gated_plots(&self) -> &[u16] {
+        &self.gated
+    }
+
+    /// The innovation covariance its gate was sized from, `[s_xx, s_xy, s_yy]` (m²).
+    pub fn innovation_cov_m2(&self) -> [f32; 3] {
+        self.innovation_cov
+    }
+
+    /// Hits in the last [`KEEP_N`] scans, newest lowest (as its state reports them).
+    pub fn hit_history(&self) -> u16 {
+        self.hits & ((1 << KEEP_N) - 1)
+    }
+
+    /// True when the last scan closed gave it a plot.
+    pub fn hit_last_scan(&self) -> bool {
+        self.hits & 1 == 1
+    }
+
     fn hits_in_last(&self, n: u32) -> u32 {
         (self.hits & ((1u16 << n) - 1)).count_ones()
     }
@@ -396,6 +416,15 @@ impl TrackTable {
             slots: &self.slots,
             order: self.order.iter(),
         }
+    }
+
+    /// The tracks in table order, each with its slot number (a slot keeps its track for
+    /// the track's life; a freed slot takes a new track with another number).
+    pub fn placed(&self) -> impl Iterator<Item = (usize, &Track)> + '_ {
+        self.order.iter().filter_map(|&slot| {
+            let slot = usize::from(slot);
+            self.slots.get(slot).map(|t| (slot, t))
+        })
     }
 
     /// The track at `index` in table order.
@@ -565,6 +594,10 @@ impl TrackTable {
             return Err(ErrorCode::OutOfSequence);
         };
         let plot = |i: u16| plots.get(usize::from(i)).copied();
+        // Each track's plot, by its place in the table, in one walk over the assignments
+        // (a track's first assignment counts), which also checks them all before anything
+        // changes.
+        let mut plot_of = [NO_PLOT; MAX_TRACKS];
         let mut from = 0;
         for a in assignments {
             let Some(at) = self.position_of(a.track, from) else {
@@ -574,40 +607,28 @@ impl TrackTable {
             if a.plot.is_some_and(|p| plot(p).is_none()) {
                 return Err(ErrorCode::InvalidValue);
             }
+            if let Some(p) = plot_of.get_mut(at) {
+                if *p == NO_PLOT {
+                    *p = a.plot.unwrap_or(COAST);
+                }
+            }
         }
         if initiate.iter().any(|&p| plot(p).is_none()) {
             return Err(ErrorCode::InvalidValue);
         }
         let mut report = ApplyReport::default();
-        // Lost tracks were reported once; now they go.
-        let mut lost = 0u64;
-        for (at, t) in self.tracks().enumerate() {
-            if t.status == TrackStatus::Lost {
-                lost |= 1 << at;
-            }
-        }
-        self.drop_at(lost);
-        // Each track's plot, by its place in the table, in one walk over the assignments
-        // (a track's first assignment counts; one to a track just dropped as lost finds no
-        // track).
-        let mut plot_of = [NO_PLOT; MAX_TRACKS];
-        let mut from = 0;
-        for a in assignments {
-            if let Some(at) = self.position_of(a.track, from) {
-                from = at + 1;
-                if let Some(p) = plot_of.get_mut(at) {
-                    if *p == NO_PLOT {
-                        *p = a.plot.unwrap_or(COAST);
-                    }
-                }
-            }
-        }
         let mut failed = 0u64;
         let all_predicted = self.all_predicted;
+        // Lost tracks were reported once; now they go (whatever was assigned to them).
+        let mut lost = 0u64;
         for (at, (&slot, &p)) in self.order.iter().zip(plot_of.iter()).enumerate() {
             let Some(t) = self.slots.get_mut(usize::from(slot)) else {
                 continue;
             };
+            if t.status == TrackStatus::Lost {
+                lost |= 1 << at;
+                continue;
+            }
             // Not predicted for this scan (see `all_predicted`): updated in place, or left.
             let in_place = !all_predicted && t.time_ms != open_ms;
             let assigned = plot(p).and_then(|z| Measurement::new(z).ok());
@@ -639,16 +660,18 @@ impl TrackTable {
                 None => failed |= 1 << at,
             }
         }
-        report.dropped = self.drop_at(failed);
+        // One drop for both: the places shift once a track goes.
+        self.drop_at(lost | failed);
+        report.dropped = failed.count_ones() as u16;
         self.open_ms = None;
         for &p in initiate {
+            // A full table refuses without looking (a table refilled from clutter is full on
+            // most scans, and most of a scan's initiations are refused).
+            if self.order.is_full() {
+                report.refused_full += 1;
+                continue;
+            }
             if let Some(z) = plot(p).and_then(|z| Measurement::new(z).ok()) {
-                // A full table refuses without trying (a table refilled from clutter is
-                // full on most scans, and most of a scan's initiations are refused).
-                if self.order.is_full() {
-                    report.refused_full += 1;
-                    continue;
-                }
                 match self.start_track(time_ms, z) {
                     Ok(_) => report.initiated += 1,
                     Err(_) => report.refused_full += 1,

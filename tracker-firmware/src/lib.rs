@@ -115,7 +115,7 @@ where
     loop {
         watchdog.feed();
         match uart.read() {
-            Ok(byte) => device.receive(byte, &mut |reply| {
+            Ok(byte) => device.receive(core::slice::from_ref(&byte), &mut |reply| {
                 for &b in reply {
                     // The UART reports no TX errors; WouldBlock just waits.
                     let _ = nb::block!(uart.write(b));

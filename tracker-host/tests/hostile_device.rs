@@ -1,8 +1,9 @@
-//! A device that answers with valid frames carrying what cannot be right: track states with
-//! NaN, infinities and 3e38; a gate report in 255 parts of 16 gates; a report in 0 parts.
-//! The host validates everything that crosses the link: nothing of it reaches the targets,
-//! the display or the plotter, every such scan is skipped with a reason, association stays
-//! bounded by what was sent, and the run goes on.
+//! A device that answers with valid frames carrying what cannot be right: track states
+//! 200,000 km out and at 20,000 km/s; records that do not decode, or that are coded against
+//! a base the host never held; a gate report in 255 parts of 16 gates; a report that never
+//! says it is done. The host validates everything that crosses the link: nothing of it
+//! reaches the targets, the display or the plotter, every such scan is skipped with a
+//! reason, association stays bounded by what was sent, and the run goes on.
 
 use std::collections::VecDeque;
 use std::io;
@@ -10,9 +11,11 @@ use std::time::Duration;
 
 use tracker_core::filter::FilterKind;
 use tracker_core::frame::{self, FrameDecoder};
+use tracker_core::icd::records::{self, GateOnGrid, GateReference, StateOnGrid};
+use tracker_core::icd::varint::Writer;
 use tracker_core::icd::{
-    DeviceInfo, DeviceToHost, GatedBatch, GatedPlots, Header, HostToDevice, TrackBatch, TrackState,
-    TrackStatus, MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, PROTOCOL_VERSION,
+    Bytes, DeviceInfo, DeviceToHost, GatedBatch, Header, HostToDevice, TrackBatch, TrackStatus,
+    MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, MAX_RECORD_BYTES, PROTOCOL_VERSION,
 };
 use tracker_core::sim::ScenarioKind;
 use tracker_host::app::demo::{self, DemoOptions};
@@ -20,12 +23,16 @@ use tracker_host::link::{Client, Transport};
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Mischief {
-    /// Track states with NaN, infinity and 3e38.
+    /// Whole track states 200,000 km out and at 20,000 km/s.
     BadNumbers,
+    /// State records that do not decode.
+    Garbage,
+    /// State records coded against a base the host does not hold.
+    NoSuchBase,
     /// A gate report of 255 parts, 16 gates each, every one gating plots 0–7.
     HugeGates,
-    /// A track report in 0 parts.
-    NoParts,
+    /// A track report whose one part is not the last.
+    NeverDone,
 }
 
 /// A fake device: handshakes and acknowledges like a real one, answers plots and
@@ -50,30 +57,19 @@ impl Hostile {
             protocol: PROTOCOL_VERSION,
             request_id: id,
         };
-        let mut scratch = vec![0u8; MAX_FRAME_BYTES];
         let mut out = vec![0u8; MAX_ENCODED_FRAME_BYTES];
-        let n = frame::encode(&header, body, &mut scratch, &mut out).unwrap();
+        let n = frame::encode(&header, body, &mut out).unwrap();
         self.outbox.extend(&out[..n]);
     }
 
-    fn bad_track(n: u16, value: f32) -> TrackState {
-        TrackState {
-            track: n,
-            status: TrackStatus::Confirmed,
-            position_m: [value, 1000.0],
-            velocity_mps: [1.0, value],
-            age_scans: 10,
-            hit_history: 0x3ff,
-        }
-    }
-
     fn handle(&mut self, id: u32, request: HostToDevice) {
+        let mut records = [0u8; MAX_RECORD_BYTES];
         match request {
             HostToDevice::Hello => self.reply(
                 id,
                 &DeviceToHost::HelloAck(DeviceInfo {
                     protocol: PROTOCOL_VERSION,
-                    firmware: heapless::String::try_from("hostile").unwrap(),
+                    firmware: "hostile",
                     max_frame_bytes: MAX_FRAME_BYTES as u16,
                     max_tracks: 64,
                     max_plots_per_scan: 256,
@@ -81,56 +77,81 @@ impl Hostile {
                 }),
             ),
             HostToDevice::Plots(batch) if batch.part + 1 == batch.parts => {
-                if self.mischief == Mischief::HugeGates {
-                    for part in 0..255u8 {
-                        let gates = (0..16u16)
-                            .map(|i| GatedPlots {
-                                track: u16::from(part) * 16 + i,
-                                predicted_m: [0.0, 1000.0],
-                                innovation_cov_m2: [100.0, 0.0, 100.0],
-                                plots: (0..8u16).collect(),
-                            })
-                            .collect();
-                        self.reply(
-                            id,
-                            &DeviceToHost::Gated(GatedBatch {
-                                scan: batch.scan,
-                                part,
-                                parts: 255,
-                                gates,
-                            }),
-                        );
-                    }
+                let parts = if self.mischief == Mischief::HugeGates {
+                    255
                 } else {
+                    1
+                };
+                for part in 0..parts {
+                    let mut w = Writer::new(&mut records);
+                    if self.mischief == Mischief::HugeGates {
+                        let mut prev = 0;
+                        for i in 0..16u16 {
+                            let track = u16::from(part) * 16 + i + 1;
+                            let gate = GateOnGrid::of(
+                                track,
+                                (0..8u16).collect(),
+                                [0.0, 1000.0],
+                                [100.0, 0.0, 100.0],
+                            );
+                            records::write_gate(
+                                &mut w,
+                                prev,
+                                &gate,
+                                GateReference::default(),
+                                [0, 0],
+                            );
+                            prev = track;
+                        }
+                    }
+                    let n = w.len();
                     self.reply(
                         id,
                         &DeviceToHost::Gated(GatedBatch {
                             scan: batch.scan,
-                            part: 0,
-                            parts: 1,
-                            gates: heapless::Vec::new(),
+                            part,
+                            last: part + 1 == parts,
+                            base_scan: None,
+                            live_tracks: 3,
+                            gates: Bytes(&records[..n]),
                         }),
                     );
                 }
             }
             HostToDevice::Assign(batch) => {
-                let tracks = [
-                    Self::bad_track(1, f32::NAN),
-                    Self::bad_track(2, f32::INFINITY),
-                    Self::bad_track(3, 3e38),
-                ];
-                let parts = if self.mischief == Mischief::NoParts {
-                    0
-                } else {
-                    1
+                let mut w = Writer::new(&mut records);
+                let far = StateOnGrid {
+                    track: 1,
+                    status: TrackStatus::Confirmed,
+                    position_tenths: [i32::MAX, 10_000],
+                    velocity_hundredths: [100, i32::MAX],
+                    age_scans: 10,
+                    hit_history: 0x3ff,
                 };
+                let base_scan = match self.mischief {
+                    Mischief::Garbage => {
+                        w.byte(0xEE);
+                        w.byte(0x80);
+                        None
+                    }
+                    Mischief::NoSuchBase => {
+                        records::write_state(&mut w, 0, &far, true, Some(&far), 2.5);
+                        Some(batch.scan.wrapping_sub(1))
+                    }
+                    _ => {
+                        records::write_state(&mut w, 0, &far, true, None, 2.5);
+                        None
+                    }
+                };
+                let n = w.len();
                 self.reply(
                     id,
                     &DeviceToHost::Tracks(TrackBatch {
                         scan: batch.scan,
                         part: 0,
-                        parts,
-                        tracks: tracks.into_iter().collect(),
+                        last: self.mischief != Mischief::NeverDone,
+                        base_scan,
+                        states: Bytes(&records[..n]),
                     }),
                 );
             }
@@ -142,10 +163,12 @@ impl Hostile {
 impl Transport for Hostile {
     fn write_all(&mut self, bytes: &[u8]) -> io::Result<()> {
         for &b in bytes {
-            if let Some(Ok(payload)) = self.decoder.push(b) {
-                if let Ok((h, req)) = frame::decode_payload::<HostToDevice>(payload, u32::MAX) {
-                    self.handle(h.request_id, req);
-                }
+            let Some(Ok(payload)) = self.decoder.push(b) else {
+                continue;
+            };
+            let payload = payload.to_vec();
+            if let Ok((h, req)) = frame::decode_payload::<HostToDevice>(&payload, u32::MAX) {
+                self.handle(h.request_id, req);
             }
         }
         Ok(())
@@ -162,7 +185,13 @@ impl Transport for Hostile {
 
 #[test]
 fn nonsense_from_the_device_is_not_believed_and_the_run_goes_on() {
-    for mischief in [Mischief::BadNumbers, Mischief::HugeGates, Mischief::NoParts] {
+    for mischief in [
+        Mischief::BadNumbers,
+        Mischief::Garbage,
+        Mischief::NoSuchBase,
+        Mischief::HugeGates,
+        Mischief::NeverDone,
+    ] {
         let mut client = Client::new(Box::new(Hostile::new(mischief)));
         client.timeout = Duration::from_millis(50);
         client.retries = 2;

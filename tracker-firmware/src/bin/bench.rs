@@ -19,31 +19,41 @@ use tracker_core::filter::kalman::{KalmanConfig, QModel};
 use tracker_core::filter::sswt::SswtConfig;
 use tracker_core::filter::{Filter, Interval, Measurement};
 use tracker_core::frame;
-use tracker_core::icd::{
-    Header, HostToDevice, MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, PROTOCOL_VERSION,
-};
+use tracker_core::icd::{Header, HostToDevice, MAX_ENCODED_FRAME_BYTES, PROTOCOL_VERSION};
 use tracker_core::scalar::{Fix, Scalar};
 use tracker_firmware::{board, icount};
 
 const CALLS: u32 = 200;
+
+/// The largest echo's bytes: 0, 1, 2, … (in flash, not on the bench's stack).
+static ECHO_MAX: [u8; tracker_core::icd::MAX_ECHO_BYTES] = {
+    let mut bytes = [0u8; tracker_core::icd::MAX_ECHO_BYTES];
+    let mut i = 0;
+    while i < bytes.len() {
+        bytes[i] = i as u8;
+        i += 1;
+    }
+    bytes
+};
 
 use icount::report as row;
 
 /// One encoded request frame. Its own frame: its buffers are dead once it returns.
 #[inline(never)]
 fn request(body: &HostToDevice) -> ([u8; MAX_ENCODED_FRAME_BYTES], usize) {
-    let mut scratch = [0u8; MAX_FRAME_BYTES];
     let mut out = [0u8; MAX_ENCODED_FRAME_BYTES];
     let header = Header {
         protocol: PROTOCOL_VERSION,
         request_id: 1,
     };
-    let n = frame::encode(&header, body, &mut scratch, &mut out).unwrap_or(0);
+    let n = frame::encode(&header, body, &mut out).unwrap_or(0);
     (out, n)
 }
 
 /// Instructions to take one whole frame through the device (decode, dispatch, encode the
-/// reply) with the reply bytes handed to a sink that only looks at them.
+/// reply) with the reply bytes handed to a sink that only looks at them: the frame's bytes
+/// handed over one at a time (as the firmware's UART loop does), or with `dma` all in one
+/// slice (as a DMA buffer hands them over).
 // Its own frame: inlined into `main`, every row's locals would share one huge frame.
 #[inline(never)]
 fn link_row(
@@ -51,14 +61,20 @@ fn link_row(
     device: &mut Device,
     name: &str,
     body: &HostToDevice,
+    dma: bool,
 ) {
     let (bytes, n) = request(body);
     let frame = &bytes[..n];
     let per_frame = icount::per_call(counter, CALLS, || {
-        for &b in black_box(frame) {
-            device.receive(b, &mut |reply| {
-                black_box(reply);
-            });
+        let mut sink = |reply: &[u8]| {
+            black_box(reply);
+        };
+        if dma {
+            device.receive(black_box(frame), &mut sink);
+        } else {
+            for b in black_box(frame) {
+                device.receive(core::slice::from_ref(b), &mut sink);
+            }
         }
     });
     row(name, "-", per_frame, core::mem::size_of::<Device>());
@@ -175,6 +191,12 @@ struct ScanBench {
     gated: [bool; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
     taken: [bool; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
     initiate: heapless::Vec<u16, { tracker_core::tracker::MAX_PLOTS_PER_SCAN }>,
+    /// A plots part, packed.
+    packed: [u8; tracker_core::icd::MAX_PLOT_BYTES],
+    /// A plots part, read.
+    positions: heapless::Vec<[f32; 2], { tracker_core::icd::MAX_PLOTS_PER_MESSAGE }>,
+    /// An assignments part, packed.
+    assign_buf: [u8; tracker_core::icd::MAX_ASSIGNMENT_BYTES],
     /// Scan times go on from row to row: the device refuses a scan not later than the last.
     time_base_ms: u64,
 }
@@ -185,8 +207,11 @@ const BENCH_SCANS: u32 = 40;
 /// Instructions per scan of the device's tracking work: plots in (already in the local
 /// frame: the host converts them, outside the count), every track predicted and
 /// rough-gated, assignments applied (updates, coasts, initiations, life cycle). The
-/// assignments are the nearest gated plot, chosen outside the measurement (the host's job). Prints the row, and a comment with the tracks and
-/// plots it averaged.
+/// assignments are the nearest gated plot, chosen outside the measurement (the host's
+/// job). With `read`, the plots and assignments are read from their packed lists as a
+/// frame carries them ([`Device::handle`]); without, they are handed to the tracker read
+/// (the tracking work alone). Prints the row, and a comment with the tracks and plots it
+/// averaged.
 // Its own frame: inlined into `main`, every row's locals would share one huge frame.
 #[inline(never)]
 fn scan_row(
@@ -196,13 +221,15 @@ fn scan_row(
     sim: &mut tracker_core::sim::Scenario,
     name: &str,
     load: ScanLoad,
+    read: bool,
 ) {
     use tracker_core::device::Reply;
-    use tracker_core::icd::fixed::position_on_grid;
+    use tracker_core::icd::records;
     use tracker_core::icd::{
-        Assignment, AssignmentBatch, Plot, PlotBatch, TrackCommand, MAX_PLOTS_PER_MESSAGE,
+        AssignmentBatch, Bytes, Plot, PlotBatch, TrackCommand, MAX_PLOTS_PER_MESSAGE,
     };
     use tracker_core::sim::ScenarioConfig;
+    use tracker_core::tracker::{AssignHead, PlotsHead};
     let _ = device.handle(&HostToDevice::Command(TrackCommand::CancelAll));
     let mut config = ScenarioConfig::open_sea(load.targets, 1);
     config.sensor.clutter_per_scan = load.sim_clutter;
@@ -218,7 +245,7 @@ fn scan_row(
     // The plot half (plots in, predict, gate) apart from the whole.
     let mut plot_ticks = 0u64;
     for k in 0..BENCH_SCANS {
-        sim.next_scan_into(&mut bench.out);
+        next_scan(sim, &mut bench.out);
         let out = &mut bench.out;
         let time_ms = bench.time_base_ms + out.time_ms;
         // The top-up clutter goes after the simulator's plots, with no source.
@@ -239,32 +266,40 @@ fn scan_row(
         let mut t = 0u32;
         for (i, chunk) in all.chunks(MAX_PLOTS_PER_MESSAGE).enumerate() {
             // The host's part, outside the count: plots to the local frame (own ship at
-            // the origin), on the wire's grid.
-            let batch = HostToDevice::Plots(PlotBatch {
+            // the origin), on the wire's grid, packed. Reading them is the device's.
+            let head = PlotBatch {
                 scan: out.scan,
                 time_ms,
                 part: i as u8,
                 parts,
-                plots_m: chunk
-                    .iter()
-                    .map(|p| {
-                        position_on_grid(tracker_core::geo::polar_to_local(
-                            [0.0, 0.0],
-                            p.range_m,
-                            p.bearing_rad,
-                        ))
-                    })
-                    .collect(),
-            });
-            let dt = counter.ticks(|| {
-                black_box(device.handle(black_box(&batch)));
-            });
+                base_scan: None,
+                plots: Bytes(&[]),
+            };
+            let packed = pack_plots(head, chunk, &mut bench.packed);
+            let dt = if read {
+                let batch = HostToDevice::Plots(packed);
+                counter.ticks(|| {
+                    black_box(device.handle(black_box(&batch)));
+                })
+            } else {
+                let positions = &mut bench.positions;
+                positions.clear();
+                let _ = records::read_plots(packed.plots.0, |p| {
+                    let _ = positions.push(p);
+                });
+                let head = PlotsHead::of(&packed);
+                let tracker = device.tracker_mut();
+                counter.ticks(|| {
+                    let _ =
+                        black_box(tracker.take_positions(head, positions.iter().map(|&p| Ok(p))));
+                })
+            };
             t += dt;
         }
         let t_plots = t;
         let tracker = device.tracker();
         let n = tracker.table().len();
-        let mut assignments: heapless::Vec<Assignment, 64> = heapless::Vec::new();
+        let mut assignments: heapless::Vec<(u16, u16), 64> = heapless::Vec::new();
         let (taken, gated) = (&mut bench.taken, &mut bench.gated);
         taken.fill(false);
         gated.fill(false);
@@ -277,10 +312,7 @@ fn scan_row(
                 // As the host does: only updates are sent, the rest coast.
                 if let Some(p) = plot {
                     taken[usize::from(p)] = true;
-                    let _ = assignments.push(Assignment {
-                        track: g.track,
-                        plot,
-                    });
+                    let _ = assignments.push((g.track, p));
                 }
             }
         }
@@ -292,12 +324,39 @@ fn scan_row(
                 let _ = initiate.push(p as u16);
             }
         }
-        for batch in AssignmentBatch::parts(out.scan, &assignments, initiate) {
-            let batch = HostToDevice::Assign(batch);
-            let dt = counter.ticks(|| {
-                let reply = device.handle(black_box(&batch));
-                black_box(matches!(reply, Reply::Tracks { .. }));
-            });
+        let parts = AssignmentBatch::parts(assignments.len(), initiate.len());
+        for part in 0..parts {
+            let buf = &mut bench.assign_buf;
+            let b = AssignmentBatch::pack(out.scan, (part, parts), &assignments, initiate, buf);
+            let dt = if read {
+                let batch = HostToDevice::Assign(b);
+                counter.ticks(|| {
+                    let reply = device.handle(black_box(&batch));
+                    black_box(matches!(reply, Reply::Tracks));
+                })
+            } else {
+                let head = AssignHead {
+                    scan: b.scan,
+                    part: b.part,
+                    parts: b.parts,
+                };
+                let per = tracker_core::icd::MAX_ASSIGNMENTS_PER_MESSAGE;
+                let from = usize::from(part) * per;
+                let window = |n: usize| from.min(n)..(from + per).min(n);
+                let (u, i) = (
+                    assignments.get(window(assignments.len())).unwrap_or(&[]),
+                    initiate.get(window(initiate.len())).unwrap_or(&[]),
+                );
+                let tracker = device.tracker_mut();
+                counter.ticks(|| {
+                    let r = tracker.take_assignments(
+                        head,
+                        u.iter().map(|&a| Ok(a)),
+                        i.iter().map(|&p| Ok(p)),
+                    );
+                    black_box(r.is_ok());
+                })
+            };
             t += dt;
         }
         // Score the scans once the picture has settled (tracks confirmed).
@@ -330,6 +389,35 @@ fn scan_row(
     );
 }
 
+/// The simulator's next scan. Its own frame: the simulator's temporaries are dead before the
+/// device is called.
+#[inline(never)]
+fn next_scan(sim: &mut tracker_core::sim::Scenario, out: &mut tracker_core::sim::ScanOutput) {
+    sim.next_scan_into(out);
+}
+
+/// A plots part as the host makes it: to the local frame (own ship at the origin), on the
+/// wire's grid, packed into `packed`. Its own frame: the positions are dead once packed.
+#[inline(never)]
+fn pack_plots<'b>(
+    head: tracker_core::icd::PlotBatch<'static>,
+    chunk: &[tracker_core::icd::Plot],
+    packed: &'b mut [u8; tracker_core::icd::MAX_PLOT_BYTES],
+) -> tracker_core::icd::PlotBatch<'b> {
+    use tracker_core::icd::fixed::position_on_grid;
+    let local: heapless::Vec<[f32; 2], { tracker_core::icd::MAX_PLOTS_PER_MESSAGE }> = chunk
+        .iter()
+        .map(|p| {
+            position_on_grid(tracker_core::geo::polar_to_local(
+                [0.0, 0.0],
+                p.range_m,
+                p.bearing_rad,
+            ))
+        })
+        .collect();
+    tracker_core::icd::PlotBatch::pack(head, &local, packed)
+}
+
 /// The scan benches' storage, once. Its own frame: the values pass through the stack on
 /// their way to .bss, and that space is free again before the benches run.
 #[inline(never)]
@@ -343,6 +431,9 @@ fn scan_storage() -> Option<(
         gated: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
         taken: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
         initiate: heapless::Vec::new(),
+        packed: [0; tracker_core::icd::MAX_PLOT_BYTES],
+        positions: heapless::Vec::new(),
+        assign_buf: [0; tracker_core::icd::MAX_ASSIGNMENT_BYTES],
         time_base_ms: 0,
     })?;
     let sim = cortex_m::singleton!(: Scenario = Scenario::new(ScenarioConfig::open_sea(1, 1)))?;
@@ -377,6 +468,16 @@ fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
         sim,
         "scan-40-targets-200-plots",
         product,
+        false,
+    );
+    scan_row(
+        counter,
+        device,
+        bench,
+        sim,
+        "scan-40-targets-200-plots-read-from-frames",
+        product,
+        true,
     );
     for (name, targets, plots) in [
         ("scan-16-tracks-50-plots", 16, 50),
@@ -392,7 +493,7 @@ fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
             plots,
             initiate_clutter: false,
         };
-        scan_row(counter, device, bench, sim, name, load);
+        scan_row(counter, device, bench, sim, name, load, false);
     }
     // The device's scan with each of the filters the table runs differently: the g-h
     // filters in their fixed-scan form, the CV Kalman filter predicted and updated.
@@ -412,7 +513,7 @@ fn scan_rows(counter: &mut icount::InstructionCounter, device: &mut Device) {
         ("scan-64-tracks-64-plots-kalman-cv", FilterKind::KalmanCv),
     ] {
         configure(device, Some(kind));
-        scan_row(counter, device, bench, sim, name, load);
+        scan_row(counter, device, bench, sim, name, load, false);
     }
     configure(device, None);
 }
@@ -531,15 +632,27 @@ fn main() -> ! {
     };
 
     println!("{}", icount::HEADER);
-    link_row(&mut counter, device, "link-hello", &HostToDevice::Hello);
-    let echo16 = HostToDevice::Echo((0u8..16).collect());
-    link_row(&mut counter, device, "link-echo-16B", &echo16);
-    let echo_max = HostToDevice::Echo(
-        (0..tracker_core::icd::MAX_ECHO_BYTES)
-            .map(|i| i as u8)
-            .collect(),
+    link_row(
+        &mut counter,
+        device,
+        "link-hello",
+        &HostToDevice::Hello,
+        false,
     );
-    link_row(&mut counter, device, "link-echo-1000B", &echo_max);
+    let echo16_bytes: [u8; 16] = core::array::from_fn(|i| i as u8);
+    let echo16 = HostToDevice::Echo(tracker_core::icd::Bytes(&echo16_bytes));
+    link_row(&mut counter, device, "link-echo-16B", &echo16, false);
+    let echo_max = HostToDevice::Echo(tracker_core::icd::Bytes(&ECHO_MAX));
+    link_row(&mut counter, device, "link-echo-1000B", &echo_max, false);
+    link_row(
+        &mut counter,
+        device,
+        "link-hello-dma",
+        &HostToDevice::Hello,
+        true,
+    );
+    link_row(&mut counter, device, "link-echo-16B-dma", &echo16, true);
+    link_row(&mut counter, device, "link-echo-1000B-dma", &echo_max, true);
 
     filter_rows::<f32>(&mut counter);
     filter_rows::<Fix>(&mut counter);

@@ -2,28 +2,34 @@
 //! picture a serial line carries in a scan with half the line left free.
 //!
 //! The bytes are counted by encoding the very messages a scan exchanges (the ICD's types,
-//! postcard, CRC, COBS, delimiters), filled with values at the expensive end of the real
-//! ones, so the count is what a busy scan costs, not a best case:
+//! the record writers of `tracker_core::icd::records`, postcard, CRC, COBS, delimiters),
+//! with values at the expensive end of the real ones, so the count is what a busy scan
+//! costs, not a best case:
 //!
-//! - plots and tracks 10–100 km from the origin (three bytes a coordinate), targets up to
-//!   60 m/s (two bytes a speed component), gates of 6.5 m to 1.6 km (two bytes a Cholesky
-//!   entry);
-//! - track numbers and request ids past the one-byte varints; every track's rough gate
-//!   holding two plots and every track updated; as many plots starting tracks as the
-//!   table has room for;
+//! - plots 10–100 km from the origin (three bytes a coordinate); plot indices past the
+//!   one-byte varints once there are more than 128 plots;
+//! - every track's rough gate holding two plots and every track updated; as many plots
+//!   starting tracks as the table has room for;
+//! - coded against the base (the steady state: the host holds the last report) with
+//!   changes at the busy end: predictions 3 m off the base moved on, new positions 40 m off
+//!   it, velocities changed by 0.8 m/s, gate factors by 5 m (each two bytes but the
+//!   prediction's); or, [`Coding::Whole`], every record whole (the scan after a lost
+//!   report), targets up to 60 m/s and ages past 128 scans;
 //! - the scan's frames as the session sends them: the plots in parts (each answered, the
 //!   last by the gates in parts), the assignments in parts (the last answered by the
-//!   track states in parts).
+//!   track states in parts), parts filled as the device fills them.
 //!
 //! A UART frame of 8N1 is ten bits a byte.
 
 use std::ops::Range;
 
 use tracker_core::frame;
+use tracker_core::icd::records::{self, GateOnGrid, GateReference, StateOnGrid};
+use tracker_core::icd::varint::Writer;
 use tracker_core::icd::{
-    Assignment, AssignmentBatch, DeviceToHost, GatedBatch, GatedPlots, Header, HostToDevice,
-    PlotBatch, TrackBatch, TrackState, TrackStatus, MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES,
-    MAX_GATES_PER_MESSAGE, MAX_PLOTS_PER_MESSAGE, MAX_TRACKS_PER_MESSAGE, PROTOCOL_VERSION,
+    AssignmentBatch, Bytes, DeviceToHost, GatedBatch, Header, HostToDevice, PlotBatch, TrackBatch,
+    TrackStatus, MAX_ASSIGNMENT_BYTES, MAX_ENCODED_FRAME_BYTES, MAX_PLOTS_PER_MESSAGE,
+    MAX_PLOT_BYTES, MAX_RECORD_BYTES, PROTOCOL_VERSION,
 };
 use tracker_core::track::MAX_TRACKS;
 use tracker_core::tracker::MAX_PLOTS_PER_SCAN;
@@ -38,6 +44,15 @@ pub const SCAN_PERIOD_S: f64 = 2.5;
 /// traffic.
 pub const LINE_SHARE: f64 = 0.5;
 
+/// How the scan's gates and states are coded.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Coding {
+    /// Against the base: the host holds the last report (every scan but one after a loss).
+    Base,
+    /// Whole records: the scan after a report the host did not get, or its first.
+    Whole,
+}
+
 /// Bytes of one frame carrying `body` (header, CRC, COBS and the delimiter included).
 fn frame_bytes<T: serde::Serialize>(body: &T) -> usize {
     let header = Header {
@@ -45,9 +60,8 @@ fn frame_bytes<T: serde::Serialize>(body: &T) -> usize {
         // Past the two-byte varints, as after an hour of scans.
         request_id: 20_000,
     };
-    let mut scratch = [0u8; MAX_FRAME_BYTES];
     let mut out = [0u8; MAX_ENCODED_FRAME_BYTES];
-    frame::encode(&header, body, &mut scratch, &mut out).expect("a part fits a frame")
+    frame::encode(&header, body, &mut out).expect("a part fits a frame")
 }
 
 /// Position `i` of a picture: 10–100 km from the origin, both coordinates three bytes.
@@ -56,92 +70,165 @@ fn position_m(i: usize) -> [f32; 2] {
     [x, -x - 3.0]
 }
 
-/// `items` split at `per` a part, as the session splits a scan's messages: (part, parts,
-/// the part's items); at least one part, an empty one for no items.
+/// `items` split at `per` a part, as the session splits a scan's plots: (part, parts, the
+/// part's items); at least one part, an empty one for no items.
 fn in_parts(items: usize, per: usize) -> impl Iterator<Item = (u8, u8, Range<usize>)> {
     let parts = items.div_ceil(per).max(1);
     (0..parts).map(move |p| (p as u8, parts as u8, p * per..items.min((p + 1) * per)))
 }
 
-/// Bytes on the wire, both ways, for one scan of `tracks` tracks and `plots` plots.
-pub fn scan_bytes(tracks: usize, plots: usize) -> usize {
+/// Bytes of a report whose records `write` writes (record `i` after record `i - 1`'s
+/// track), in parts filled as the device fills them: a record goes into the part while
+/// `room` bytes are left.
+fn report_bytes(
+    records: usize,
+    room: usize,
+    write: impl Fn(&mut Writer<'_>, usize),
+    message: impl Fn(u8, bool, &[u8]) -> usize,
+) -> usize {
+    let mut bytes = 0;
+    let (mut i, mut part) = (0, 0u8);
+    loop {
+        let mut buf = [0u8; MAX_RECORD_BYTES];
+        let mut w = Writer::new(&mut buf);
+        while i < records && w.room() >= room {
+            write(&mut w, i);
+            i += 1;
+        }
+        let last = i >= records;
+        bytes += message(part, last, w.written());
+        if last {
+            return bytes;
+        }
+        part += 1;
+    }
+}
+
+/// Bytes on the wire, both ways, for one busy scan of `tracks` tracks and `plots` plots,
+/// its records coded as `coding`.
+pub fn scan_bytes_coded(tracks: usize, plots: usize, coding: Coding) -> usize {
     let scan = 5_000u32;
     let time_ms = 12_500_000u64;
+    let base_scan = (coding == Coding::Base).then_some(scan - 1);
     let mut bytes = 0;
     // Plots out, in parts; each part but the last answered by an acknowledgement.
+    let all_plots: Vec<[f32; 2]> = (0..plots).map(position_m).collect();
     for (part, parts, range) in in_parts(plots, MAX_PLOTS_PER_MESSAGE) {
-        bytes += frame_bytes(&HostToDevice::Plots(PlotBatch {
+        let mut buf = [0u8; MAX_PLOT_BYTES];
+        let head = PlotBatch {
             scan,
             time_ms,
             part,
             parts,
-            plots_m: range.map(position_m).collect(),
-        }));
+            base_scan,
+            plots: Bytes(&[]),
+        };
+        let batch = PlotBatch::pack(head, &all_plots[range], &mut buf);
+        bytes += frame_bytes(&HostToDevice::Plots(batch));
         if part + 1 < parts {
             bytes += frame_bytes(&DeviceToHost::Ack);
         }
     }
-    // The rough gates back.
+    // The rough gates back, every track with two plots (none without plots).
     let track_number = |i: usize| 200 + i as u16;
     let plot_index = |i: usize| (i % plots.max(1)) as u16;
-    for (part, parts, range) in in_parts(tracks, MAX_GATES_PER_MESSAGE) {
-        let gates = range
-            .map(|i| GatedPlots {
+    let gated = if plots == 0 { 0 } else { tracks };
+    let at = |i: usize| records::tenths(position_m(i));
+    bytes += report_bytes(
+        gated,
+        records::MAX_GATE_RECORD_BYTES,
+        |w, i| {
+            let p = at(i);
+            let gate = GateOnGrid {
                 track: track_number(i),
-                predicted_m: position_m(i),
-                innovation_cov_m2: [3600.0, 900.0, 5000.0],
                 plots: [plot_index(2 * i), plot_index(2 * i + 1)]
                     .into_iter()
                     .take(plots.min(2))
                     .collect(),
-            })
-            .collect();
-        bytes += frame_bytes(&DeviceToHost::Gated(GatedBatch {
-            scan,
-            part,
-            parts,
-            gates,
-        }));
-    }
+                predicted_tenths: [p[0] + 30, p[1] - 30],
+                cholesky_tenths: [600, 150, 707],
+            };
+            let reference = match coding {
+                Coding::Base => GateReference {
+                    moved_on: Some(p),
+                    cholesky_tenths: Some([650, 150, 657]),
+                },
+                Coding::Whole => GateReference::default(),
+            };
+            let prev = if i == 0 { 0 } else { track_number(i - 1) };
+            records::write_gate(w, prev, &gate, reference, at(2 * i % plots.max(1)));
+        },
+        |part, last, gates| {
+            frame_bytes(&DeviceToHost::Gated(GatedBatch {
+                scan,
+                part,
+                last,
+                base_scan,
+                live_tracks: tracks as u16,
+                gates: Bytes(gates),
+            }))
+        },
+    );
     // Assignments out: every track updated, free slots filled from the other plots.
-    let updates: Vec<Assignment> = (0..tracks.min(plots))
-        .map(|i| Assignment {
-            track: track_number(i),
-            plot: Some(plot_index(i)),
-        })
+    let updates: Vec<(u16, u16)> = (0..tracks.min(plots))
+        .map(|i| (track_number(i), plot_index(i)))
         .collect();
     let initiate: Vec<u16> = (tracks..plots)
         .take(MAX_TRACKS - tracks.min(MAX_TRACKS))
         .map(|i| i as u16)
         .collect();
-    let assign: Vec<AssignmentBatch> = AssignmentBatch::parts(scan, &updates, &initiate).collect();
-    for (part, batch) in assign.iter().enumerate() {
-        bytes += frame_bytes(&HostToDevice::Assign(batch.clone()));
-        if part + 1 < assign.len() {
+    let parts = AssignmentBatch::parts(updates.len(), initiate.len());
+    for part in 0..parts {
+        let mut buf = [0u8; MAX_ASSIGNMENT_BYTES];
+        let batch = AssignmentBatch::pack(scan, (part, parts), &updates, &initiate, &mut buf);
+        bytes += frame_bytes(&HostToDevice::Assign(batch));
+        if part + 1 < parts {
             bytes += frame_bytes(&DeviceToHost::Ack);
         }
     }
-    // The track states back, the new tracks among them.
-    let reported = (tracks + initiate.len()).min(MAX_TRACKS);
-    for (part, parts, range) in in_parts(reported, MAX_TRACKS_PER_MESSAGE) {
-        let states = range
-            .map(|i| TrackState {
+    // The track states back (the tracks started this scan have one hit: not reported).
+    let dt_s = records::interval_s(time_ms - 2_500, time_ms);
+    bytes += report_bytes(
+        tracks,
+        records::MAX_STATE_RECORD_BYTES,
+        |w, i| {
+            let p = at(i);
+            let base = StateOnGrid {
                 track: track_number(i),
                 status: TrackStatus::Confirmed,
-                position_m: position_m(i),
-                velocity_mps: [-60.0, 45.0],
+                position_tenths: p,
+                velocity_hundredths: [-6_000, 4_500],
                 age_scans: 1_000,
                 hit_history: 0x3ff,
-            })
-            .collect();
-        bytes += frame_bytes(&DeviceToHost::Tracks(TrackBatch {
-            scan,
-            part,
-            parts,
-            tracks: states,
-        }));
-    }
+            };
+            let moved = base.moved_on(dt_s);
+            let now = StateOnGrid {
+                position_tenths: [moved[0] + 400, moved[1] - 400],
+                velocity_hundredths: [-6_080, 4_580],
+                age_scans: 1_001,
+                ..base
+            };
+            let prev = if i == 0 { 0 } else { track_number(i - 1) };
+            let with = (coding == Coding::Base).then_some(&base);
+            records::write_state(w, prev, &now, true, with, dt_s);
+        },
+        |part, last, states| {
+            frame_bytes(&DeviceToHost::Tracks(TrackBatch {
+                scan,
+                part,
+                last,
+                base_scan,
+                states: Bytes(states),
+            }))
+        },
+    );
     bytes
+}
+
+/// Bytes on the wire, both ways, for one busy scan of `tracks` tracks and `plots` plots in
+/// the steady state ([`Coding::Base`]).
+pub fn scan_bytes(tracks: usize, plots: usize) -> usize {
+    scan_bytes_coded(tracks, plots, Coding::Base)
 }
 
 /// Bytes a scan may take on a UART at `baud` with [`LINE_SHARE`] of the line.
@@ -185,6 +272,17 @@ pub fn report(bauds: &[u32]) -> String {
         }
         s.push('\n');
     }
+    let _ = writeln!(
+        s,
+        "the same with every record whole (the scan after a lost report):"
+    );
+    for t in [0usize, 16, 40, MAX_TRACKS] {
+        let _ = write!(s, "{t:>7}");
+        for p in plot_counts {
+            let _ = write!(s, " {:>10}", scan_bytes_coded(t, p, Coding::Whole));
+        }
+        s.push('\n');
+    }
     for &baud in bauds {
         let allowed = bytes_per_scan_allowed(baud);
         let _ = writeln!(
@@ -223,9 +321,10 @@ mod tests {
         assert!(scan_bytes(0, 0) > 0);
         assert!(scan_bytes(40, 100) > scan_bytes(40, 50));
         assert!(scan_bytes(40, 100) > scan_bytes(16, 100));
+        assert!(scan_bytes_coded(40, 100, Coding::Whole) > scan_bytes(40, 100));
         // Deterministic counts of this protocol version; a change to the wire shows here.
-        assert_eq!(scan_bytes(40, 200), 3_341);
-        assert_eq!(scan_bytes(MAX_TRACKS, MAX_PLOTS_PER_SCAN), 4_204);
+        assert_eq!(scan_bytes(40, 200), 2_223);
+        assert_eq!(scan_bytes(MAX_TRACKS, MAX_PLOTS_PER_SCAN), 3_071);
     }
 
     #[test]

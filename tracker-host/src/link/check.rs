@@ -9,11 +9,11 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Context};
 use tracker_core::frame;
 use tracker_core::icd::{
-    DeviceToHost, ErrorCode, Header, HostToDevice, MAX_ECHO_BYTES, MAX_ENCODED_FRAME_BYTES,
-    MAX_FRAME_BYTES, PROTOCOL_VERSION,
+    Bytes, ErrorCode, Header, HostToDevice, MAX_ECHO_BYTES, MAX_ENCODED_FRAME_BYTES,
+    PROTOCOL_VERSION,
 };
 
-use crate::link::Client;
+use crate::link::{Client, Reply};
 
 /// Options of the check.
 #[derive(Clone, Debug)]
@@ -78,7 +78,7 @@ impl LinkCheckReport {
     }
 }
 
-fn echo_payload(rng: &mut fastrand::Rng, len: usize) -> heapless::Vec<u8, MAX_ECHO_BYTES> {
+fn echo_payload(rng: &mut fastrand::Rng, len: usize) -> Vec<u8> {
     // Zeros are common so COBS has work to do.
     (0..len)
         .map(|_| if rng.u8(..4) == 0 { 0 } else { rng.u8(..) })
@@ -95,8 +95,8 @@ fn good_echo(
     let payload = echo_payload(rng, len);
     report.good_sent += 1;
     let start = Instant::now();
-    match client.request(&HostToDevice::Echo(payload.clone())) {
-        Ok(DeviceToHost::Echo(back)) if back == payload => {
+    match client.request(&HostToDevice::Echo(Bytes(&payload))) {
+        Ok(Reply::Echo(back)) if back == payload => {
             report.rtts.push(start.elapsed());
             report.good_returned += 1;
             true
@@ -127,7 +127,7 @@ fn bad_cases(client: &mut Client, rng: &mut fastrand::Rng) -> anyhow::Result<Vec
         request_id: c.allocate_id(),
     };
     let h = header(client);
-    let good = client.encode(&h, &HostToDevice::Echo(echo_payload(rng, 300)))?;
+    let good = client.encode(&h, &HostToDevice::Echo(Bytes(&echo_payload(rng, 300))))?;
     let mut cases = Vec::new();
 
     // A flipped bit in the middle of a frame: CRC (or COBS, if it hits a length byte).
@@ -179,10 +179,9 @@ fn bad_cases(client: &mut Client, rng: &mut fastrand::Rng) -> anyhow::Result<Vec
         },
     });
     // A message index no version of ours has used, in an otherwise perfect frame.
-    let mut scratch = vec![0u8; MAX_FRAME_BYTES];
     let mut out = vec![0u8; MAX_ENCODED_FRAME_BYTES];
     let h = header(client);
-    let n = frame::encode(&h, &250u32, &mut scratch, &mut out)?;
+    let n = frame::encode(&h, &250u32, &mut out)?;
     let mut unknown = vec![0];
     unknown.extend_from_slice(&out[..n]);
     cases.push(BadCase {
@@ -220,7 +219,7 @@ pub fn run(client: &mut Client, opts: &LinkCheckOptions) -> anyhow::Result<LinkC
     }
 
     let stats_before = match client.request(&HostToDevice::GetStats)? {
-        DeviceToHost::Stats(s) => s,
+        Reply::Stats(s) => s,
         other => bail!("GetStats answered {other:?}"),
     };
     for case in bad_cases(client, &mut rng)? {
@@ -229,7 +228,7 @@ pub fn run(client: &mut Client, opts: &LinkCheckOptions) -> anyhow::Result<LinkC
         // The error reply arrives before the reply to the good frame that follows.
         let deadline = Instant::now() + client.timeout;
         match client.next_frame(deadline)? {
-            Some((_, DeviceToHost::Error(code))) if (case.expect)(code) => {
+            Some((_, Reply::Error(code))) if (case.expect)(code) => {
                 report.bad_rejected += 1;
             }
             other => report.failures.push(format!(
@@ -245,7 +244,7 @@ pub fn run(client: &mut Client, opts: &LinkCheckOptions) -> anyhow::Result<LinkC
         }
     }
     let stats = match client.request(&HostToDevice::GetStats)? {
-        DeviceToHost::Stats(s) => s,
+        Reply::Stats(s) => s,
         other => bail!("GetStats answered {other:?}"),
     };
     let rejected = stats.rejected().wrapping_sub(stats_before.rejected()) as usize;

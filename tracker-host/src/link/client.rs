@@ -9,16 +9,16 @@ use std::time::{Duration, Instant};
 use anyhow::bail;
 use tracker_core::frame::{self, FrameDecoder, FrameError};
 use tracker_core::icd::{
-    DeviceToHost, Header, HostToDevice, MAX_ENCODED_FRAME_BYTES, MAX_FRAME_BYTES, PROTOCOL_VERSION,
+    DeviceToHost, Header, HostToDevice, MAX_ENCODED_FRAME_BYTES, PROTOCOL_VERSION,
     UNPAIRED_REQUEST_ID,
 };
 
+use super::reply::{DeviceInfo, Reply};
 use super::transport::Transport;
 
-/// What arrived on the link (short-lived: moved straight into the caller's hands).
-#[allow(clippy::large_enum_variant)]
+/// What arrived on the link.
 enum Incoming {
-    Frame(Header, DeviceToHost),
+    Frame(Header, Reply),
     Damaged,
     Timeout,
 }
@@ -90,7 +90,6 @@ pub struct Client {
     /// Times a request is sent again when its answer is lost.
     pub retries: u32,
     stats: ClientStats,
-    scratch: Vec<u8>,
     out: Vec<u8>,
     last_wait: LastWait,
 }
@@ -113,7 +112,6 @@ impl Client {
             timeout: Duration::from_secs(5),
             retries: 5,
             stats: ClientStats::default(),
-            scratch: vec![0; MAX_FRAME_BYTES],
             out: vec![0; MAX_ENCODED_FRAME_BYTES + 1],
             last_wait: LastWait::Damaged,
         }
@@ -143,7 +141,7 @@ impl Client {
     /// [`FrameError::BufferTooSmall`] for a message larger than a frame.
     pub fn encode(&mut self, header: &Header, body: &HostToDevice) -> Result<Vec<u8>, FrameError> {
         self.out[0] = 0;
-        let n = frame::encode(header, body, &mut self.scratch, &mut self.out[1..])?;
+        let n = frame::encode(header, body, &mut self.out[1..])?;
         Ok(self.out[..n + 1].to_vec())
     }
 
@@ -163,7 +161,7 @@ impl Client {
     ///
     /// # Errors
     /// As [`Client::request_all`].
-    pub fn request(&mut self, body: &HostToDevice) -> Result<DeviceToHost, RequestError> {
+    pub fn request(&mut self, body: &HostToDevice) -> Result<Reply, RequestError> {
         self.request_all(body)?
             .into_iter()
             .next()
@@ -180,7 +178,7 @@ impl Client {
     ///
     /// # Errors
     /// [`RequestError::Timeout`] or [`RequestError::Lost`] once the retries are spent, [`RequestError::Io`] when the transport fails, [`RequestError::Encode`] for a message that cannot be encoded.
-    pub fn request_all(&mut self, body: &HostToDevice) -> Result<Vec<DeviceToHost>, RequestError> {
+    pub fn request_all(&mut self, body: &HostToDevice) -> Result<Vec<Reply>, RequestError> {
         let id = self.allocate_id();
         let header = Header {
             protocol: PROTOCOL_VERSION,
@@ -189,7 +187,7 @@ impl Client {
         let bytes = self.encode(&header, body).map_err(RequestError::Encode)?;
         // Parts received so far, by index: a retry is answered with the same parts, so
         // parts from an earlier attempt still count.
-        let mut parts: Vec<Option<DeviceToHost>> = Vec::new();
+        let mut parts: Vec<Option<Reply>> = Vec::new();
         let mut attempt = 0;
         let mut timed_out = false;
         loop {
@@ -212,40 +210,45 @@ impl Client {
         }
     }
 
-    /// Collects the answer to request `id` into `parts` until every part is in.
+    /// Collects the answer to request `id` into `parts` until every part is in: the last
+    /// part, and each one before it.
     fn collect(
         &mut self,
         id: u32,
-        parts: &mut Vec<Option<DeviceToHost>>,
-    ) -> Result<Vec<DeviceToHost>, RequestError> {
+        parts: &mut Vec<Option<Reply>>,
+    ) -> Result<Vec<Reply>, RequestError> {
         let deadline = Instant::now() + self.timeout;
         loop {
             match self.next_event(deadline)? {
                 Incoming::Frame(h, reply) if h.request_id == id => {
-                    let (part, of) = match &reply {
-                        DeviceToHost::Gated(g) => (usize::from(g.part), usize::from(g.parts)),
-                        DeviceToHost::Tracks(t) => (usize::from(t.part), usize::from(t.parts)),
-                        _ => (0, 1),
-                    };
-                    // A report in no parts, or a part past its count, is no answer: ask
-                    // again (a retry gets the device's report afresh).
-                    if of == 0 || part >= of {
+                    let (part, last) = reply.part();
+                    let part = usize::from(part);
+                    // A part past the last one already in is no answer: ask again (a retry
+                    // gets the device's report afresh).
+                    let known_last = parts
+                        .iter()
+                        .rposition(|p| p.as_ref().is_some_and(|r| r.part().1));
+                    if known_last.is_some_and(|k| part > k) || (last && part + 1 < parts.len()) {
                         self.stats.frames_damaged += 1;
+                        parts.clear();
                         return Err(RequestError::Lost);
                     }
-                    if parts.len() != of {
-                        parts.clear();
-                        parts.resize(of, None);
+                    if parts.len() <= part {
+                        parts.resize(part + 1, None);
                     }
                     if let Some(slot) = parts.get_mut(part) {
                         *slot = Some(reply);
                     }
-                    if parts.iter().all(Option::is_some) {
+                    let complete = parts
+                        .last()
+                        .is_some_and(|p| p.as_ref().is_some_and(|r| r.part().1))
+                        && parts.iter().all(Option::is_some);
+                    if complete {
                         return Ok(parts.drain(..).flatten().collect());
                     }
                 }
                 // The device could not read a frame: most likely ours.
-                Incoming::Frame(h, DeviceToHost::Error(_)) if is_unpaired(&h) => {
+                Incoming::Frame(h, Reply::Error(_)) if is_unpaired(&h) => {
                     self.stats.unmatched += 1;
                     return Err(RequestError::Lost);
                 }
@@ -256,6 +259,12 @@ impl Client {
                 }
                 Incoming::Timeout => {
                     self.last_wait = LastWait::TimedOut;
+                    // Some of a report came and the rest did not: lost on the way (the
+                    // device is not silent), as a damaged part would be.
+                    if parts.iter().any(Option::is_some) {
+                        self.stats.frames_damaged += 1;
+                        return Err(RequestError::Lost);
+                    }
                     return Err(RequestError::Timeout);
                 }
             }
@@ -270,7 +279,7 @@ impl Client {
     pub fn next_frame(
         &mut self,
         deadline: Instant,
-    ) -> Result<Option<(Header, DeviceToHost)>, RequestError> {
+    ) -> Result<Option<(Header, Reply)>, RequestError> {
         loop {
             match self.next_event(deadline)? {
                 Incoming::Frame(h, body) => return Ok(Some((h, body))),
@@ -286,16 +295,18 @@ impl Client {
             while let Some(b) = self.inbox.pop_front() {
                 match self.decoder.push(b) {
                     None => {}
-                    Some(Ok(payload)) => match frame::decode_payload(payload, u32::MAX) {
-                        Ok((h, body)) => {
-                            self.stats.frames_received += 1;
-                            return Ok(Incoming::Frame(h, body));
+                    Some(Ok(payload)) => {
+                        match frame::decode_payload::<DeviceToHost>(payload, u32::MAX) {
+                            Ok((h, body)) => {
+                                self.stats.frames_received += 1;
+                                return Ok(Incoming::Frame(h, Reply::from(body)));
+                            }
+                            Err(_) => {
+                                self.stats.frames_damaged += 1;
+                                return Ok(Incoming::Damaged);
+                            }
                         }
-                        Err(_) => {
-                            self.stats.frames_damaged += 1;
-                            return Ok(Incoming::Damaged);
-                        }
-                    },
+                    }
                     Some(Err(_)) => {
                         self.stats.frames_damaged += 1;
                         return Ok(Incoming::Damaged);
@@ -345,7 +356,7 @@ impl Client {
     ///
     /// # Errors
     /// No answer, another protocol version, or a refusal.
-    pub fn hello(&mut self) -> anyhow::Result<tracker_core::icd::DeviceInfo> {
+    pub fn hello(&mut self) -> anyhow::Result<DeviceInfo> {
         let retries = self.retries;
         self.retries = self.retries.max(HELLO_ATTEMPTS - 1);
         let answer = self
@@ -353,13 +364,13 @@ impl Client {
             .and_then(|()| self.request(&HostToDevice::Hello));
         self.retries = retries;
         match answer? {
-            DeviceToHost::HelloAck(info) if info.protocol == PROTOCOL_VERSION => Ok(info),
-            DeviceToHost::HelloAck(info) => bail!(
+            Reply::HelloAck(info) if info.protocol == PROTOCOL_VERSION => Ok(info),
+            Reply::HelloAck(info) => bail!(
                 "device speaks protocol {}, this host {}",
                 info.protocol,
                 PROTOCOL_VERSION
             ),
-            DeviceToHost::Error(e) => bail!("device refused the handshake: {e:?}"),
+            Reply::Error(e) => bail!("device refused the handshake: {e:?}"),
             other => bail!("unexpected handshake reply: {other:?}"),
         }
     }
@@ -389,11 +400,9 @@ mod tests {
         let mut c = Client::new(Box::new(InprocTransport::new()));
         let info = c.hello().unwrap();
         assert_eq!(info.protocol, PROTOCOL_VERSION);
-        let body = HostToDevice::Echo((0..=255u8).collect());
-        let HostToDevice::Echo(sent) = body.clone() else {
-            unreachable!()
-        };
-        assert_eq!(c.request(&body).unwrap(), DeviceToHost::Echo(sent));
+        let sent: Vec<u8> = (0..=255u8).collect();
+        let body = HostToDevice::Echo(tracker_core::icd::Bytes(&sent));
+        assert_eq!(c.request(&body).unwrap(), Reply::Echo(sent));
     }
 
     /// The device in this process, answering `delay` late.

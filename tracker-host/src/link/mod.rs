@@ -8,18 +8,21 @@
 //! | [`qemu`] | the firmware under `qemu-system-arm` |
 //! | [`faults`] | a transport that damages bytes on purpose (tests, `--byte-errors`) |
 //! | [`client`] | requests, replies, retries with the request id |
+//! | [`reply`] | the device's replies, owned |
 //! | [`check`] | `link-check`: handshake, echoes of every size, bad input rejected |
 
 pub mod check;
 pub mod client;
 pub mod faults;
 pub mod qemu;
+pub mod reply;
 pub mod transport;
 
 use std::fmt;
 use std::str::FromStr;
 
 pub use client::{Client, ClientStats, RequestError};
+pub use reply::{DeviceInfo, Reply, ReportPart};
 pub use transport::{InprocReset, InprocTransport, SerialTransport, TcpTransport, Transport};
 
 /// Where the firmware runs, as given to `--link`.

@@ -86,9 +86,7 @@ impl Transport for InprocTransport {
             .lock()
             .map_err(|_| io::Error::other("in-process device poisoned"))?;
         let Inproc { device, outbox } = &mut *guard;
-        for &b in bytes {
-            device.receive(b, &mut |reply| outbox.extend(reply));
-        }
+        device.receive(bytes, &mut |reply| outbox.extend(reply));
         Ok(())
     }
 

@@ -4,15 +4,20 @@
 //! gone at once, then a new boot id in the handshake), configured again and its targets
 //! re-acquired; a restarted host re-attaches to the live track table.
 
+use std::collections::HashMap;
+
 use anyhow::{bail, Context};
 use tracker_core::geo::EastNorth;
+use tracker_core::icd::records::{self, GateReference, StateOnGrid};
+use tracker_core::icd::varint::Reader;
 use tracker_core::icd::{
-    Assignment, AssignmentBatch, DeviceInfo, DeviceToHost, ErrorCode, GatedPlots, HostToDevice,
-    PlotBatch, TrackCommand, TrackState, TrackStatus, TrackerConfig, MAX_PLOTS_PER_MESSAGE,
+    AssignmentBatch, Bytes, ErrorCode, GatedPlots, HostToDevice, PlotBatch, TrackCommand,
+    TrackState, TrackStatus, TrackerConfig, MAX_ASSIGNMENT_BYTES, MAX_PLOTS_PER_MESSAGE,
+    MAX_PLOT_BYTES,
 };
 
 use super::associate::Associated;
-use crate::link::{Client, InprocTransport};
+use crate::link::{Client, DeviceInfo, InprocTransport, Reply, ReportPart};
 
 /// The tracker device at the other end of the link.
 pub struct DeviceLink {
@@ -23,7 +28,33 @@ pub struct DeviceLink {
     max_tracks: usize,
     /// Track numbers in the device's last report (to notice them all gone at once).
     last_tracks: Vec<u16>,
+    /// The device's last report as held here: the base of the next scan's records.
+    held: Held,
     events: Vec<String>,
+}
+
+/// What the host holds of the device's last whole report ([`tracker_core::icd::records`]):
+/// the states it carried and the factors of the gates sent at its scan. The device codes
+/// the next scan's gates and states against it when the host names it.
+#[derive(Clone, Debug, Default)]
+struct Held {
+    /// The report's scan, and that scan's time (ms).
+    scan: Option<(u32, u64)>,
+    states: HashMap<u16, StateOnGrid>,
+    factors: HashMap<u16, [i32; 3]>,
+}
+
+impl Held {
+    /// The base a reply says its records are coded against, if it is the one held.
+    fn base(&self, named: Option<u32>) -> Result<Option<(u32, u64)>, InvalidReport> {
+        match (named, self.scan) {
+            (None, _) => Ok(None),
+            (Some(n), Some((scan, t))) if n == scan => Ok(Some((scan, t))),
+            (Some(n), _) => Err(InvalidReport(format!(
+                "records coded against scan {n}'s report, which the host does not hold"
+            ))),
+        }
+    }
 }
 
 /// The device answered a request with an error: it refused it, its state unchanged.
@@ -146,6 +177,7 @@ impl DeviceLink {
             boot_id: info.boot_id,
             max_tracks: usize::from(info.max_tracks),
             last_tracks: Vec::new(),
+            held: Held::default(),
             events: Vec::new(),
         };
         device.configure()?;
@@ -234,6 +266,9 @@ impl DeviceLink {
         plots: &[EastNorth],
         associate: &impl Fn(&[GatedPlots]) -> Associated,
     ) -> anyhow::Result<(Associated, Vec<TrackState>)> {
+        // The base is what was held when the scan began; whatever goes wrong from here, the
+        // next scan asks for whole records.
+        let held = std::mem::take(&mut self.held);
         // Plots, in parts; the last part's answer is the rough gates.
         let chunks: Vec<&[EastNorth]> = if plots.is_empty() {
             vec![&[]]
@@ -241,20 +276,23 @@ impl DeviceLink {
             plots.chunks(MAX_PLOTS_PER_MESSAGE).collect()
         };
         let parts = u8::try_from(chunks.len()).context("too many plot parts")?;
-        let mut gates: Vec<GatedPlots> = Vec::new();
+        let mut gate_parts: Vec<ReportPart> = Vec::new();
         for (i, chunk) in chunks.iter().enumerate() {
-            let batch = PlotBatch {
+            let mut buf = [0u8; MAX_PLOT_BYTES];
+            let head = PlotBatch {
                 scan,
                 time_ms,
                 part: i as u8,
                 parts,
-                plots_m: chunk.iter().copied().collect(),
+                base_scan: held.scan.map(|(s, _)| s),
+                plots: Bytes(&[]),
             };
+            let batch = PlotBatch::pack(head, chunk, &mut buf);
             for reply in self.client.request_all(&HostToDevice::Plots(batch))? {
                 match reply {
-                    DeviceToHost::Ack => {}
-                    DeviceToHost::Gated(g) => gates.extend(g.gates),
-                    DeviceToHost::Error(code) => {
+                    Reply::Ack => {}
+                    Reply::Gated(g) => gate_parts.push(g),
+                    Reply::Error(code) => {
                         return Err(Refused {
                             what: "plots",
                             code,
@@ -265,38 +303,54 @@ impl DeviceLink {
                 }
             }
         }
+        let plot_tenths: Vec<[i32; 2]> = plots.iter().map(|&p| records::tenths(p)).collect();
+        let (gates, factors, live) = decode_gates(&held, &gate_parts, &plot_tenths, time_ms)?;
         check_gates(&gates, plots.len(), self.max_tracks)?;
         // Every track gone at once: the device was probably reset (or its table cleared).
-        let known = |id: &u16| gates.iter().any(|g| g.track == *id);
-        if !self.last_tracks.is_empty() && !self.last_tracks.iter().any(known) {
+        if !self.last_tracks.is_empty() && live == 0 {
             return Err(TracksGone.into());
         }
         let association = associate(&gates);
-        let tracks = self.send_assignments(scan, &association)?;
+        let state_parts = self.send_assignments(scan, &association)?;
+        let states = decode_states(&held, &state_parts, time_ms)?;
+        let tracks: Vec<TrackState> = states.iter().map(StateOnGrid::state).collect();
         check_tracks(&tracks, self.max_tracks)?;
         self.last_tracks = tracks
             .iter()
             .filter(|t| t.status != TrackStatus::Lost)
             .map(|t| t.track)
             .collect();
+        let report_scan = state_parts.first().map_or(scan, |p| p.scan);
+        self.held = Held {
+            scan: Some((report_scan, time_ms)),
+            // A lost track is reported once: it is no one's base.
+            states: states
+                .into_iter()
+                .filter(|s| s.status != TrackStatus::Lost)
+                .map(|s| (s.track, s))
+                .collect(),
+            factors,
+        };
         Ok((association, tracks))
     }
 
-    fn send_assignments(&mut self, scan: u32, a: &Associated) -> anyhow::Result<Vec<TrackState>> {
+    fn send_assignments(&mut self, scan: u32, a: &Associated) -> anyhow::Result<Vec<ReportPart>> {
         // The device coasts every track not named: only the updates go on the wire.
-        let updates: Vec<Assignment> = a
+        let updates: Vec<(u16, u16)> = a
             .assignments
             .iter()
-            .filter(|x| x.plot.is_some())
-            .copied()
+            .filter_map(|x| x.plot.map(|p| (x.track, p)))
             .collect();
-        let mut tracks = Vec::new();
-        for batch in AssignmentBatch::parts(scan, &updates, &a.initiate) {
+        let parts = AssignmentBatch::parts(updates.len(), a.initiate.len());
+        let mut states = Vec::new();
+        for part in 0..parts {
+            let mut buf = [0u8; MAX_ASSIGNMENT_BYTES];
+            let batch = AssignmentBatch::pack(scan, (part, parts), &updates, &a.initiate, &mut buf);
             for reply in self.client.request_all(&HostToDevice::Assign(batch))? {
                 match reply {
-                    DeviceToHost::Ack => {}
-                    DeviceToHost::Tracks(t) => tracks.extend(t.tracks),
-                    DeviceToHost::Error(code) => {
+                    Reply::Ack => {}
+                    Reply::Tracks(t) => states.push(t),
+                    Reply::Error(code) => {
                         return Err(Refused {
                             what: "assignments",
                             code,
@@ -307,7 +361,7 @@ impl DeviceLink {
                 }
             }
         }
-        Ok(tracks)
+        Ok(states)
     }
 
     /// After a refused request: handshakes again, and if the device has a new boot id it
@@ -327,6 +381,7 @@ impl DeviceLink {
         ));
         self.boot_id = info.boot_id;
         self.last_tracks.clear();
+        self.held = Held::default();
         self.configure()?;
         Ok(true)
     }
@@ -345,6 +400,7 @@ impl DeviceLink {
         client.timeout = timeout;
         client.retries = retries;
         let info: DeviceInfo = client.hello().context("handshake after the host restart")?;
+        self.held = Held::default();
         self.events.push(format!(
             "host restarted: re-attached to {} (boot id {:#010x})",
             info.firmware, info.boot_id
@@ -354,22 +410,96 @@ impl DeviceLink {
                 .push("the firmware was reset meanwhile".to_string());
             self.boot_id = info.boot_id;
         }
-        let mut tracks = Vec::new();
+        let mut parts = Vec::new();
         for reply in client.request_all(&HostToDevice::GetTracks)? {
             match reply {
-                DeviceToHost::Tracks(t) => tracks.extend(t.tracks),
+                Reply::Tracks(t) => parts.push(t),
                 other => bail!("track report answered {other:?}"),
             }
         }
         self.client = client;
-        Ok(tracks)
+        // Whole records: nothing held is needed to read them (the time is not used).
+        let states = decode_states(&Held::default(), &parts, 0)?;
+        Ok(states.iter().map(StateOnGrid::state).collect())
     }
 }
 
-fn expect_ack(reply: DeviceToHost, what: &'static str) -> anyhow::Result<()> {
+/// A scan's gates as the host reads them: the gates, the Cholesky factors they sent by
+/// track (the next base's), and the device's track count.
+type Gates = (Vec<GatedPlots>, HashMap<u16, [i32; 3]>, u16);
+
+/// The gates of a scan's gate report, decoded against `held` and the scan's plots (tenths).
+fn decode_gates(
+    held: &Held,
+    parts: &[ReportPart],
+    plot_tenths: &[[i32; 2]],
+    time_ms: u64,
+) -> Result<Gates, InvalidReport> {
+    let mut gates = Vec::new();
+    let mut factors = HashMap::new();
+    let mut live = 0;
+    for part in parts {
+        live = part.live_tracks;
+        let base = held.base(part.base_scan)?;
+        let dt_s = base.map_or(0.0, |(_, t)| records::interval_s(t, time_ms));
+        let reference = |track: u16| match base {
+            Some(_) => GateReference {
+                moved_on: held.states.get(&track).map(|s| s.moved_on(dt_s)),
+                cholesky_tenths: held.factors.get(&track).copied(),
+            },
+            None => GateReference::default(),
+        };
+        let plot = |i: u16| plot_tenths.get(usize::from(i)).copied();
+        let mut r = Reader::new(&part.records);
+        let mut prev = 0;
+        while !r.is_empty() {
+            let g = records::read_gate(&mut r, prev, reference, plot).map_err(|_| {
+                InvalidReport(format!("scan {}: a gate record does not decode", part.scan))
+            })?;
+            prev = g.track;
+            factors.insert(g.track, g.cholesky_tenths);
+            gates.push(g.gated());
+        }
+    }
+    Ok((gates, factors, live))
+}
+
+/// The states of a state report, decoded against `held`.
+fn decode_states(
+    held: &Held,
+    parts: &[ReportPart],
+    time_ms: u64,
+) -> Result<Vec<StateOnGrid>, InvalidReport> {
+    let mut states = Vec::new();
+    for part in parts {
+        let base = held.base(part.base_scan)?;
+        let dt_s = base.map_or(0.0, |(_, t)| records::interval_s(t, time_ms));
+        let mut r = Reader::new(&part.records);
+        let mut prev = 0;
+        while !r.is_empty() {
+            let s = records::read_state(
+                &mut r,
+                prev,
+                |track| base.and(held.states.get(&track).copied()),
+                dt_s,
+            )
+            .map_err(|_| {
+                InvalidReport(format!(
+                    "scan {}: a state record does not decode",
+                    part.scan
+                ))
+            })?;
+            prev = s.track;
+            states.push(s);
+        }
+    }
+    Ok(states)
+}
+
+fn expect_ack(reply: Reply, what: &'static str) -> anyhow::Result<()> {
     match reply {
-        DeviceToHost::Ack => Ok(()),
-        DeviceToHost::Error(code) => Err(Refused { what, code }.into()),
+        Reply::Ack => Ok(()),
+        Reply::Error(code) => Err(Refused { what, code }.into()),
         other => bail!("{what}: the device answered {other:?}"),
     }
 }
