@@ -206,15 +206,16 @@ fn filter_costs_are_within_budget() {
     // these bounds fail if the table stops using it).
     assert!(growth("scan-64-tracks-64-plots-alpha-beta") <= 45_500.0);
     assert!(growth("scan-64-tracks-64-plots-alpha-beta-gamma") <= 46_500.0);
-    // Plot extraction per 1,024-sample spoke (bench-radar): its RAM, and its cost held
-    // where it was measured (266,199), so a change that slows it shows here.
+    // Plot extraction per 1,024-sample spoke (bench-radar): its RAM (measured 18,696 B with
+    // the echoes), and its cost held where it was measured (291,418), so a change that slows
+    // it shows here.
     let extract = rows
         .iter()
         .find(|r| r.name == "extract-spoke-1024")
         .expect("extraction row");
-    assert!(extract.ram_bytes <= 9 * 1024, "{} B", extract.ram_bytes);
+    assert!(extract.ram_bytes <= 19 * 1024, "{} B", extract.ram_bytes);
     assert!(
-        extract.instructions_per_call <= 290_000.0,
+        extract.instructions_per_call <= 315_000.0,
         "{}",
         extract.instructions_per_call
     );

@@ -64,7 +64,16 @@ pub(crate) struct Blob {
     heading_sum: f32,
     relative: bool,
     partial: bool,
+    /// For a CFAR blob: the echo it lies in (a slot of the extractor's echoes), or
+    /// `u16::MAX` for none. For an echo: unused.
+    pub echo: u16,
+    /// For an echo: the CFAR blobs of a plot's size that closed inside it. For a CFAR blob:
+    /// unused.
+    pub detections: u16,
 }
+
+/// A blob's [`Blob::echo`] when it lies in no echo being followed.
+pub(crate) const NO_ECHO: u16 = u16::MAX;
 
 impl Blob {
     /// A blob of one run.
@@ -87,6 +96,8 @@ impl Blob {
             heading_sum: 0.0,
             relative: false,
             partial: false,
+            echo: NO_ECHO,
+            detections: 0,
         };
         b.add(ctx, run);
         b
@@ -154,6 +165,15 @@ impl Blob {
         self.cell_sum += other.cell_sum;
         self.relative |= other.relative;
         self.partial |= other.partial;
+        self.detections = self.detections.saturating_add(other.detections);
+        if self.echo == NO_ECHO {
+            self.echo = other.echo;
+        }
+    }
+
+    /// Cells added (detected cells of a CFAR blob, cells of an echo).
+    pub fn cells(&self) -> u32 {
+        self.cells
     }
 
     /// Spokes from the first to the last, inclusive.
@@ -180,15 +200,16 @@ impl Blob {
         };
         let spokes = self.spokes();
         let angular_extent_rad = spokes as f32 * rad_per_spoke;
+        let range_cells = self
+            .max_cell
+            .saturating_sub(self.min_cell)
+            .saturating_add(1);
         RadarPlot {
             range_m,
             bearing_rad,
             relative_bearing,
-            range_extent_m: f32::from(
-                self.max_cell
-                    .saturating_sub(self.min_cell)
-                    .saturating_add(1),
-            ) * geometry.sample_m,
+            range_extent_m: f32::from(range_cells) * geometry.sample_m,
+            range_cells,
             angular_extent_rad,
             cross_range_m: angular_extent_rad * range_m,
             peak: self.peak,
@@ -199,6 +220,7 @@ impl Blob {
                 .time0_ms
                 .saturating_add(self.time_sum / self.sum.max(1)),
             partial: self.partial,
+            detections: self.detections.max(1),
         }
     }
 }
@@ -213,8 +235,10 @@ pub struct RadarPlot {
     pub bearing_rad: f32,
     /// The blob was on head-up spokes without own heading: the bearing is from the bow.
     pub relative_bearing: bool,
-    /// From the nearest detected cell to the farthest, m.
+    /// From the nearest cell to the farthest, m.
     pub range_extent_m: f32,
+    /// The same in range cells (samples): the extent in the radar's own resolution.
+    pub range_cells: u16,
     /// From the first spoke to the last, rad.
     pub angular_extent_rad: f32,
     /// The angular extent at the centroid's range, m (a point target's is about the
@@ -224,7 +248,8 @@ pub struct RadarPlot {
     pub peak: u8,
     /// Sum of the detected samples, sample levels (saturates).
     pub strength: u32,
-    /// Detected cells.
+    /// Cells: of the echo (samples at or above the echo threshold) for a plot measured on
+    /// its echo, detected cells for one measured on its CFAR blob alone.
     pub cells: u32,
     /// Spokes from the first to the last.
     pub spokes: u32,
@@ -234,6 +259,9 @@ pub struct RadarPlot {
     /// It may miss cells: it touched the first spoke after a start or restart, was cut by
     /// a restart or a gap of missing spokes, or was closed for covering a whole rotation.
     pub partial: bool,
+    /// CFAR detections (blobs of a plot's size) it holds: 1 or more for an echo, 1 for a
+    /// plot measured on its CFAR blob alone.
+    pub detections: u16,
 }
 
 impl RadarPlot {

@@ -4,6 +4,8 @@
 //!   them;
 //! - [`cfar`]: the detector along one spoke (ordered-statistic CFAR);
 //! - [`blob`]: detections connected across spokes, and the plot a closed one measures;
+//! - [`echo`]: the echo threshold, by which an echo's whole extent around its detections
+//!   is measured;
 //! - [`extract`]: the [`Extractor`], spokes in, plots and extended returns out;
 //! - [`config`]: its settings, with defaults per radar;
 //! - `synthetic` (feature `sim`): a synthetic radar that paints the simulator's targets,
@@ -12,6 +14,7 @@
 pub mod blob;
 pub mod cfar;
 pub mod config;
+pub mod echo;
 pub mod extract;
 pub mod spoke;
 #[cfg(feature = "sim")]
