@@ -13,13 +13,18 @@
 //!
 //! ## Life cycle
 //!
-//! A new track is *tentative*. It is *confirmed* when it has plots on 3 of its last 4 scans
-//! (M of N), and dropped as soon as it can no longer get there (2 misses in its last 4). A
-//! confirmed track is *coasting* on a scan without a plot, and is reported *lost* once and
-//! removed after [`LOST_AFTER_COASTS`] scans in a row without one. (It was 5 hits of the
-//! last 10 until the Stone Soup comparison, docs/stonesoup.md: that rule drops the track of
-//! a ship whose echo merges with a neighbour's on most scans, and the ship then goes
-//! untracked for minutes; misses in a row is what Stone Soup's deleter counts.)
+//! A new track is *tentative*. It is *confirmed* on its [`CONFIRM_M`]th plot (the one that
+//! started it counts), and dropped on [`TENTATIVE_LOST_AFTER_COASTS`] scans in a row
+//! without a plot: hit, miss, hit, miss, hit confirms on the fifth scan. A confirmed track
+//! is *coasting* on a scan without a plot, and is reported *lost* once and removed after
+//! [`LOST_AFTER_COASTS`] scans in a row without one. Both rules count misses in a row, as
+//! Stone Soup's `MultiMeasurementInitiator(min_points=3)` with `UpdateTimeStepsDeleter(2)`
+//! for its holding tracks and `UpdateTimeStepsDeleter(6)` for its tracks do
+//! (docs/stonesoup.md). Until that comparison a confirmed track was lost on 5 hits of its
+//! last 10 scans, which drops the track of a ship whose echo merges with a neighbour's on
+//! most scans, and a tentative track needed plots on 3 of its last 4 scans (and went at 8
+//! scans old): hit, miss, hit, miss, hit never confirmed, and the target waited for two
+//! plots in a row.
 
 use heapless::Vec;
 
@@ -45,10 +50,10 @@ use crate::spatial::EastIndex;
 /// Tracks the table holds.
 pub const MAX_TRACKS: usize = 64;
 
-/// Confirmation: hits on `CONFIRM_M` of the last `CONFIRM_N` scans.
+/// A tentative track is confirmed on this many plots, the one that started it included.
 pub const CONFIRM_M: u32 = 3;
-/// See [`CONFIRM_M`].
-pub const CONFIRM_N: u32 = 4;
+/// A tentative track is dropped after this many scans in a row without a plot.
+pub const TENTATIVE_LOST_AFTER_COASTS: u8 = 2;
 /// A confirmed track is lost after this many scans in a row without a plot (15 s at a
 /// 2.5 s scan).
 pub const LOST_AFTER_COASTS: u8 = 6;
@@ -719,12 +724,14 @@ impl Nearest {
 fn next_status(t: &Track) -> Option<TrackStatus> {
     Some(match t.status {
         TrackStatus::Tentative => {
-            let window = u32::from(t.age_scans).min(CONFIRM_N);
-            let hits = t.hits_in_last(window);
+            if t.coasts >= TENTATIVE_LOST_AFTER_COASTS {
+                return None;
+            }
+            // Every plot since it started: never two misses in a row, so it is confirmed or
+            // gone by 2·CONFIRM_M − 1 scans old, well inside the history's KEEP_N bits.
+            let hits = t.hits_in_last(u32::from(t.age_scans).min(KEEP_N));
             if hits >= CONFIRM_M {
                 TrackStatus::Confirmed
-            } else if t.coasts >= 2 || u32::from(t.age_scans) >= 2 * CONFIRM_N {
-                return None;
             } else {
                 TrackStatus::Tentative
             }
@@ -839,9 +846,34 @@ mod tests {
         scan(&mut t, 0, &[[5000.0, 5000.0]]);
         assert_eq!(t.tracks()[0].status, TrackStatus::Tentative);
         scan(&mut t, 2500, &[]);
-        assert_eq!(t.tracks().len(), 1, "one miss: 3 of 4 still possible");
+        assert_eq!(t.tracks().len(), 1, "one miss: kept");
         scan(&mut t, 5000, &[]);
-        assert!(t.tracks().is_empty(), "two misses: dropped");
+        assert!(t.tracks().is_empty(), "two misses in a row: dropped");
+    }
+
+    #[test]
+    fn a_tentative_track_is_confirmed_on_its_third_plot_unless_it_misses_twice_in_a_row() {
+        let at = |k: u64| [2000.0 + 4.0 * 2.5 * k as f32, 700.0];
+        // Hit, miss, hit, miss, hit: confirmed on the fifth scan, tentative before.
+        let mut t = table();
+        for k in 0..5u64 {
+            let plots = if k % 2 == 0 { vec![at(k)] } else { vec![] };
+            scan(&mut t, k * 2500, &plots);
+            let want = if k == 4 {
+                TrackStatus::Confirmed
+            } else {
+                TrackStatus::Tentative
+            };
+            assert_eq!(t.tracks()[0].status, want, "scan {k}");
+        }
+        // Hit, hit, miss, miss: dropped with two plots.
+        let mut t = table();
+        scan(&mut t, 0, &[at(0)]);
+        scan(&mut t, 2500, &[at(1)]);
+        scan(&mut t, 5000, &[]);
+        assert_eq!(t.tracks()[0].status, TrackStatus::Tentative);
+        scan(&mut t, 7500, &[]);
+        assert!(t.tracks().is_empty());
     }
 
     #[test]
