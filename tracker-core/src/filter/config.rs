@@ -176,7 +176,7 @@ impl FilterConfig {
     /// | SSWT | M = 4, α-β start α = 0.5 (Benedict–Bordner) |
     /// | CV Kalman | CWNA, q = 0.05 m²/s³, r = σ² |
     /// | CA Kalman | CWNJ, q = 0.001 m²/s⁵, r = σ² |
-    /// | GRNN | teaching sequences 10 and 45 scans, σ from the measured noise |
+    /// | GRNN | teaching sequences 10 and 45 scans, σ from the measured noise, the residual manoeuvre detector |
     /// | IMM | CV q = 0.005 m²/s³, CA q = 0.03 m²/s⁵, sojourns 300 s (CV) and 5 s (CA), acceleration σ₀ = 1 m/s² (chosen on `compare`'s turn study) |
     ///
     /// Numbers are given as `f32` and widened, as the device has always received them, so
