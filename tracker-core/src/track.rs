@@ -15,7 +15,8 @@
 //!
 //! A new track is *tentative*. It is *confirmed* on its [`CONFIRM_M`]th plot (the one that
 //! started it counts), and dropped on [`TENTATIVE_LOST_AFTER_COASTS`] scans in a row
-//! without a plot: hit, miss, hit, miss, hit confirms on the fifth scan. A confirmed track
+//! without a plot: hit, miss, hit, miss, hit confirms on the fifth scan, as long as the
+//! track's speed is one a target can have ([`CONFIRM_SPEED_FACTOR`]). A confirmed track
 //! is *coasting* on a scan without a plot, and is reported *lost* once and removed after
 //! [`LOST_AFTER_COASTS`] scans in a row without one. Both rules count misses in a row, as
 //! Stone Soup's `MultiMeasurementInitiator(min_points=3)` with `UpdateTimeStepsDeleter(2)`
@@ -54,6 +55,10 @@ pub const MAX_TRACKS: usize = 64;
 pub const CONFIRM_M: u32 = 3;
 /// A tentative track is dropped after this many scans in a row without a plot.
 pub const TENTATIVE_LOST_AFTER_COASTS: u8 = 2;
+/// A tentative track is confirmed only while its speed is at most this many times the
+/// fastest target's ([`TrackerConfig::max_speed_mps`]): three clutter plots in a new
+/// track's wide gates can make a track at 50 m/s.
+pub const CONFIRM_SPEED_FACTOR: f32 = 1.5;
 /// A confirmed track is lost after this many scans in a row without a plot (15 s at a
 /// 2.5 s scan).
 pub const LOST_AFTER_COASTS: u8 = 6;
@@ -544,6 +549,7 @@ impl TrackTable {
         }
         let mut failed: Vec<u16, MAX_TRACKS> = Vec::new();
         let all_predicted = self.all_predicted;
+        let max_speed_mps = self.config.max_speed_mps;
         for (t, &p) in self.tracks.iter_mut().zip(plot_of.iter()) {
             // Not predicted for this scan (see `all_predicted`): updated in place, or left.
             let in_place = !all_predicted && t.time_ms != open_ms;
@@ -571,7 +577,7 @@ impl TrackTable {
                     report.coasted += 1;
                 }
             }
-            match next_status(t) {
+            match next_status(t, max_speed_mps) {
                 Some(status) => t.status = status,
                 None => {
                     let _ = failed.push(t.id);
@@ -720,8 +726,9 @@ impl Nearest {
 }
 
 /// The life-cycle rule: the track's next status, or `None` when a tentative track can no
-/// longer be confirmed and goes.
-fn next_status(t: &Track) -> Option<TrackStatus> {
+/// longer be confirmed and goes. A tentative track is confirmed only at a speed a target
+/// can have: at most [`CONFIRM_SPEED_FACTOR`] times `max_speed_mps`.
+fn next_status(t: &Track, max_speed_mps: f32) -> Option<TrackStatus> {
     Some(match t.status {
         TrackStatus::Tentative => {
             if t.coasts >= TENTATIVE_LOST_AFTER_COASTS {
@@ -730,7 +737,10 @@ fn next_status(t: &Track) -> Option<TrackStatus> {
             // Every plot since it started: never two misses in a row, so it is confirmed or
             // gone by 2·CONFIRM_M − 1 scans old, well inside the history's KEEP_N bits.
             let hits = t.hits_in_last(u32::from(t.age_scans).min(KEEP_N));
-            if hits >= CONFIRM_M {
+            let [vx, vy] = t.filter.estimate().velocity_mps;
+            let limit = CONFIRM_SPEED_FACTOR * max_speed_mps;
+            // `<=` with NaN is false: no confirmation on a speed that is not a number.
+            if hits >= CONFIRM_M && vx * vx + vy * vy <= limit * limit {
                 TrackStatus::Confirmed
             } else {
                 TrackStatus::Tentative
