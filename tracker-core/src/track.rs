@@ -92,7 +92,7 @@ pub enum TrackFilter {
     KalmanCa(KalmanCa<f32>),
     /// GRNN.
     Grnn(GrnnFilter<f32>),
-    /// IMM (CV + CA).
+    /// IMM (CV, CA and settling CV).
     Imm(Imm<f32>),
 }
 
