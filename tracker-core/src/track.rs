@@ -737,10 +737,13 @@ fn next_status(t: &Track, max_speed_mps: f32) -> Option<TrackStatus> {
             // Every plot since it started: never two misses in a row, so it is confirmed or
             // gone by 2·CONFIRM_M − 1 scans old, well inside the history's KEEP_N bits.
             let hits = t.hits_in_last(u32::from(t.age_scans).min(KEEP_N));
-            let [vx, vy] = t.filter.estimate().velocity_mps;
-            let limit = CONFIRM_SPEED_FACTOR * max_speed_mps;
-            // `<=` with NaN is false: no confirmation on a speed that is not a number.
-            if hits >= CONFIRM_M && vx * vx + vy * vy <= limit * limit {
+            let plausible = || {
+                let [vx, vy] = t.filter.estimate().velocity_mps;
+                let limit = CONFIRM_SPEED_FACTOR * max_speed_mps;
+                // `<=` with NaN is false: no confirmation on a speed that is not a number.
+                vx * vx + vy * vy <= limit * limit
+            };
+            if hits >= CONFIRM_M && plausible() {
                 TrackStatus::Confirmed
             } else {
                 TrackStatus::Tentative
