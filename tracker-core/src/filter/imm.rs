@@ -422,9 +422,10 @@ impl<S: Real> Filter<S> for Imm<S> {
         self.innovation
     }
 
-    /// True while the CA mode is the most probable.
+    /// True while the straight-leg mode is the less probable: the target is manoeuvring or
+    /// settling after a manoeuvre.
     fn manoeuvring(&self) -> bool {
-        self.mu[CA] > self.mu[CV] && self.mu[CA] > self.mu[SETTLE]
+        self.mu[CV] < self.mu[CA] + self.mu[SETTLE]
     }
 
     fn innovation_covariance(&self) -> Option<[S; 3]> {

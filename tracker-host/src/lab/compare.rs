@@ -64,7 +64,7 @@ pub struct FilterScore {
 }
 
 /// A manoeuvre detector's scores: the GRNN's two (paper 003), or the IMM's (a manoeuvre
-/// while the CA mode is the more probable).
+/// while the straight-leg mode is the less probable).
 #[derive(Clone, Debug)]
 pub struct DetectorScore {
     /// Whose.
