@@ -11,7 +11,8 @@ For each scenario and seed this script
    R = 40^2 m^2, chi-square 99 % gate, GNN, 3-hit confirmation, see docs/stonesoup.md);
 3. scores both trackers with the same code: OSPA and GOSPA (c = 500 m, p = 2, alpha = 2)
    between the truth targets in radar range (0.2 NM <= range <= 12 NM from own ship) and
-   the confirmed + coasting tracks, untracked target-scans, confirmed tracks; and checks
+   the confirmed + coasting tracks, untracked target-scans, track swaps (our scorer's rule),
+   confirmed tracks; and checks
    that this OSPA/GOSPA of our tracks agrees with our tracker's own `ospa_per_scan_m`.
 
 It prints a Markdown table (and writes it to `--markdown`, if given) and writes every
@@ -55,6 +56,7 @@ MAX_RANGE_M = 12.0 * NM_M
 OSPA_C_M = 500.0
 OSPA_P = 2.0
 FOLLOW_RADIUS_M = 300.0
+SWAP_MARGIN_M = 100.0  # tracker-host/src/score/mod.rs MATCH_RADIUS_M, SWAP_MARGIN_M
 SHOWN = ("confirmed", "coasting")
 
 # Our models (tracker-host/src/session/mod.rs PLOT_SIGMA_M, tracker-core FilterConfig::tracking,
@@ -179,13 +181,40 @@ def follows(targets, tracks, radius=FOLLOW_RADIUS_M):
     return {targets[i][0] for i, j in zip(rows, cols) if d[i, j] <= radius}
 
 
+def swaps_scan(targets, tracks, last):
+    """Track swaps this scan, by our scorer's rule (tracker-host/src/score/mod.rs): a track
+    stays with the target it followed while that one is within FOLLOW_RADIUS_M and no other
+    is nearer by more than SWAP_MARGIN_M, else it follows the nearest within the radius; a
+    change of target is a swap. `last` (track -> target) is updated."""
+    n = 0
+    pos = {tid: (e, n_) for tid, e, n_, _ in targets}
+    for track, e, n_ in tracks:
+        near = [(math.hypot(e - te, n_ - tn), tid) for tid, (te, tn) in pos.items()]
+        near = [x for x in near if x[0] <= FOLLOW_RADIUS_M]
+        if not near:
+            continue
+        d_near, nearest = min(near)
+        prev = last.get(track)
+        if prev in pos:
+            d_prev = math.hypot(e - pos[prev][0], n_ - pos[prev][1])
+            if d_prev <= FOLLOW_RADIUS_M and d_prev <= d_near + SWAP_MARGIN_M:
+                continue
+        if prev is not None and prev != nearest:
+            n += 1
+        last[track] = nearest
+    return n
+
+
 def score(truth, tracks_by_scan):
-    """Per-scan OSPA/GOSPA and the untracked target-scans of one tracker's shown tracks."""
+    """Per-scan OSPA/GOSPA, the untracked target-scans and the track swaps of one
+    tracker's shown tracks."""
     ospa, gospa = [], []
     ever_followed = set()
     untracked = 0
+    swaps, last = 0, {}
     for scan, targets in enumerate(truth):
         tracks = tracks_by_scan.get(scan, [])
+        swaps += swaps_scan(targets, tracks, last)
         xs = [(e, n) for _, e, n, r in targets if r]
         ys = [(e, n) for _, e, n in tracks]
         o, g = set_distance(xs, ys)
@@ -205,6 +234,7 @@ def score(truth, tracks_by_scan):
         "ospa_per_scan_m": ospa,
         "gospa_per_scan_m": gospa,
         "untracked_target_scans": untracked,
+        "track_swaps": swaps,
     }
 
 
@@ -411,6 +441,7 @@ def main():
                 run[a] = {
                     "ospa_mean_m": s["ospa_mean_m"], "gospa_mean_m": s["gospa_mean_m"],
                     "untracked_target_scans": s["untracked_target_scans"],
+                    "track_swaps": s["track_swaps"],
                     "confirmed_tracks": len(ever), "time_s": o["time_s"],
                     "own": {k: js[k] for k in ("ospa_mean_m", "gospa_mean_m",
                                                "untracked_target_scans", "confirmed_tracks",
@@ -428,6 +459,7 @@ def main():
             run["stonesoup"] = {"ospa_mean_m": s["ospa_mean_m"],
                                 "gospa_mean_m": s["gospa_mean_m"],
                                 "untracked_target_scans": s["untracked_target_scans"],
+                                "track_swaps": s["track_swaps"],
                                 "confirmed_tracks": ss_n, "time_s": ss_time}
             results["runs"].append(run)
             print(f"{scenario} seed {seed}: OSPA {run['two-stage']['ospa_mean_m']:.1f} / "
@@ -451,8 +483,8 @@ def markdown(results):
         "Each cell: ours two-stage / ours joint / Stone Soup.",
         "",
         "| scenario | seed | OSPA mean, m | GOSPA mean, m | untracked target-scans "
-        "| confirmed tracks | time per run, s |",
-        "|---|---|---|---|---|---|---|",
+        "| track swaps | confirmed tracks | time per run, s |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     tot = defaultdict(list)
 
@@ -460,7 +492,8 @@ def markdown(results):
         return " / ".join(fmt.format(run[a][key]) for a in names)
 
     keys = (("ospa_mean_m", "{:.1f}"), ("gospa_mean_m", "{:.1f}"),
-            ("untracked_target_scans", "{:d}"), ("confirmed_tracks", "{:d}"),
+            ("untracked_target_scans", "{:d}"), ("track_swaps", "{:d}"),
+            ("confirmed_tracks", "{:d}"),
             ("time_s", "{:.2f}"))
     for run in results["runs"]:
         lines.append(f"| {run['scenario']} | {run['seed']} | " +
@@ -481,8 +514,8 @@ def markdown(results):
         "",
         "| scenario | seed | association | OSPA here / own, m | GOSPA here / own, m "
         "| max per-scan OSPA diff, m | max per-scan GOSPA diff, m | untracked here / own "
-        "| plots & truth same for both rules |",
-        "|---|---|---|---|---|---|---|---|---|",
+        "| swaps here / own | plots & truth same for both rules |",
+        "|---|---|---|---|---|---|---|---|---|---|",
     ]
     for run in results["runs"]:
         for a in ("two-stage", "joint"):
@@ -494,6 +527,7 @@ def markdown(results):
                 f"| {r['ospa_max_abs_diff_per_scan_m']:.2g} "
                 f"| {r['gospa_max_abs_diff_per_scan_m']:.2g} "
                 f"| {r['untracked_target_scans']} / {r['own']['untracked_target_scans']} "
+                f"| {r['track_swaps']} / {r['own']['track_swaps']} "
                 f"| {'yes' if run['same_plots_and_truth'] else 'no'} |")
     return "\n".join(lines) + "\n"
 

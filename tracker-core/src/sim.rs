@@ -98,6 +98,11 @@ pub enum ScenarioKind {
     /// Every target in a crossing pair: the two pass 0.2–0.6 NM apart 2–6 minutes in, at
     /// crossing angles from 20° to 160°.
     Crossing,
+    /// Every target in a merging pair: one ship overtakes another on a course along the line
+    /// of sight, 52–158 m abeam (more than the plots' noise, inside one bearing cell 4–7 NM
+    /// out), so the two share a resolution cell for a minute or more (the radar gives one
+    /// plot for both) and draw apart again; abeam 150–300 s in, both on steady courses.
+    Merging,
 }
 
 /// Scenario parameters.
@@ -242,13 +247,16 @@ impl Scenario {
         let own = Ship::new(0, [0.0, 0.0], config.own_course_rad, config.own_speed_mps);
         let mut targets: Vec<Ship, MAX_TARGETS> = Vec::new();
         let n = config.targets.min(MAX_TARGETS);
-        let crossing = match config.kind {
+        let paired = match config.kind {
             ScenarioKind::OpenSea => n / 4 * 2,
-            ScenarioKind::Crossing => n / 2 * 2,
+            ScenarioKind::Crossing | ScenarioKind::Merging => n / 2 * 2,
         };
         let mut id = 1u16;
-        while (targets.len()) < crossing {
-            let [a, b] = crossing_pair(&mut rng, &own, id);
+        while (targets.len()) < paired {
+            let [a, b] = match config.kind {
+                ScenarioKind::Merging => merging_pair(&mut rng, &own, id),
+                _ => crossing_pair(&mut rng, &own, id),
+            };
             let _ = targets.push(a);
             let _ = targets.push(b);
             id += 2;
@@ -484,6 +492,53 @@ fn bearing_error(rng: &mut Pcg32, s: &SensorModel) -> f32 {
     e
 }
 
+/// True when targets at `a` and `b` (m, local frame) lie in one resolution cell of `sensor`
+/// seen from own ship at `own_m`: closer than [`SensorModel::range_resolution_m`] in range
+/// and [`SensorModel::bearing_resolution_rad`] in bearing, by their true positions. (A scan
+/// compares the first one's measured plot with the second's true position.)
+pub fn in_one_cell(sensor: &SensorModel, own_m: EastNorth, a: EastNorth, b: EastNorth) -> bool {
+    let (ra, ba) = geo::range_bearing(own_m, a);
+    let (rb, bb) = geo::range_bearing(own_m, b);
+    (ra - rb).abs() < sensor.range_resolution_m
+        && geo::wrap_pi(ba - bb).abs() < sensor.bearing_resolution_rad
+}
+
+/// Two targets on one course, the second overtaking the first ([`ScenarioKind::Merging`]):
+/// both head along the line of sight from own ship (±10°), 4–7 NM out when abeam, 150–300 s
+/// in; B passes A abeam at 0.4–0.7 of a bearing cell (52–158 m: more than the plots' noise,
+/// less than the cell) and 0.8–1.2 m/s faster, so the two share a cell while B is within a
+/// range cell of A, 40–60 s either side of abeam. A is the first, whose plot a merged echo
+/// gives; both steady, at 8–14 kn.
+fn merging_pair(rng: &mut Pcg32, own: &Ship, id: u16) -> [Ship; 2] {
+    let abeam_s = rng.random_range(150.0..300.0);
+    let own_then = [
+        own.position_m[0] + own.velocity_mps()[0] * abeam_s,
+        own.position_m[1] + own.velocity_mps()[1] * abeam_s,
+    ];
+    let range_m = rng.random_range(4.0..7.0) * METRES_PER_NM;
+    let bearing = rng.random_range(0.0..core::f32::consts::TAU);
+    let meet = geo::polar_to_local(own_then, range_m, bearing);
+    let deg = core::f32::consts::PI / 180.0;
+    let outbound = rng.random::<bool>();
+    let course = geo::wrap_2pi(
+        bearing
+            + if outbound { 0.0 } else { core::f32::consts::PI }
+            + rng.random_range(-10.0..10.0) * deg,
+    );
+    let speed_a = rng.random_range(8.0..14.0) * MPS_PER_KNOT;
+    let speed_b = speed_a + rng.random_range(0.8..1.2);
+    let side = if rng.random::<bool>() { 1.0 } else { -1.0 };
+    let abeam_m =
+        side * rng.random_range(0.4..0.7) * range_m * SensorModel::imo().bearing_resolution_rad;
+    let (s, c) = libm::sincosf(course);
+    let b_then = [meet[0] + abeam_m * c, meet[1] - abeam_m * s];
+    let start = |p: EastNorth, v: f32| [p[0] - v * s * abeam_s, p[1] - v * c * abeam_s];
+    [
+        Ship::new(id, start(meet, speed_a), course, speed_a),
+        Ship::new(id + 1, start(b_then, speed_b), course, speed_b),
+    ]
+}
+
 /// Two targets that pass 0.2–0.6 NM apart 2–6 minutes in, crossing at 20°–160°, steady.
 fn crossing_pair(rng: &mut Pcg32, own: &Ship, id: u16) -> [Ship; 2] {
     let meet_s = rng.random_range(120.0..360.0);
@@ -582,6 +637,51 @@ mod tests {
             (sigma - expected).abs() / expected < 0.05,
             "range sigma {sigma} vs {expected}"
         );
+    }
+
+    #[test]
+    fn merging_pairs_share_a_cell_then_separate() {
+        let cfg = ScenarioConfig {
+            kind: ScenarioKind::Merging,
+            ..ScenarioConfig::open_sea(12, 4)
+        };
+        let mut s = Scenario::new(cfg);
+        // Per pair: scans in one cell, the first and the last of them, and B's own plots
+        // while they share it.
+        let mut cell = [(0u32, u32::MAX, 0u32, 0u32); 6];
+        let mut last = std::vec::Vec::new();
+        for _ in 0..240 {
+            let out = s.next_scan();
+            for (k, pair) in out.truth.chunks(2).enumerate() {
+                let (a, b) = (pair[0], pair[1]);
+                if in_one_cell(&cfg.sensor, out.own_position_m, a.position_m, b.position_m) {
+                    let c = &mut cell[k];
+                    c.0 += 1;
+                    c.1 = c.1.min(out.scan);
+                    c.2 = out.scan;
+                    c.3 += u32::from(out.plot_source.contains(&Some(b.id)));
+                }
+            }
+            last = out.truth.to_vec();
+        }
+        for (k, &(scans, first, end, b_plots)) in cell.iter().enumerate() {
+            // One stretch of a minute or more, well after the start and before the end.
+            assert!(
+                scans >= 24 && end - first + 1 == scans,
+                "pair {k}: {:?}",
+                cell[k]
+            );
+            assert!(first >= 20 && end < 200, "pair {k}: {:?}", cell[k]);
+            // Mostly one plot: B shows on its own where A is not detected (P_d 0.9) or A's
+            // plot lands a range resolution off B (a scan compares A's measured plot).
+            assert!(b_plots * 2 < scans, "pair {k}: {b_plots} of {scans}");
+            // At the end they are apart.
+            let d = libm::hypotf(
+                last[2 * k].position_m[0] - last[2 * k + 1].position_m[0],
+                last[2 * k].position_m[1] - last[2 * k + 1].position_m[1],
+            );
+            assert!(d > 200.0, "pair {k}: {d} m apart at the end");
+        }
     }
 
     #[test]

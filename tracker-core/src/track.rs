@@ -13,13 +13,19 @@
 //!
 //! ## Life cycle
 //!
-//! A new track is *tentative*. It is *confirmed* when it has plots on 3 of its last 4 scans
-//! (M of N), and dropped as soon as it can no longer get there (2 misses in its last 4). A
-//! confirmed track is *coasting* on a scan without a plot, and is reported *lost* once and
-//! removed after [`LOST_AFTER_COASTS`] scans in a row without one. (It was 5 hits of the
-//! last 10 until the Stone Soup comparison, docs/stonesoup.md: that rule drops the track of
-//! a ship whose echo merges with a neighbour's on most scans, and the ship then goes
-//! untracked for minutes; misses in a row is what Stone Soup's deleter counts.)
+//! A new track is *tentative*. It is *confirmed* on its [`CONFIRM_M`]th plot (the one that
+//! started it counts), and dropped on [`TENTATIVE_LOST_AFTER_COASTS`] scans in a row
+//! without a plot: hit, miss, hit, miss, hit confirms on the fifth scan, as long as the
+//! track's speed is one a target can have ([`CONFIRM_SPEED_FACTOR`]). A confirmed track
+//! is *coasting* on a scan without a plot, and is reported *lost* once and removed after
+//! [`LOST_AFTER_COASTS`] scans in a row without one. Both rules count misses in a row, as
+//! Stone Soup's `MultiMeasurementInitiator(min_points=3)` with `UpdateTimeStepsDeleter(2)`
+//! for its holding tracks and `UpdateTimeStepsDeleter(6)` for its tracks do
+//! (docs/stonesoup.md). Until that comparison a confirmed track was lost on 5 hits of its
+//! last 10 scans, which drops the track of a ship whose echo merges with a neighbour's on
+//! most scans, and a tentative track needed plots on 3 of its last 4 scans (and went at 8
+//! scans old): hit, miss, hit, miss, hit never confirmed, and the target waited for two
+//! plots in a row.
 
 use heapless::Vec;
 
@@ -46,10 +52,14 @@ use crate::spatial::EastIndex;
 /// Tracks the table holds.
 pub const MAX_TRACKS: usize = 64;
 
-/// Confirmation: hits on `CONFIRM_M` of the last `CONFIRM_N` scans.
+/// A tentative track is confirmed on this many plots, the one that started it included.
 pub const CONFIRM_M: u32 = 3;
-/// See [`CONFIRM_M`].
-pub const CONFIRM_N: u32 = 4;
+/// A tentative track is dropped after this many scans in a row without a plot.
+pub const TENTATIVE_LOST_AFTER_COASTS: u8 = 2;
+/// A tentative track is confirmed only while its speed is at most this many times the
+/// fastest target's ([`TrackerConfig::max_speed_mps`]): three clutter plots in a new
+/// track's wide gates can make a track at 50 m/s.
+pub const CONFIRM_SPEED_FACTOR: f32 = 1.5;
 /// A confirmed track is lost after this many scans in a row without a plot (15 s at a
 /// 2.5 s scan).
 pub const LOST_AFTER_COASTS: u8 = 6;
@@ -83,7 +93,7 @@ pub enum TrackFilter {
     KalmanCa(KalmanCa<f32>),
     /// GRNN.
     Grnn(GrnnFilter<f32>),
-    /// IMM (CV + CA).
+    /// IMM (CV, CA and settling CV).
     Imm(Imm<f32>),
 }
 
@@ -619,6 +629,7 @@ impl TrackTable {
         let mut report = ApplyReport::default();
         let mut failed = 0u64;
         let all_predicted = self.all_predicted;
+        let max_speed_mps = self.config.max_speed_mps;
         // Lost tracks were reported once; now they go (whatever was assigned to them).
         let mut lost = 0u64;
         for (at, (&slot, &p)) in self.order.iter().zip(plot_of.iter()).enumerate() {
@@ -655,7 +666,7 @@ impl TrackTable {
                     report.coasted += 1;
                 }
             }
-            match next_status(t) {
+            match next_status(t, max_speed_mps) {
                 Some(status) => t.status = status,
                 None => failed |= 1 << at,
             }
@@ -890,16 +901,25 @@ impl Nearest {
 }
 
 /// The life-cycle rule: the track's next status, or `None` when a tentative track can no
-/// longer be confirmed and goes.
-fn next_status(t: &Track) -> Option<TrackStatus> {
+/// longer be confirmed and goes. A tentative track is confirmed only at a speed a target
+/// can have: at most [`CONFIRM_SPEED_FACTOR`] times `max_speed_mps`.
+fn next_status(t: &Track, max_speed_mps: f32) -> Option<TrackStatus> {
     Some(match t.status {
         TrackStatus::Tentative => {
-            let window = u32::from(t.age_scans).min(CONFIRM_N);
-            let hits = t.hits_in_last(window);
-            if hits >= CONFIRM_M {
-                TrackStatus::Confirmed
-            } else if t.coasts >= 2 || u32::from(t.age_scans) >= 2 * CONFIRM_N {
+            if t.coasts >= TENTATIVE_LOST_AFTER_COASTS {
                 return None;
+            }
+            // Every plot since it started: never two misses in a row, so it is confirmed or
+            // gone by 2·CONFIRM_M − 1 scans old, well inside the history's KEEP_N bits.
+            let hits = t.hits_in_last(u32::from(t.age_scans).min(KEEP_N));
+            let plausible = || {
+                let [vx, vy] = t.filter.estimate().velocity_mps;
+                let limit = CONFIRM_SPEED_FACTOR * max_speed_mps;
+                // `<=` with NaN is false: no confirmation on a speed that is not a number.
+                vx * vx + vy * vy <= limit * limit
+            };
+            if hits >= CONFIRM_M && plausible() {
+                TrackStatus::Confirmed
             } else {
                 TrackStatus::Tentative
             }
@@ -1080,9 +1100,34 @@ mod tests {
         scan(&mut t, 0, &[[5000.0, 5000.0]]);
         assert_eq!(t.track(0).unwrap().status, TrackStatus::Tentative);
         scan(&mut t, 2500, &[]);
-        assert_eq!(t.len(), 1, "one miss: 3 of 4 still possible");
+        assert_eq!(t.len(), 1, "one miss: kept");
         scan(&mut t, 5000, &[]);
-        assert!(t.is_empty(), "two misses: dropped");
+        assert!(t.is_empty(), "two misses in a row: dropped");
+    }
+
+    #[test]
+    fn a_tentative_track_is_confirmed_on_its_third_plot_unless_it_misses_twice_in_a_row() {
+        let at = |k: u64| [2000.0 + 4.0 * 2.5 * k as f32, 700.0];
+        // Hit, miss, hit, miss, hit: confirmed on the fifth scan, tentative before.
+        let mut t = table();
+        for k in 0..5u64 {
+            let plots = if k % 2 == 0 { vec![at(k)] } else { vec![] };
+            scan(&mut t, k * 2500, &plots);
+            let want = if k == 4 {
+                TrackStatus::Confirmed
+            } else {
+                TrackStatus::Tentative
+            };
+            assert_eq!(t.track(0).unwrap().status, want, "scan {k}");
+        }
+        // Hit, hit, miss, miss: dropped with two plots.
+        let mut t = table();
+        scan(&mut t, 0, &[at(0)]);
+        scan(&mut t, 2500, &[at(1)]);
+        scan(&mut t, 5000, &[]);
+        assert_eq!(t.track(0).unwrap().status, TrackStatus::Tentative);
+        scan(&mut t, 7500, &[]);
+        assert!(t.is_empty());
     }
 
     #[test]

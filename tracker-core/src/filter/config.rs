@@ -40,8 +40,8 @@ pub enum FilterKind {
     KalmanCa,
     /// GRNN neural filter with a manoeuvre detector (paper 003).
     Grnn,
-    /// Interacting multiple model: CV and CA Kalman filters mixed (Bar-Shalom et al. 2001,
-    /// §11.6.6).
+    /// Interacting multiple model: CV, CA and settling-CV Kalman filters mixed (Bar-Shalom
+    /// et al. 2001, §11.6.6).
     Imm,
 }
 
@@ -128,7 +128,7 @@ pub enum FilterConfig {
     KalmanCa(KalmanConfig),
     /// GRNN.
     Grnn(GrnnConfig),
-    /// IMM (CV + CA).
+    /// IMM (CV, CA and settling CV).
     Imm(ImmConfig),
 }
 
@@ -176,8 +176,8 @@ impl FilterConfig {
     /// | SSWT | M = 4, α-β start α = 0.5 (Benedict–Bordner) |
     /// | CV Kalman | CWNA, q = 0.05 m²/s³, r = σ² |
     /// | CA Kalman | CWNJ, q = 0.001 m²/s⁵, r = σ² |
-    /// | GRNN | teaching sequences 10 and 45 scans, σ from the measured noise |
-    /// | IMM | CV q = 0.005 m²/s³, CA q = 0.03 m²/s⁵, sojourns 300 s (CV) and 5 s (CA), acceleration σ₀ = 1 m/s² (chosen on `compare`'s turn study) |
+    /// | GRNN | teaching sequences 10 and 45 scans, σ from the measured noise, the residual manoeuvre detector |
+    /// | IMM | straight CV q = 0.001 m²/s³, CA q = 0.05 m²/s⁵, settling CV q = 0.05 m²/s³, mean sojourns 300, 3 and 10 s, acceleration σ₀ = 1 m/s² (chosen on `compare`'s turn study) |
     ///
     /// Numbers are given as `f32` and widened, as the device has always received them, so
     /// the device's gains are bit for bit those of earlier versions.
@@ -215,13 +215,15 @@ impl FilterConfig {
                 ..GrnnConfig::default()
             }),
             FilterKind::Imm => FilterConfig::Imm(ImmConfig {
-                q_cv: 0.005,
-                q_ca: 0.03,
+                q_cv: 0.001,
+                q_ca: 0.05,
+                q_settle: 0.05,
                 r,
                 p0_velocity: f64::from(max_speed_mps * max_speed_mps),
                 p0_acceleration: 1.0,
                 sojourn_cv_s: 300.0,
-                sojourn_ca_s: 5.0,
+                sojourn_ca_s: 3.0,
+                sojourn_settle_s: 10.0,
             }),
         }
     }

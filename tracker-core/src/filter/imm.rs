@@ -1,6 +1,7 @@
-//! Interacting multiple model (IMM) filter: a constant-velocity and a constant-acceleration
-//! Kalman filter run side by side, their estimates mixed every scan by how well each has
-//! been explaining the plots.
+//! Interacting multiple model (IMM) filter: three Kalman filters, a quiet constant-velocity
+//! one for straight legs, a constant-acceleration one for manoeuvres and a livelier
+//! constant-velocity one for settling onto the new course after them, run side by side and
+//! mixed every scan by how well each has been explaining the plots.
 //!
 //! The cycle is the IMM estimator of Bar-Shalom, Li & Kirubarajan, *Estimation with
 //! Applications to Tracking and Navigation*, Wiley 2001, §11.6.6 (Blom & Bar-Shalom, IEEE
@@ -11,20 +12,31 @@
 //! (4) mode probabilities μ_j = Λ_j·c̄_j / Σ_k Λ_k·c̄_k; (5) the combined estimate
 //! x̂ = Σ_j μ_j·x̂_j, which is what the track reports.
 //!
-//! **Why CV + CA, not CV + coordinated turn.** Both models are linear and keep the two
-//! axes apart, so the IMM is four small Kalman filters (per model, per axis: position,
-//! velocity, acceleration) and no trigonometry or Jacobian: cheap on the M4F. A
-//! coordinated-turn model with its turn rate estimated needs an extended Kalman filter over
-//! five coupled states; at 20–40 m plots every 2.5 s a ship's turn rate is barely
-//! observable before the turn is over, while the acceleration a turn causes (ω·v, 0.5 m/s²
-//! for 3°/s at 10 m/s) is what the CA model estimates directly. The CV model keeps
-//! straight legs as quiet as the CV Kalman filter (the same q); the CA model takes over
-//! within a few scans of a turn's start and hands back after it, which is what brings the
-//! course back quickly.
+//! **Why these models, not a coordinated turn.** All are linear and keep the two axes apart,
+//! so the IMM is six small Kalman filters (per model, per axis: position, velocity,
+//! acceleration) and no trigonometry or Jacobian: cheap on the M4F. A coordinated-turn
+//! model with its turn rate estimated needs an extended Kalman filter over five coupled
+//! states; at 20–40 m plots every 2.5 s a ship's turn rate is barely observable before the
+//! turn is over, while the acceleration a turn causes (ω·v, 0.5 m/s² for 3°/s at 10 m/s) is
+//! what the CA model estimates directly. (A CV + CT prototype, the turn rate a state and
+//! the CV model's taken as zero, did worse than CV + CA on the turn study: docs/tracking.md.)
+//!
+//! **Why a third model, and a cycle.** With CV + CA the course comes back quickly but
+//! overshoots (the CA model's acceleration outlives the turn), and the quiet CV model then
+//! takes a minute to take the overshoot out: in most of the runs where the course error is
+//! not back under 5° to stay within a minute of the turn's end it had first got under 5°
+//! within 15 s (docs/tracking.md). The *settling* model (CV with a larger q) is what a manoeuvre
+//! hands over to, and it hands over to the quiet model in turn: the modes form a cycle,
+//! straight → manoeuvre → settling → straight, the Markov chain of a ship that turns and
+//! then steadies on a new course. Its velocity follows the plots for the tens of seconds
+//! after the turn; the quiet model can then be quieter than the CV Kalman filter's
+//! (q = 0.001 m²/s³ against 0.05), which keeps a straight leg's course within a degree or
+//! two at 30 m noise.
 //!
 //! Mode switching is a Markov chain in continuous time: a model is left after a mean
-//! sojourn τ, so over a step of dt the probability of staying is p_ii = exp(−dt/τ_i) and
-//! any scan interval works. The CV model's acceleration is held at zero with zero variance.
+//! sojourn τ, so over a step of dt the probability of staying is p_ii = exp(−dt/τ_i); the
+//! rest goes to the next model in the cycle; any scan interval works. The CV models'
+//! acceleration is held at zero with zero variance.
 //! Log-likelihoods are normalised before exponentiating, so f32 never underflows, and each
 //! mode keeps at least [`MIN_MODE_PROBABILITY`] so neither is ever locked out.
 
@@ -39,18 +51,33 @@ use crate::scalar::Real;
 /// The mode probability neither model falls below.
 pub const MIN_MODE_PROBABILITY: f64 = 1e-3;
 
-/// The two models, in the order of every per-model array.
+/// The models, in the order of every per-model array: straight legs, manoeuvres, settling.
 const CV: usize = 0;
 const CA: usize = 1;
+const SETTLE: usize = 2;
+/// How many.
+const MODELS: usize = 3;
+
+/// The next model in the cycle: a mode is left for this one only.
+const fn next(m: usize) -> usize {
+    match m {
+        CV => CA,
+        CA => SETTLE,
+        _ => CV,
+    }
+}
 
 /// IMM parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
 pub struct ImmConfig {
-    /// CV model: continuous white-noise acceleration intensity, m²/s³.
+    /// CV model (straight legs): continuous white-noise acceleration intensity, m²/s³.
     pub q_cv: f64,
-    /// CA model: continuous white-noise jerk intensity, m²/s⁵.
+    /// CA model (manoeuvres): continuous white-noise jerk intensity, m²/s⁵.
     pub q_ca: f64,
+    /// Settling model (CV, after a manoeuvre): continuous white-noise acceleration
+    /// intensity, m²/s³.
+    pub q_settle: f64,
     /// Measurement noise variance per axis, m².
     pub r: f64,
     /// Initial velocity variance, m²/s².
@@ -61,6 +88,8 @@ pub struct ImmConfig {
     pub sojourn_cv_s: f64,
     /// Mean time in the CA model (a manoeuvre's length), s.
     pub sojourn_ca_s: f64,
+    /// Mean time in the settling model, s.
+    pub sojourn_settle_s: f64,
 }
 
 impl ImmConfig {
@@ -71,15 +100,16 @@ impl ImmConfig {
     /// [`FilterError::BadParameter`] otherwise.
     pub fn validate(&self) -> Result<(), FilterError> {
         let pos = |v: f64| v.is_finite() && v > 0.0;
-        let ok = self.q_cv.is_finite()
-            && self.q_cv >= 0.0
-            && self.q_ca.is_finite()
-            && self.q_ca >= 0.0
+        let q = |v: f64| v.is_finite() && v >= 0.0;
+        let ok = q(self.q_cv)
+            && q(self.q_ca)
+            && q(self.q_settle)
             && pos(self.r)
             && pos(self.p0_velocity)
             && pos(self.p0_acceleration)
             && pos(self.sojourn_cv_s)
-            && pos(self.sojourn_ca_s);
+            && pos(self.sojourn_ca_s)
+            && pos(self.sojourn_settle_s);
         FilterError::check(ok)
     }
 
@@ -89,19 +119,19 @@ impl ImmConfig {
     /// [`FilterError::BadParameter`] as [`ImmConfig::validate`].
     pub fn build<S: Real>(&self) -> Result<Imm<S>, FilterError> {
         self.validate()?;
-        // Start in the chain's stationary distribution: the fraction of time in each mode.
-        let cv = self.sojourn_cv_s / (self.sojourn_cv_s + self.sojourn_ca_s);
+        // Start in the chain's stationary distribution: the fraction of time in each mode,
+        // which for a cycle is each mode's share of the mean sojourns.
+        let tau = [self.sojourn_cv_s, self.sojourn_ca_s, self.sojourn_settle_s];
+        let total: f64 = tau.iter().sum();
+        let mu0 = tau.map(|t| S::of(t / total));
         Ok(Imm {
-            q: [S::of(self.q_cv), S::of(self.q_ca)],
+            q: [S::of(self.q_cv), S::of(self.q_ca), S::of(self.q_settle)],
             r: S::of(self.r),
             p0: [S::of(self.p0_velocity), S::of(self.p0_acceleration)],
-            rate: [
-                S::of(1.0 / self.sojourn_cv_s),
-                S::of(1.0 / self.sojourn_ca_s),
-            ],
-            mu0: [S::of(cv), S::of(1.0 - cv)],
-            models: [Model::ZERO; 2],
-            mu: [S::of(cv), S::of(1.0 - cv)],
+            rate: tau.map(|t| S::of(1.0 / t)),
+            mu0,
+            models: [Model::ZERO; MODELS],
+            mu: mu0,
             prediction: [S::ZERO; 2],
             innovation: [S::ZERO; 2],
             s: [S::ZERO; 3],
@@ -131,19 +161,19 @@ impl<S: Real> Model<S> {
     };
 }
 
-/// The IMM filter (CV + CA).
+/// The IMM filter (CV, CA and settling CV).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Imm<S: Real> {
-    q: [S; 2],
+    q: [S; MODELS],
     r: S,
     /// Initial velocity and acceleration variances.
     p0: [S; 2],
     /// 1/τ per model, 1/s.
-    rate: [S; 2],
-    mu0: [S; 2],
-    models: [Model<S>; 2],
+    rate: [S; MODELS],
+    mu0: [S; MODELS],
+    models: [Model<S>; MODELS],
     /// Mode probabilities: after an update, μ; after a prediction, the predicted c̄.
-    mu: [S; 2],
+    mu: [S; MODELS],
     prediction: Vec2<S>,
     innovation: Vec2<S>,
     /// The combined predicted innovation covariance [s_xx, s_xy, s_yy].
@@ -151,17 +181,18 @@ pub struct Imm<S: Real> {
 }
 
 impl<S: Real> Imm<S> {
-    /// The mode probabilities [CV, CA] (after an update; after a prediction, the
+    /// The mode probabilities [CV, CA, settling] (after an update; after a prediction, the
     /// predicted ones).
-    pub fn mode_probabilities(&self) -> [S; 2] {
+    pub fn mode_probabilities(&self) -> [S; MODELS] {
         self.mu
     }
 
     fn predict_model(&self, m: usize, a: &Axis<S>, dt: S) -> Axis<S> {
         let half = S::of(0.5);
         let t2 = dt * dt;
-        // F: CV keeps acceleration at zero; CA integrates it.
-        let f: [[S; 3]; 3] = if m == CV {
+        let cv = m != CA;
+        // F: the CV models keep acceleration at zero; CA integrates it.
+        let f: [[S; 3]; 3] = if cv {
             [
                 [S::of(1.0), dt, S::ZERO],
                 [S::ZERO, S::of(1.0), S::ZERO],
@@ -176,7 +207,7 @@ impl<S: Real> Imm<S> {
         };
         let q = self.q[m];
         // Q: CWNA for CV, CWNJ for CA (as the Kalman filters' `QModel::Continuous`).
-        let qm: [[S; 3]; 3] = if m == CV {
+        let qm: [[S; 3]; 3] = if cv {
             let (a, b, c) = (q * t2 * dt * S::of(1.0 / 3.0), q * t2 * half, q * dt);
             [[a, b, S::ZERO], [b, c, S::ZERO], [S::ZERO; 3]]
         } else {
@@ -261,38 +292,47 @@ impl<S: Real> Filter<S> for Imm<S> {
 
     fn predict(&mut self, dt: Interval<S>) -> Vec2<S> {
         let dt = dt.seconds();
-        // (1) p_ij: stay with exp(−dt/τ_i), else switch.
-        let stay = [(-dt * self.rate[CV]).exp(), (-dt * self.rate[CA]).exp()];
+        // (1) p_ij: stay with exp(−dt/τ_i), else on to the next model in the cycle.
+        let mut stay = [S::ZERO; MODELS];
+        for (st, r) in stay.iter_mut().zip(self.rate) {
+            *st = (-dt * r).exp();
+        }
         let pij = |i: usize, j: usize| {
             if i == j {
                 stay[i]
-            } else {
+            } else if j == next(i) {
                 S::of(1.0) - stay[i]
+            } else {
+                S::ZERO
             }
         };
-        let mut c = [S::ZERO; 2];
+        let mut c = [S::ZERO; MODELS];
         for (j, cj) in c.iter_mut().enumerate() {
-            *cj = pij(CV, j) * self.mu[CV] + pij(CA, j) * self.mu[CA];
+            for i in 0..MODELS {
+                *cj += pij(i, j) * self.mu[i];
+            }
         }
         // (2) mixing, then each model's prediction.
-        let mut out = [Model::ZERO; 2];
-        for j in 0..2 {
-            let w = [
-                pij(CV, j) * self.mu[CV] / c[j],
-                pij(CA, j) * self.mu[CA] / c[j],
-            ];
+        let mut out = [Model::ZERO; MODELS];
+        for j in 0..MODELS {
+            let mut w = [S::ZERO; MODELS];
+            for (i, wi) in w.iter_mut().enumerate() {
+                *wi = pij(i, j) * self.mu[i] / c[j];
+            }
             for axis in 0..2 {
-                let xs = [self.models[CV].axes[axis], self.models[CA].axes[axis]];
                 let mut x0 = [S::ZERO; 3];
-                for k in 0..3 {
-                    x0[k] = w[0] * xs[0].x[k] + w[1] * xs[1].x[k];
+                for (i, wi) in w.iter().enumerate() {
+                    for k in 0..3 {
+                        x0[k] += *wi * self.models[i].axes[axis].x[k];
+                    }
                 }
                 let mut p0 = [[S::ZERO; 3]; 3];
-                for (i, xi) in xs.iter().enumerate() {
+                for (i, wi) in w.iter().enumerate() {
+                    let xi = &self.models[i].axes[axis];
                     let d = [xi.x[0] - x0[0], xi.x[1] - x0[1], xi.x[2] - x0[2]];
                     for r in 0..3 {
                         for q in 0..3 {
-                            p0[r][q] += w[i] * (xi.p[r][q] + d[r] * d[q]);
+                            p0[r][q] += *wi * (xi.p[r][q] + d[r] * d[q]);
                         }
                     }
                 }
@@ -304,7 +344,9 @@ impl<S: Real> Filter<S> for Imm<S> {
         // The combined prediction and its innovation covariance (the gate's).
         let mut zp = [S::ZERO; 2];
         for (axis, z) in zp.iter_mut().enumerate() {
-            *z = c[CV] * out[CV].axes[axis].x[0] + c[CA] * out[CA].axes[axis].x[0];
+            for (j, m) in out.iter().enumerate() {
+                *z += c[j] * m.axes[axis].x[0];
+            }
         }
         let mut s = [S::ZERO; 3];
         for (j, m) in out.iter().enumerate() {
@@ -322,28 +364,36 @@ impl<S: Real> Filter<S> for Imm<S> {
     fn update(&mut self, z: Measurement<S>) -> Vec2<S> {
         let z = z.position_m();
         // (3) each model's update and log-likelihood (the 2π terms cancel in (4)).
-        let mut ll = [S::ZERO; 2];
+        let mut ll = [S::ZERO; MODELS];
         for (j, m) in self.models.iter_mut().enumerate() {
             for (axis, a) in m.axes.iter_mut().enumerate() {
                 let (nu, s) = update_axis(a, z[axis], self.r);
                 ll[j] -= S::of(0.5) * (nu * nu / s + s.ln());
             }
         }
-        // (4) μ_j ∝ Λ_j c̄_j, with the larger log-likelihood taken out first.
-        let top = if ll[CV] > ll[CA] { ll[CV] } else { ll[CA] };
-        let mut mu = [
-            self.mu[CV] * (ll[CV] - top).exp(),
-            self.mu[CA] * (ll[CA] - top).exp(),
-        ];
+        // (4) μ_j ∝ Λ_j c̄_j, with the largest log-likelihood taken out first.
+        let mut top = ll[0];
+        for &l in &ll[1..] {
+            if l > top {
+                top = l;
+            }
+        }
+        let mut mu = [S::ZERO; MODELS];
+        for j in 0..MODELS {
+            mu[j] = self.mu[j] * (ll[j] - top).exp();
+        }
         let floor = S::of(MIN_MODE_PROBABILITY);
-        let total = mu[CV] + mu[CA];
+        let total = mu.iter().fold(S::ZERO, |a, &m| a + m);
         for m in &mut mu {
             *m /= total;
             // NaN compares false and takes the floor too.
             *m = if *m >= floor { *m } else { floor };
         }
-        let total = mu[CV] + mu[CA];
-        self.mu = [mu[CV] / total, mu[CA] / total];
+        let total = mu.iter().fold(S::ZERO, |a, &m| a + m);
+        for m in &mut mu {
+            *m /= total;
+        }
+        self.mu = mu;
         self.innovation = [z[0] - self.prediction[0], z[1] - self.prediction[1]];
         self.innovation
     }
@@ -352,7 +402,11 @@ impl<S: Real> Filter<S> for Imm<S> {
         // (5) the combined estimate.
         let mu = self.mu;
         let comb = |axis: usize, k: usize| {
-            mu[CV] * self.models[CV].axes[axis].x[k] + mu[CA] * self.models[CA].axes[axis].x[k]
+            let mut v = S::ZERO;
+            for (j, m) in self.models.iter().enumerate() {
+                v += mu[j] * m.axes[axis].x[k];
+            }
+            v
         };
         Estimate {
             position_m: [comb(0, 0), comb(1, 0)],
@@ -368,8 +422,10 @@ impl<S: Real> Filter<S> for Imm<S> {
         self.innovation
     }
 
+    /// True while the straight-leg mode is the less probable: the target is manoeuvring or
+    /// settling after a manoeuvre.
     fn manoeuvring(&self) -> bool {
-        self.mu[CA] > self.mu[CV]
+        self.mu[CV] < self.mu[CA] + self.mu[SETTLE]
     }
 
     fn innovation_covariance(&self) -> Option<[S; 3]> {
@@ -386,11 +442,13 @@ mod tests {
         ImmConfig {
             q_cv: 0.05,
             q_ca: 0.01,
+            q_settle: 0.1,
             r: 900.0,
             p0_velocity: 400.0,
             p0_acceleration: 1.0,
             sojourn_cv_s: 300.0,
             sojourn_ca_s: 30.0,
+            sojourn_settle_s: 10.0,
         }
     }
 
@@ -404,6 +462,10 @@ mod tests {
             },
             ImmConfig {
                 sojourn_cv_s: 0.0,
+                ..config()
+            },
+            ImmConfig {
+                sojourn_settle_s: -1.0,
                 ..config()
             },
             ImmConfig {
@@ -492,6 +554,6 @@ mod tests {
         let s2 = f.innovation_covariance().unwrap()[0];
         assert!(s2 > s1);
         let mu = f.mode_probabilities();
-        assert!((mu[0] + mu[1] - 1.0).abs() < 1e-5, "{mu:?}");
+        assert!((mu[0] + mu[1] + mu[2] - 1.0).abs() < 1e-5, "{mu:?}");
     }
 }

@@ -16,7 +16,8 @@
 //! | [`sswt`] | switched slide-window tracker | thesis §2.3.1, eq. 2-14 |
 //! | [`kalman`] | Kalman, constant velocity and constant acceleration | thesis eq. 2-6 to 2-13 |
 //! | [`grnn`] | GRNN neural filter with a manoeuvre detector | `003` §3–4 |
-//! | [`imm`] | interacting multiple model: CV + CA Kalman | Bar-Shalom, Li & Kirubarajan 2001, §11.6.6 |
+//! | [`grnn_residual`] | the GRNN's manoeuvre detector on the paper's first concept: the plots' residuals against the stable filter | `003` §4 |
+//! | [`imm`] | interacting multiple model: CV, CA and settling-CV Kalman in a cycle | Bar-Shalom, Li & Kirubarajan 2001, §11.6.6 |
 //!
 //! [`config`] holds the one list of them ([`FilterKind`]) and their configurations
 //! ([`FilterConfig`]), which the command line, the wire and the track table all use.
@@ -32,6 +33,7 @@ pub mod config;
 pub mod gh;
 pub mod gh_fixed_scan;
 pub mod grnn;
+pub mod grnn_residual;
 pub mod imm;
 pub mod kalman;
 pub mod sswt;

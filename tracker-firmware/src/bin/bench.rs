@@ -668,7 +668,7 @@ fn main() -> ! {
             .build::<f32>()
             .ok(),
     );
-    // The IMM as the product runs it (CV + CA, plots of 40 m).
+    // The IMM as the product runs it (CV, CA and settling CV, plots of 40 m).
     let imm = match tracker_core::filter::FilterConfig::tracking(
         tracker_core::filter::FilterKind::Imm,
         40.0,

@@ -228,6 +228,8 @@ pub enum ScenarioArg {
     OpenSea,
     /// Every target in a crossing pair.
     Crossing,
+    /// Every target in a merging pair: side by side inside one resolution cell, then apart.
+    Merging,
 }
 
 impl ScenarioArg {
@@ -235,6 +237,7 @@ impl ScenarioArg {
         match self {
             ScenarioArg::OpenSea => tracker_core::sim::ScenarioKind::OpenSea,
             ScenarioArg::Crossing => tracker_core::sim::ScenarioKind::Crossing,
+            ScenarioArg::Merging => tracker_core::sim::ScenarioKind::Merging,
         }
     }
 }

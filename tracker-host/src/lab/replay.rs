@@ -20,7 +20,8 @@ use clap::{Args, ValueEnum};
 use tracker_core::filter::alpha_beta::AlphaBetaGains;
 use tracker_core::filter::alpha_beta_gamma::AbgGains;
 use tracker_core::filter::alpha_beta_gamma_eta::AbgeGains;
-use tracker_core::filter::grnn::GrnnConfig;
+use tracker_core::filter::grnn::{GrnnConfig, GrnnDetector};
+use tracker_core::filter::grnn_residual::ResidualConfig;
 use tracker_core::filter::kalman::{KalmanConfig, QModel};
 use tracker_core::filter::sswt::SswtConfig;
 use tracker_core::filter::{self, Filter, FilterConfig, FilterKind, Interval};
@@ -84,6 +85,16 @@ pub enum QModelArg {
     Cwna,
 }
 
+/// The GRNN's manoeuvre detector on the command line (paper 003 §4's two concepts).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum GrnnDetectorArg {
+    /// The plots' residuals against the stable filter (the first concept; the default).
+    #[default]
+    Residual,
+    /// The manoeuvre and stable filters' outputs compared (the second concept).
+    Difference,
+}
+
 /// Gain options, shared by every filter (each takes the ones that apply to it).
 #[derive(Clone, Debug, Default, Args)]
 pub struct GainArgs {
@@ -133,10 +144,13 @@ pub struct GainArgs {
     /// GRNN stable filter's teaching sequence, scans (default 45).
     #[arg(long)]
     pub long: Option<usize>,
-    /// GRNN detector onset threshold (default 1.75).
+    /// GRNN manoeuvre detector.
+    #[arg(long, value_enum)]
+    pub detector: Option<GrnnDetectorArg>,
+    /// GRNN detector onset threshold (default 2.1 residual, 1.75 difference).
     #[arg(long)]
     pub onset: Option<f64>,
-    /// GRNN detector release threshold (default 1.5).
+    /// GRNN detector release threshold (default 1.3 residual, 1.5 difference).
     #[arg(long)]
     pub release: Option<f64>,
 }
@@ -157,6 +171,7 @@ fn unused(args: &GainArgs, filter: FilterKind, allowed: &[&str]) -> anyhow::Resu
         ("--sigma", args.sigma.is_some()),
         ("--short", args.short.is_some()),
         ("--long", args.long.is_some()),
+        ("--detector", args.detector.is_some()),
         ("--onset", args.onset.is_some()),
         ("--release", args.release.is_some()),
     ];
@@ -270,20 +285,40 @@ pub fn config_from_args(kind: FilterKind, a: &GainArgs) -> anyhow::Result<Filter
             unused(
                 a,
                 kind,
-                &["--sigma", "--short", "--long", "--onset", "--release"],
+                &[
+                    "--sigma",
+                    "--short",
+                    "--long",
+                    "--detector",
+                    "--onset",
+                    "--release",
+                ],
             )?;
             let d = GrnnConfig::default();
+            let detector = match a.detector.unwrap_or_default() {
+                GrnnDetectorArg::Residual => {
+                    let r = ResidualConfig::default();
+                    GrnnDetector::Residual(ResidualConfig {
+                        onset: a.onset.unwrap_or(r.onset),
+                        release: a.release.unwrap_or(r.release),
+                        ..r
+                    })
+                }
+                GrnnDetectorArg::Difference => GrnnDetector::Difference,
+            };
+            let difference = detector == GrnnDetector::Difference;
             let cfg = GrnnConfig {
                 sigma_mps: a.sigma,
                 short: a.short.unwrap_or(d.short),
                 long: a.long.unwrap_or(d.long),
-                onset: a.onset.unwrap_or(d.onset),
-                release: a.release.unwrap_or(d.release),
+                onset: a.onset.filter(|_| difference).unwrap_or(d.onset),
+                release: a.release.filter(|_| difference).unwrap_or(d.release),
+                detector,
                 ..d
             };
             cfg.validate().map_err(|_| {
                 anyhow!(
-                    "GRNN options: need σ > 0, 2 ≤ --short ≤ --long ≤ {}, 0 < --release ≤ --onset",
+                    "GRNN options: need σ > 0, 2 ≤ --short ≤ --long ≤ {}, 0 < --onset, 0 < --release (≤ --onset with --detector difference)",
                     tracker_core::filter::grnn::MAX_MODELS
                 )
             })?;

@@ -12,12 +12,15 @@
 //!
 //! [`Association::TwoStage`] (the default) does this twice: the **firm** tracks (confirmed
 //! and coasting) take their plots first, the tentative tracks then share what is left, so a
-//! new track on a clutter plot never takes a plot from an established one. A plot no track
-//! took starts a new tentative track unless it lies inside a firm track's refined gate
-//! (there it is more likely that track's target's second echo, or its manoeuvre, than a new
-//! target): so a target passing close to another is acquired as soon as its plots leave
-//! the other's refined gate, not only once they leave its much wider rough gate.
-//! [`Association::Joint`] is the earlier rule, kept for comparison: one stage over all
+//! new track on a clutter plot never takes a plot from an established one. Every plot no
+//! track took starts a new tentative track, as Stone Soup's initiator does: a ship that
+//! comes out of a neighbour's echo (two ships in one resolution cell give one plot) is
+//! acquired on its first plot of its own, however near the neighbour's track it still is.
+//! A tentative track started on a firm track's own second echo cannot take that track's
+//! plots (it associates second) and goes after two scans without one. Until the Stone Soup
+//! comparison (docs/stonesoup.md) a plot inside a firm track's refined gate started
+//! nothing, which kept such a ship untracked until it was clear of the neighbour's gate.
+//! [`Association::Joint`] is the rule before that, kept for comparison: one stage over all
 //! tracks, and only plots in no rough gate start tracks.
 
 use std::collections::BTreeSet;
@@ -38,8 +41,8 @@ const FORBIDDEN: i64 = i64::MAX / 1024;
 /// How plots are associated and tracks started.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Association {
-    /// Firm tracks first, tentative tracks from what is left; a plot no track took starts a
-    /// track unless it is inside a firm track's refined gate.
+    /// Firm tracks first, tentative tracks from what is left; every plot no track took
+    /// starts a track.
     #[default]
     TwoStage,
     /// One assignment over all tracks; only plots in no rough gate start tracks.
@@ -55,8 +58,8 @@ pub struct Associated {
     pub initiate: Vec<u16>,
     /// Pairs that passed the rough gate but not the refined one.
     pub refined_out: usize,
-    /// Plots no track took and not started either: inside a firm track's refined gate
-    /// ([`Association::TwoStage`]) or inside a rough gate ([`Association::Joint`]).
+    /// Plots no track took and not started either: inside a rough gate
+    /// ([`Association::Joint`]; none with [`Association::TwoStage`]).
     pub withheld: usize,
 }
 
@@ -116,17 +119,8 @@ pub fn associate(
                 .and_then(|(_, p)| *p),
         })
         .collect();
-    let withheld = |i: u16| match mode {
-        Association::Joint => gates.iter().any(|g| g.plots.contains(&i)),
-        Association::TwoStage => gates.iter().any(|g| {
-            firm(g.track)
-                && g.plots.contains(&i)
-                && plots.get(usize::from(i)).is_some_and(|z| {
-                    mahalanobis2(*z, g.predicted_m, g.innovation_cov_m2)
-                        .is_some_and(|d2| d2 <= threshold)
-                })
-        }),
-    };
+    let withheld =
+        |i: u16| mode == Association::Joint && gates.iter().any(|g| g.plots.contains(&i));
     for i in (0..plots.len()).filter_map(|i| u16::try_from(i).ok()) {
         if taken.contains(&i) {
             continue;
@@ -279,7 +273,7 @@ mod tests {
         );
         assert_eq!(a.refined_out, 1);
         assert!(a.initiate.is_empty(), "it was in a rough gate");
-        // Two-stage: outside the firm track's refined gate, it starts a track.
+        // Two-stage: no track took it, so it starts one.
         let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
             true
         });
@@ -288,23 +282,23 @@ mod tests {
     }
 
     #[test]
-    fn a_plot_inside_a_firm_refined_gate_starts_nothing() {
-        // Two plots in a confirmed track's refined gate: it takes the nearer, the other is
-        // its target's second echo (withheld). A third plot 130 m off, in the rough gate but
-        // outside the refined one, starts a track (the target passing close by).
+    fn every_plot_no_track_took_starts_a_track() {
+        // Three plots in a confirmed track's rough gate: it takes the nearest; the second,
+        // inside its refined gate, and the third, outside it, both start tracks (a ship
+        // coming out of its neighbour's echo). Jointly, neither would: both are in a gate.
         let plots = [[5.0, 0.0], [-20.0, 0.0], [130.0, 0.0]];
         let gates = [gate(1, [0.0, 0.0], 20.0, &[0, 1, 2])];
-        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
-            true
-        });
-        assert_eq!(a.assignments[0].plot, Some(0));
-        assert_eq!(a.initiate, [2]);
-        assert_eq!(a.withheld, 1);
-        // A tentative track withholds nothing: a plot it did not take may be a new target.
-        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
-            false
-        });
-        assert_eq!(a.initiate, [1, 2]);
+        for firm in [true, false] {
+            let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
+                firm
+            });
+            assert_eq!(a.assignments[0].plot, Some(0));
+            assert_eq!(a.initiate, [1, 2]);
+            assert_eq!(a.withheld, 0);
+        }
+        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, |_| true);
+        assert!(a.initiate.is_empty());
+        assert_eq!(a.withheld, 2);
     }
 
     #[test]

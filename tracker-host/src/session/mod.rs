@@ -30,7 +30,7 @@ use anyhow::bail;
 use tracker_core::filter::{FilterConfig, FilterKind};
 use tracker_core::geo::{self, EastNorth};
 use tracker_core::icd::fixed::position_on_grid;
-use tracker_core::icd::{Plot, TrackCommand, TrackState, TrackStatus, TrackerConfig};
+use tracker_core::icd::{GatedPlots, Plot, TrackCommand, TrackState, TrackStatus, TrackerConfig};
 
 use crate::link::{Client, ClientStats};
 use crate::own_ship::OwnShip;
@@ -144,6 +144,15 @@ fn firm_tracks(tracks: &[TrackState]) -> std::collections::BTreeSet<u16> {
         .collect()
 }
 
+/// The numbers of the tracks among `tracks` reported lost.
+fn lost_tracks(tracks: &[TrackState]) -> std::collections::BTreeSet<u16> {
+    tracks
+        .iter()
+        .filter(|t| t.status == TrackStatus::Lost)
+        .map(|t| t.track)
+        .collect()
+}
+
 /// The host half of the tracker.
 pub struct Session {
     device: DeviceLink,
@@ -158,6 +167,10 @@ pub struct Session {
     warned_slow: bool,
     /// Confirmed and coasting tracks at the last scan: they take plots first.
     firm: std::collections::BTreeSet<u16>,
+    /// Tracks the last scan reported lost: the device still gates them this scan and drops
+    /// them when it applies it, so they take no plot (a plot given to one would start
+    /// nothing and be lost with it).
+    lost: std::collections::BTreeSet<u16>,
 }
 
 impl Session {
@@ -177,6 +190,7 @@ impl Session {
             skipped: 0,
             warned_slow: false,
             firm: Default::default(),
+            lost: Default::default(),
         })
     }
 
@@ -223,8 +237,14 @@ impl Session {
             .collect();
         let gate = self.config.refined_gate_d2;
         let mode = self.config.association;
-        let firm = &self.firm;
+        let (firm, lost) = (&self.firm, &self.lost);
         let done = self.device.scan(radar.scan, time_ms, &plots_m, |gates| {
+            let live: Vec<GatedPlots> = gates
+                .iter()
+                .filter(|g| !lost.contains(&g.track))
+                .cloned()
+                .collect();
+            let gates = &live;
             associate::associate(mode, gates, &plots_m, gate, |t| firm.contains(&t))
         });
         self.last_time_ms = Some(time_ms);
@@ -273,6 +293,7 @@ impl Session {
             Err(e) => return Err(e),
         };
         self.firm = firm_tracks(&tracks);
+        self.lost = lost_tracks(&tracks);
         let numbered = self.numbers.scan(own, &tracks, &self.config.alarms);
         let host_time = started.elapsed();
         self.host_times.push(host_time);
@@ -311,6 +332,7 @@ impl Session {
     pub fn restart_host(&mut self) -> anyhow::Result<Vec<TrackState>> {
         let tracks = self.device.restart_host()?;
         self.firm = firm_tracks(&tracks);
+        self.lost = lost_tracks(&tracks);
         Ok(tracks)
     }
 
