@@ -8,7 +8,8 @@
 //!
 //! [`PictureYaw`] measures the turn of each rotation's point plots against the previous
 //! rotation's, about own ship (scan-to-scan registration, as a radar's own "picture
-//! stabilisation" does): the rotation within [`MAX_STEP_RAD`] that brings most plots onto
+//! stabilisation" does): the rotation within [`MAX_STEP_RAD`] of the last rotation's (a
+//! swing is smooth) that brings most plots onto
 //! a plot of the previous rotation (a kernel score, so that moving targets, clutter and
 //! echoes seen in one rotation only count for nothing), refined by the least-squares
 //! rotation of the plots it matched. The sum of those turns is own ship's heading change
@@ -19,9 +20,13 @@
 //! same picture; with most of the echoes stationary (a harbour, a coast) the measurement is
 //! own ship's. It measures the heading's change only: the fixed heading's own error stays.
 
-/// The largest turn between two rotations searched for, rad (3°: 1.2°/s over a 2.5 s
-/// rotation, above a moored ship's swing).
+/// How far from the last rotation's turn this rotation's is searched for, rad (3°: a
+/// change of yaw rate of 1.2°/s over a 2.5 s rotation; the Garmin capture's swing turns
+/// up to 3.2° a rotation, smoothly).
 pub const MAX_STEP_RAD: f32 = 3.0 * core::f32::consts::PI / 180.0;
+
+/// The largest turn between two rotations taken, rad (10°: 4°/s over 2.5 s).
+pub const MAX_TURN_RAD: f32 = 10.0 * core::f32::consts::PI / 180.0;
 
 /// The search step, rad (0.05°).
 const STEP_RAD: f32 = 0.05 * core::f32::consts::PI / 180.0;
@@ -47,6 +52,8 @@ pub struct PictureYaw {
     measured: u64,
     /// Rotations with too few matches, taken as not turned.
     unmatched: u64,
+    /// The last rotation's turn, rad: this one's is searched for about it.
+    last_step_rad: f32,
 }
 
 impl PictureYaw {
@@ -88,6 +95,7 @@ impl PictureYaw {
                 }
             }
         };
+        self.last_step_rad = step;
         self.yaw_rad = tracker_core::geo::wrap_pi(self.yaw_rad + step);
         self.last = current
             .iter()
@@ -101,14 +109,16 @@ impl PictureYaw {
         let steps = (MAX_STEP_RAD / STEP_RAD).round() as i32;
         let mut best: Option<(f32, f32)> = None;
         for k in -steps..=steps {
-            let turn = k as f32 * STEP_RAD;
+            let turn = self.last_step_rad + k as f32 * STEP_RAD;
             let score: f32 = current
                 .iter()
                 .filter_map(|&(r, b)| self.nearest(at(r, b + turn)))
                 .map(|(d, tol, _)| (1.0 - (d / tol).powi(2)).max(0.0))
                 .sum();
-            // Ties go to the smaller turn (searched outwards from none would be the same).
-            if best.is_none_or(|(s, t)| score > s || (score == s && turn.abs() < t.abs())) {
+            // Ties go to the turn nearer the last one.
+            let nearer =
+                |t: f32| (turn - self.last_step_rad).abs() < (t - self.last_step_rad).abs();
+            if best.is_none_or(|(s, t)| score > s || (score == s && nearer(t))) {
                 best = Some((score, turn));
             }
         }
@@ -135,7 +145,7 @@ impl PictureYaw {
             return None;
         }
         let fine = coarse + cross.atan2(dot) as f32;
-        fine.is_finite().then_some(fine)
+        (fine.is_finite() && fine.abs() <= MAX_TURN_RAD).then_some(fine)
     }
 
     /// The last rotation's plot nearest `p`: its distance, its matching distance and where
@@ -200,6 +210,24 @@ mod tests {
         }
         assert!((yaw.yaw_rad() - 0.7f32.to_radians()).abs() < 0.02f32.to_radians());
         assert_eq!(yaw.counts(), (3, 0));
+    }
+
+    #[test]
+    fn a_steady_swing_faster_than_the_search_is_followed() {
+        // 2.5°, then 4.5° a rotation three times: each within 3° of the last.
+        let echoes = harbour(30);
+        let mut yaw = PictureYaw::new();
+        yaw.measure(&echoes);
+        let mut picture = 0.0f32;
+        for ship in [2.5f32, 4.5, 4.5, 4.5] {
+            picture -= ship.to_radians();
+            let step = yaw.measure(&turned(&echoes, picture + yaw.yaw_rad()));
+            assert!(
+                (step - ship.to_radians()).abs() < 0.01f32.to_radians(),
+                "{step}"
+            );
+        }
+        assert!((yaw.yaw_rad() - 16.0f32.to_radians()).abs() < 0.05f32.to_radians());
     }
 
     #[test]
