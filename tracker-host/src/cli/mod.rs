@@ -121,7 +121,8 @@ pub enum Command {
         #[arg(long, value_name = "pcap:PATH|navico[@IP]|garmin[@IP]")]
         radar: Option<crate::radar::RadarSpec>,
         /// With --radar: own ship's heading, degrees true, when neither the radar nor NMEA
-        /// gives one (a moored ship); without any heading, plots are not tracked.
+        /// gives one (a moored ship), turned by own ship's yaw measured from the picture (a
+        /// moored ship swings); without any heading, plots are not tracked.
         #[arg(long, value_name = "DEG", requires = "radar")]
         heading_deg: Option<f64>,
         /// With --radar: the plots' accuracy, m (one axis), for the filters and gates; by

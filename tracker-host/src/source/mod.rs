@@ -5,7 +5,7 @@
 //! |---|---|
 //! | the scenario simulator (IMO sensor model, clutter) | [`simulator`] |
 //! | a recorded plots file (CSV, documented in the README) | [`plots_file`] |
-//! | a radar: spokes from a capture or live, plots extracted | [`radar`] |
+//! | a radar: spokes from a capture or live, plots extracted | [`radar`] (own ship's yaw from the picture when it has no heading: [`radar_yaw`]) |
 //! | the simulator through a synthetic radar and the extractor (`demo --video`) | [`video`] |
 //! | real traffic: recorded AIS tracks as truth, plots from the radar model, AIS sent (`demo --ais-truth`) | [`ais_truth`] |
 //!
@@ -18,6 +18,7 @@
 pub mod ais_truth;
 pub mod plots_file;
 pub mod radar;
+pub mod radar_yaw;
 pub mod simulator;
 pub mod truth_file;
 pub mod video;

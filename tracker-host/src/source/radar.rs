@@ -13,8 +13,10 @@
 //! - **Heading**: a head-up spoke takes the heading the radar sent with it (flagged true),
 //!   else own ship's heading from the NMEA in the same capture (`HDT`, or `HDG`/`HDM` with
 //!   variation), else from the own-ship source of the run (the previous scan's), else the
-//!   fixed heading set for a moored ship ([`RadarOptions::fixed_heading_rad`]). Without any,
-//!   the blobs' bearings are relative and their plots are not tracked (counted).
+//!   fixed heading set for a moored ship ([`RadarOptions::fixed_heading_rad`]), turned by own
+//!   ship's yaw measured from the picture ([`super::radar_yaw`]: a moored ship swings, and
+//!   head-up its whole picture turns the other way). Without any, the blobs' bearings are
+//!   relative and their plots are not tracked (counted).
 //! - **Own ship**: from the NMEA lines found in the capture, through the same dead-reckoning
 //!   filter as `--nmea-in` (their UTC tied to the capture clock by the lines' capture
 //!   times); without a fix, own ship is at the origin, stopped, and the display says so.
@@ -29,6 +31,7 @@ use tracker_core::icd::Plot;
 use tracker_core::radar::{Event, Extractor, ExtractorConfig, ExtractorStats, RadarPlot, Spoke};
 use tracker_core::tracker::MAX_PLOTS_PER_SCAN;
 
+use super::radar_yaw::PictureYaw;
 use super::{PlotSource, RadarScan, SourceScan};
 use crate::origin::Origin;
 use crate::own_ship::nav::OwnShipNav;
@@ -47,6 +50,9 @@ pub struct RadarOptions {
     /// Own ship's heading, rad true, when neither the radar nor NMEA gives one (a moored
     /// ship, a radar without a heading sensor).
     pub fixed_heading_rad: Option<f32>,
+    /// Whether the fixed heading is turned by own ship's yaw measured from the picture
+    /// ([`super::radar_yaw::PictureYaw`]); on by default.
+    pub picture_yaw: bool,
     /// The plots' accuracy, m (one axis), for the tracker's filters and gates; by default
     /// [`plot_sigma_m`] of a capture's first range, 40 m live.
     pub plot_sigma_m: Option<f32>,
@@ -60,6 +66,7 @@ impl RadarOptions {
             navico: ExtractorConfig::navico_4bit(),
             garmin: ExtractorConfig::garmin_xhd(),
             fixed_heading_rad: None,
+            picture_yaw: true,
             plot_sigma_m: None,
         }
     }
@@ -94,6 +101,12 @@ pub struct RadarCounts {
     pub blobs_dropped: u64,
     /// Range changes and out-of-order spokes that restarted extraction.
     pub restarts: u64,
+    /// Rotations whose turn was measured from the picture (the fixed heading in use).
+    pub yaw_measured: u64,
+    /// … and those with too few plots matched, taken as not turned.
+    pub yaw_unmatched: u64,
+    /// Own ship's heading change measured from the picture since the first rotation, °.
+    pub yaw_deg: f32,
     /// The plots against the truth, when the radar is the simulator's (`demo --video`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plot_scores: Option<super::video::PlotScores>,
@@ -126,6 +139,13 @@ impl std::fmt::Display for RadarCounts {
             self.blobs_dropped,
             self.restarts
         )?;
+        if self.yaw_measured + self.yaw_unmatched > 0 {
+            write!(
+                f,
+                "; own ship's yaw from the picture {:+.1}° ({} rotations measured, {} with too few plots)",
+                self.yaw_deg, self.yaw_measured, self.yaw_unmatched
+            )?;
+        }
         if let Some(p) = &self.plot_scores {
             write!(f, "; plots against truth: {p}")?;
         }
@@ -174,7 +194,15 @@ pub struct RadarPlotSource {
     /// The heading for spokes without one, and when it was worked out (capture time, s):
     /// finding it predicts own ship's filter, too much to do for each of 2,048 spokes, and
     /// it changes only with a sentence (or at the heading-lost time).
-    heading_cache: Option<(f64, Option<f32>)>,
+    /// The flag: the heading is the fixed one (turned by the yaw).
+    heading_cache: Option<(f64, Option<(f32, bool)>)>,
+    /// Own ship's yaw measured from the picture, for the fixed heading.
+    yaw: PictureYaw,
+    /// Spokes of this rotation given the fixed heading.
+    fixed_heading_spokes: u64,
+    /// The heading the last scan reported when it was the fixed one (turned), rad: the
+    /// run's own ship hands it back, and it is not a heading from elsewhere.
+    reported_fixed_rad: Option<f32>,
     /// The true heading the radar sent with its last spoke, rad, if it sent one.
     radar_heading_rad: Option<f32>,
 }
@@ -262,6 +290,9 @@ impl RadarPlotSource {
             heard: Vec::new(),
             heading_cache: None,
             radar_heading_rad: None,
+            yaw: PictureYaw::new(),
+            fixed_heading_spokes: 0,
+            reported_fixed_rad: None,
         })
     }
 
@@ -320,18 +351,35 @@ impl RadarPlotSource {
         }
     }
 
-    /// The heading for a head-up spoke without one, rad true.
-    fn heading_for(&mut self, time_s: f64) -> Option<f32> {
+    /// The heading for a head-up spoke without one, rad true, and whether it is the fixed
+    /// heading (turned by the yaw measured from the picture).
+    fn heading_for(&mut self, time_s: f64) -> Option<(f32, bool)> {
         if let Some((at, heading)) = self.heading_cache {
             if (0.0..HEADING_CACHE_S).contains(&(time_s - at)) {
                 return heading;
             }
         }
+        let reported = self.reported_fixed_rad;
+        let yaw = if self.options.picture_yaw {
+            self.yaw.yaw_rad()
+        } else {
+            0.0
+        };
         let heading = self
             .nmea_own_ship(time_s)
             .and_then(|o| o.heading_rad)
-            .or_else(|| self.run_own.and_then(|o| o.heading_rad))
-            .or(self.options.fixed_heading_rad);
+            .or_else(|| {
+                // The run's own ship, unless it is the fixed heading this source reported.
+                self.run_own
+                    .and_then(|o| o.heading_rad)
+                    .filter(|h| Some(*h) != reported)
+            })
+            .map(|h| (h, false))
+            .or_else(|| {
+                self.options
+                    .fixed_heading_rad
+                    .map(|h| (geo::wrap_2pi(h + yaw), true))
+            });
         self.heading_cache = Some((time_s, heading));
         heading
     }
@@ -357,8 +405,10 @@ impl RadarPlotSource {
                 self.radar_heading_rad = heading_rad;
             }
             if !header.north_up && heading_rad.is_none() {
-                heading_rad = self.heading_for(time_s);
-                self.counts.spokes_heading_added += u64::from(heading_rad.is_some());
+                let found = self.heading_for(time_s);
+                heading_rad = found.map(|(h, _)| h);
+                self.counts.spokes_heading_added += u64::from(found.is_some());
+                self.fixed_heading_spokes += u64::from(found.is_some_and(|(_, fixed)| fixed));
             }
             match &self.extractor {
                 Some((k, _)) if *k != kind => {
@@ -402,7 +452,10 @@ impl RadarPlotSource {
 
     /// Closes the rotation gathered so far as a scan at `time_s`.
     fn close_scan(&mut self, time_s: f64) -> SourceScan {
-        let picture = std::mem::take(&mut self.current);
+        let mut picture = std::mem::take(&mut self.current);
+        if std::mem::take(&mut self.fixed_heading_spokes) > 0 && self.options.picture_yaw {
+            self.turn_by_picture(&mut picture);
+        }
         let own_nmea = self.nmea_own_ship(time_s);
         let velocity = own_nmea
             .or(self.run_own)
@@ -435,7 +488,12 @@ impl RadarPlotSource {
         // radar, flagged true in its spokes), else what head-up spokes were given.
         let mut own = own_nmea.unwrap_or_else(OwnShip::unknown);
         if own.heading_rad.is_none() {
-            own.heading_rad = self.radar_heading_rad.or_else(|| self.heading_for(time_s));
+            let found = self
+                .radar_heading_rad
+                .map(|h| (h, false))
+                .or_else(|| self.heading_for(time_s));
+            own.heading_rad = found.map(|(h, _)| h);
+            self.reported_fixed_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
             own.quality.heading_lost &= own.heading_rad.is_none();
         }
         let own_ship = Some(own);
@@ -449,6 +507,33 @@ impl RadarPlotSource {
             own_ship,
             truth: None,
             echoes: Some(std::sync::Arc::new(echoes)),
+        }
+    }
+}
+
+impl RadarPlotSource {
+    /// Measures own ship's turn over this rotation from its point plots (extracted with the
+    /// fixed heading and the yaw so far) and turns the rotation's returns by it, so that
+    /// they are as the heading at the scan gives them (the echo image stays as drawn).
+    fn turn_by_picture(&mut self, picture: &mut RotationPicture) {
+        let plots: Vec<(f32, f32)> = picture
+            .plots
+            .iter()
+            .filter(|p| !p.relative_bearing)
+            .map(|p| (p.range_m, p.bearing_rad))
+            .collect();
+        let step = self.yaw.measure(&plots);
+        (self.counts.yaw_measured, self.counts.yaw_unmatched) = self.yaw.counts();
+        self.counts.yaw_deg = self.yaw.yaw_rad().to_degrees();
+        // The next spokes take the new yaw.
+        self.heading_cache = None;
+        if step == 0.0 {
+            return;
+        }
+        for p in picture.plots.iter_mut().chain(picture.extended.iter_mut()) {
+            if !p.relative_bearing {
+                p.bearing_rad = geo::wrap_2pi(p.bearing_rad + step);
+            }
         }
     }
 }
