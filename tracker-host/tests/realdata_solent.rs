@@ -59,6 +59,14 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
             p.time_to_pair_max_s,
             p.ships_unpaired
         );
+        println!(
+            "merged right/wrong/no ship {} / {} / {}, hidden {}, shown twice late {}",
+            p.merged_correct,
+            p.merged_wrong,
+            p.merged_unverified,
+            p.ships_hidden,
+            p.ships_unpaired_late
+        );
         assert!(s.scans > 1000, "{own_mmsi}: {} scans", s.scans);
         assert_eq!(
             ais.sentences.decoded(),

@@ -355,8 +355,76 @@ impl crate::sink::ScanSink for ScoreSink {
                 let ais: Vec<u32> = report.ais.iter().map(|a| a.mmsi).collect();
                 let matched = self.scorer.matched(&report.tracks);
                 let nearest = nearest_truth(truth, &report.tracks, &matched);
+                if std::env::var_os("PAIR_DEBUG").is_some() {
+                    let tx = |id: u32| truth.targets.iter().find(|x| x.id == id);
+                    for c in &report.merged {
+                        let Some(ship) = matched.get(&c.track) else {
+                            continue;
+                        };
+                        if report.merged.iter().any(|o| {
+                            o.track == c.track
+                                && (o.mmsi == *ship || nearest.get(&c.track) == Some(&o.mmsi))
+                        }) {
+                            continue;
+                        }
+                        let t = report.tracks.iter().find(|t| t.track == c.track).unwrap();
+                        let d = |id: u32| {
+                            tx(id).map_or(-1.0, |x| {
+                                (x.position_m[0] - t.position_m[0])
+                                    .hypot(x.position_m[1] - t.position_m[1])
+                            })
+                        };
+                        let a = report.ais.iter().find(|a| a.mmsi == c.mmsi);
+                        let da = a.map_or(-1.0, |a| {
+                            (a.position_m[0] - t.position_m[0])
+                                .hypot(a.position_m[1] - t.position_m[1])
+                        });
+                        let age = a.map_or(-1.0, |a| a.age_s);
+                        let mine = report.ais.iter().find(|a| a.mmsi == *ship).map(|a| {
+                            (a.position_m[0] - t.position_m[0])
+                                .hypot(a.position_m[1] - t.position_m[1])
+                        });
+                        let tp = report
+                            .paired
+                            .iter()
+                            .find(|p| p.mmsi == *ship)
+                            .map(|p| p.track);
+                        eprintln!("MWRONG scan {} track {} {:?} under {} (d {:.0}, ais d {:.0} age {:.0}) matched {} (d {:.0}, its ais {:?} paired to {:?}) trk v {:.1}", report.scan, c.track, t.status, c.mmsi, d(c.mmsi), da, age, ship, d(*ship), mine, tp, t.velocity_mps[0].hypot(t.velocity_mps[1]));
+                    }
+                    for p in &report.paired {
+                        let Some(ship) = matched.get(&p.track) else {
+                            let t = report.tracks.iter().find(|t| t.track == p.track).unwrap();
+                            eprintln!(
+                                "NOSHIP scan {} track {} {:?} mmsi {} hist {:b}",
+                                report.scan, p.track, t.status, p.mmsi, t.hit_history
+                            );
+                            continue;
+                        };
+                        if *ship == p.mmsi || nearest.get(&p.track) == Some(&p.mmsi) {
+                            continue;
+                        }
+                        let t = report.tracks.iter().find(|t| t.track == p.track).unwrap();
+                        let d = |id: u32| {
+                            tx(id).map_or(-1.0, |x| {
+                                (x.position_m[0] - t.position_m[0])
+                                    .hypot(x.position_m[1] - t.position_m[1])
+                            })
+                        };
+                        let v = |id: u32| {
+                            tx(id).map_or(-1.0, |x| x.velocity_mps[0].hypot(x.velocity_mps[1]))
+                        };
+                        let a = report.ais.iter().find(|a| a.mmsi == p.mmsi);
+                        let da = a.map_or(-1.0, |a| {
+                            (a.position_m[0] - t.position_m[0])
+                                .hypot(a.position_m[1] - t.position_m[1])
+                        });
+                        eprintln!("WRONG scan {} track {} {:?} hist {:b} paired {} (d {:.0} v {:.1}, ais d {:.0}) matched {} (d {:.0} v {:.1}) trk v {:.1} range {:.0}", report.scan, p.track, t.status, t.hit_history & 0xff, p.mmsi, d(p.mmsi), v(p.mmsi), da, ship, d(*ship), v(*ship), t.velocity_mps[0].hypot(t.velocity_mps[1]), (t.position_m[0]-truth.own.position_m[0]).hypot(t.position_m[1]-truth.own.position_m[1]));
+                    }
+                }
+                let merged: Vec<(u16, u32)> =
+                    report.merged.iter().map(|c| (c.track, c.mmsi)).collect();
                 self.pairing
-                    .scan(report.scan, &matched, &nearest, &pairs, &ais);
+                    .scan(report.scan, &matched, &nearest, &pairs, &merged, &ais);
                 self.pairing_scored = true;
             }
         }

@@ -20,8 +20,18 @@ pub struct PairingScores {
     pub pairs_wrong: u64,
     /// Pair-scans whose track followed no ship (a false or lost track).
     pub pairs_unverified: u64,
-    /// Ship-scans with a matched track and an AIS target held but no pair (the ship shown
-    /// twice).
+    /// Scans a radar target was merged into AIS targets' symbols ([`crate::session::ais::Candidate`])
+    /// and followed one of those ships (or one of them was the ship nearest it).
+    pub merged_correct: u64,
+    /// … and followed another ship.
+    pub merged_wrong: u64,
+    /// … and followed no ship.
+    pub merged_unverified: u64,
+    /// Ship-scans with a matched track merged into other ships' AIS symbols and no AIS
+    /// target of its own: the ship not shown at all.
+    pub ships_hidden: u64,
+    /// Ship-scans with a matched track shown as a radar target and an AIS target shown
+    /// apart (not paired with a radar target): the ship shown twice.
     pub ships_unpaired: u64,
     /// … of those, later than [`PAIRING_ALLOWANCE_SCANS`] after the track was matched.
     pub ships_unpaired_late: u64,
@@ -55,16 +65,39 @@ pub struct PairingScorer {
 
 impl PairingScorer {
     /// One scan: `matched` maps each confirmed track to the ship (MMSI) the scorer matched
-    /// it to, `nearest` to the ship nearest it; `pairs` are the session's (track, MMSI);
-    /// `ais` the MMSIs of the AIS targets held.
+    /// it to, `nearest` to the ship nearest it; `pairs` are the session's (track, MMSI),
+    /// `merged` its radar targets shown as AIS targets (track, MMSI); `ais` the MMSIs of
+    /// the AIS targets held.
     pub fn scan(
         &mut self,
         scan: u32,
         matched: &BTreeMap<u16, u32>,
         nearest: &BTreeMap<u16, u32>,
         pairs: &[(u16, u32)],
+        merged: &[(u16, u32)],
         ais: &[u32],
     ) {
+        let mut merged_tracks: BTreeMap<u16, Vec<u32>> = BTreeMap::new();
+        for (track, mmsi) in merged {
+            merged_tracks.entry(*track).or_default().push(*mmsi);
+        }
+        for (track, under) in &merged_tracks {
+            match matched.get(track) {
+                Some(ship)
+                    if under.contains(ship)
+                        || nearest.get(track).is_some_and(|n| under.contains(n)) =>
+                {
+                    self.scores.merged_correct += 1;
+                }
+                Some(ship) => {
+                    self.scores.merged_wrong += 1;
+                    if !ais.contains(ship) {
+                        self.scores.ships_hidden += 1;
+                    }
+                }
+                None => self.scores.merged_unverified += 1,
+            }
+        }
         for ship in matched.values() {
             if ais.contains(ship) {
                 self.first_matched.entry(*ship).or_insert(scan);
@@ -80,9 +113,9 @@ impl PairingScorer {
                 None => self.scores.pairs_unverified += 1,
             }
         }
-        for ship in matched.values() {
+        for (track, ship) in matched {
             let paired = pairs.iter().any(|(_, m)| m == ship);
-            if ais.contains(ship) && !paired {
+            if ais.contains(ship) && !paired && !merged_tracks.contains_key(track) {
                 self.scores.ships_unpaired += 1;
                 let since = self
                     .first_matched
@@ -133,13 +166,14 @@ mod tests {
         let mut p = PairingScorer::default();
         let matched: BTreeMap<u16, u32> = [(1, 100), (2, 200)].into();
         // Scan 0: nothing paired yet; both ships have AIS: both shown twice.
-        p.scan(0, &matched, &matched, &[], &[100, 200]);
+        p.scan(0, &matched, &matched, &[], &[], &[100, 200]);
         // Scan 3: track 1 paired right, track 2 paired wrong.
         p.scan(
             3,
             &matched,
             &matched,
             &[(1, 100), (2, 300)],
+            &[],
             &[100, 200, 300],
         );
         // Scan 10: track 2 paired right, late.
@@ -148,13 +182,14 @@ mod tests {
             &matched,
             &matched,
             &[(1, 100), (2, 200)],
+            &[],
             &[100, 200, 300],
         );
         // Track 2 follows ship 200 but ship 300 is nearest it (one resolution cell): right.
         let nearest: BTreeMap<u16, u32> = [(1, 100), (2, 300)].into();
-        p.scan(11, &matched, &nearest, &[(2, 300)], &[100, 200, 300]);
+        p.scan(11, &matched, &nearest, &[(2, 300)], &[], &[100, 200, 300]);
         assert_eq!(p.scores(2.5).pairs_correct, 4);
-        p.scan(12, &matched, &matched, &[(2, 300)], &[100, 200, 300]);
+        p.scan(12, &matched, &matched, &[(2, 300)], &[], &[100, 200, 300]);
         let s = p.scores(2.5);
         assert_eq!((s.pairs_correct, s.pairs_wrong), (4, 2));
         assert_eq!(s.ships_unpaired, 7);

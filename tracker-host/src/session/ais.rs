@@ -41,31 +41,58 @@ pub struct PairingGates {
     pub keep_factor: f32,
     /// Scans in a row outside the wide gates before a pair is parted.
     pub scans_to_part: u32,
-    /// A candidate pair is taken only when the next best AIS target for the radar target,
-    /// and the next best radar target for the AIS target, cost at least this many times
-    /// more (two ships in one resolution cell, moored side by side, or sailing in company
-    /// are not told apart: they stay unpaired and shown twice rather than paired wrong).
-    /// A held pair is parted when another AIS target costs less than its own cost divided
-    /// by this for [`PairingGates::scans_to_part`] scans in a row.
-    pub ambiguity_ratio: f32,
+    /// The spread of a radar target's position about the ship's AIS position, m: the
+    /// track's error, the GNSS fix's and the AIS antenna's offset from the hull's centre.
+    pub position_sigma_m: f32,
+    /// The spread of their velocities' difference, m/s: mostly the track's.
+    pub velocity_sigma_mps: f32,
+    /// How fast an AIS position extrapolated from an old report loses accuracy, m/s of its
+    /// age (course and speed errors, turns since the report).
+    pub drift_sigma_mps: f32,
+    /// A pair is taken only when every other AIS target fits the radar target, and every
+    /// other radar target the AIS target, worse by at least this much in cost (the sum of
+    /// the squared position and velocity differences in their sigmas: a difference of
+    /// 6 is a likelihood 20 times smaller). Two ships in one resolution cell, moored side
+    /// by side, or sailing in company are not told apart: their radar target is shown as
+    /// their AIS targets ([`Candidate`]) rather than paired wrong. A held pair is parted
+    /// when another AIS target comes within this much of its cost for
+    /// [`PairingGates::scans_to_part`] scans in a row.
+    pub ambiguity_margin: f32,
+    /// A radar target is shown as an AIS target ([`Candidate`]) only while its cost is at
+    /// most this (13.3: 99 % of a chi-square of 4 degrees of freedom, position and
+    /// velocity), and only for the AIS targets that fit it within
+    /// [`PairingGates::ambiguity_margin`] of its best.
+    pub merge_cost: f32,
 }
 
 impl Default for PairingGates {
-    /// 150 m and 3.5 m/s (7 kn): about four times a tracked target's position error and
-    /// twice its velocity error on real traffic (the Solent run: 39 m and 1.7 m/s RMS, plots
-    /// of the IMO model), plus an AIS antenna's offset from the hull's centre; three scans
-    /// to pair, three outside 1.5× the gates to part; a rival must be twice as far (in the
-    /// gates' units) for a pair to be unambiguous. Chosen on the Solent run with own ship
-    /// 234586000 among 150/250 m and 1.5/2.5/3.5 m/s (wrong pair-scans, time to pair), and
-    /// checked on own ship 370869000.
+    /// 150 m and 3.5 m/s (7 kn): about five times a tracked target's position error and
+    /// twice its velocity error on real traffic (the Solent run: 26 m and 1.75 m/s RMS,
+    /// plots of the IMO model), plus an AIS antenna's offset from the hull's centre; three
+    /// scans to pair, three outside 1.5× the gates to part. Sigmas 30 m (the track's 26 m
+    /// RMS and 10 m of GNSS and antenna offset) and 1.8 m/s (the track's 1.75 m/s), 0.5 m/s
+    /// of drift a second of the report's age; a rival within 6 of the cost makes a pair
+    /// ambiguous. Gates chosen on the Solent run with own ship 234586000 among 150/250 m
+    /// and 1.5/2.5/3.5 m/s, the margin among 2, 4, 6 and 9 (wrong pair-scans, time to
+    /// pair), checked on own ship 370869000.
     fn default() -> Self {
+        let env = |k: &str, d: f32| {
+            std::env::var(k)
+                .ok()
+                .and_then(|x| x.parse().ok())
+                .unwrap_or(d)
+        };
         PairingGates {
             position_m: 150.0,
             velocity_mps: 3.5,
             scans_to_pair: 3,
             keep_factor: 1.5,
             scans_to_part: 3,
-            ambiguity_ratio: 2.0,
+            position_sigma_m: env("PSIG", 30.0),
+            velocity_sigma_mps: env("VSIG", 1.8),
+            drift_sigma_mps: env("DSIG", 0.5),
+            ambiguity_margin: env("MARGIN", 6.0),
+            merge_cost: env("MERGE", 13.3),
         }
     }
 }
@@ -85,12 +112,26 @@ pub struct Pairing {
     pub distance_m: f32,
 }
 
+/// A radar target taken for an AIS target's ship while their pair is being confirmed, or
+/// while it cannot be told which of several AIS targets it is (ships in one resolution
+/// cell): the ship is shown once, as the AIS target (IEC 62388 §11.4: a radar target and
+/// an AIS target of one ship are shown as one, the AIS symbol by default), and the radar
+/// target is not drawn apart. Each AIS target takes at most one radar target, its best
+/// within the gates; one radar target may stand for several AIS targets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Candidate {
+    /// The radar track.
+    pub track: u16,
+    /// The AIS target's MMSI.
+    pub mmsi: u32,
+}
+
 #[derive(Clone, Copy, Debug)]
 struct Pair {
     mmsi: u32,
     /// Scans in a row outside the wide gates.
     outside: u32,
-    /// Scans in a row another AIS target fitted the track far better.
+    /// Scans in a row another AIS target fitted the track nearly as well.
     rivalled: u32,
 }
 
@@ -178,8 +219,11 @@ impl AisPicture {
             let a = by_mmsi.get(&mmsi)?;
             let d = gap(x.position_m, a.position_m);
             let dv = gap(x.velocity_mps, a.velocity_mps);
+            let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
+            let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
+            let sv2 = gates.velocity_sigma_mps * gates.velocity_sigma_mps;
             (d <= gates.position_m * factor && dv <= gates.velocity_mps * factor)
-                .then_some(d / gates.position_m + dv / gates.velocity_mps)
+                .then_some(d * d / sp2.max(1.0) + dv * dv / sv2.max(1e-3))
         };
         // Every radar target against every AIS target within the gates (the AIS targets
         // nearer than the position gate, by a cheap bound, first).
@@ -194,7 +238,7 @@ impl AisPicture {
                 }
             }
         }
-        let ratio = gates.ambiguity_ratio;
+        let margin = gates.ambiguity_margin;
         // The best cost of a track against AIS targets other than `mmsi`, and of an AIS
         // target against tracks other than `track`.
         let best_other_ais = |track: u16, mmsi: u32| {
@@ -220,7 +264,7 @@ impl AisPicture {
                 pair.outside += 1;
             }
             let rival = best_other_ais(*track, pair.mmsi);
-            if own.is_none_or(|c| rival * ratio < c) {
+            if own.is_none_or(|c| rival < c + margin) {
                 pair.rivalled += 1;
             } else {
                 pair.rivalled = 0;
@@ -250,8 +294,8 @@ impl AisPicture {
             }
             used_tracks.push(track);
             used_mmsi.push(mmsi);
-            let clear = best_other_ais(track, mmsi) >= ratio * c
-                && best_other_track(track, mmsi) >= ratio * c;
+            let clear = best_other_ais(track, mmsi) >= c + margin
+                && best_other_track(track, mmsi) >= c + margin;
             if !clear {
                 continue;
             }
@@ -276,6 +320,34 @@ impl AisPicture {
             }
         }
         self.streaks = streaks;
+        // Candidates: each unpaired AIS target's best unpaired radar target in the gates.
+        let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
+        let mut best: BTreeMap<u32, (f32, u16)> = BTreeMap::new();
+        let mut track_best: BTreeMap<u16, f32> = BTreeMap::new();
+        for (c, track, mmsi) in &all {
+            if self.pairs.contains_key(track) || paired_mmsi.contains(mmsi) {
+                continue;
+            }
+            let e = track_best.entry(*track).or_insert(*c);
+            *e = e.min(*c);
+        }
+        for (c, track, mmsi) in &all {
+            if self.pairs.contains_key(track)
+                || paired_mmsi.contains(mmsi)
+                || *c > gates.merge_cost
+                || track_best.get(track).is_some_and(|b| *c > b + margin)
+            {
+                continue;
+            }
+            let e = best.entry(*mmsi).or_insert((*c, *track));
+            if *c < e.0 {
+                *e = (*c, *track);
+            }
+        }
+        report.merged = best
+            .into_iter()
+            .map(|(mmsi, (_, track))| Candidate { track, mmsi })
+            .collect();
         report.paired = self
             .pairs
             .iter()
