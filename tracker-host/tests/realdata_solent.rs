@@ -60,12 +60,18 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
             p.ships_unpaired
         );
         println!(
-            "merged right/wrong/no ship {} / {} / {}, hidden {}, shown twice late {}",
+            "|   | shown as AIS while pairing: right / wrong / no ship {} / {} / {}, ships hidden {}; associated (paired or shown as AIS) {} of {}, mean {:.0} s, 95 % within {}; pairings {}, partings {} |",
             p.merged_correct,
             p.merged_wrong,
             p.merged_unverified,
             p.ships_hidden,
-            p.ships_unpaired_late
+            p.ships_associated,
+            p.ships_with_track_and_ais,
+            p.time_to_associate_mean_s,
+            p.time_to_associate_p95_s
+                .map_or("not reached".to_string(), |t| format!("{t:.0} s")),
+            ais.pairing.paired,
+            ais.pairing.parted,
         );
         assert!(s.scans > 1000, "{own_mmsi}: {} scans", s.scans);
         assert_eq!(

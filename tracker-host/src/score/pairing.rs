@@ -48,6 +48,14 @@ pub struct PairingScores {
     /// 95 % of the ships with a track and AIS were paired within this, s (`None` when
     /// fewer than 95 % were paired at all).
     pub time_to_pair_p95_s: Option<f64>,
+    /// Ships with a track and AIS whose track was, at some scan, paired with their AIS
+    /// target or shown as it (merged, [`crate::session::ais::Candidate`]): associated.
+    pub ships_associated: usize,
+    /// Mean time from a track matched to its first association, s.
+    pub time_to_associate_mean_s: f64,
+    /// 95 % of the ships with a track and AIS were associated within this, s (`None` when
+    /// fewer than 95 % were at all).
+    pub time_to_associate_p95_s: Option<f64>,
 }
 
 /// The time a pair may take to form after the track is matched, scans: the pairing's own
@@ -61,6 +69,7 @@ pub struct PairingScorer {
     /// Per ship: the scan its track was first matched, and first correctly paired.
     first_matched: BTreeMap<u32, u32>,
     first_paired: BTreeMap<u32, u32>,
+    first_associated: BTreeMap<u32, u32>,
 }
 
 impl PairingScorer {
@@ -88,6 +97,9 @@ impl PairingScorer {
                         || nearest.get(track).is_some_and(|n| under.contains(n)) =>
                 {
                     self.scores.merged_correct += 1;
+                    if ais.contains(ship) {
+                        self.first_associated.entry(*ship).or_insert(scan);
+                    }
                 }
                 Some(ship) => {
                     self.scores.merged_wrong += 1;
@@ -108,6 +120,7 @@ impl PairingScorer {
                 Some(ship) if ship == mmsi || nearest.get(track) == Some(mmsi) => {
                     self.scores.pairs_correct += 1;
                     self.first_paired.entry(*ship).or_insert(scan);
+                    self.first_associated.entry(*ship).or_insert(scan);
                 }
                 Some(_) => self.scores.pairs_wrong += 1,
                 None => self.scores.pairs_unverified += 1,
@@ -132,11 +145,13 @@ impl PairingScorer {
     pub fn scores(&self, scan_s: f64) -> PairingScores {
         let mut s = self.scores.clone();
         s.ships_with_track_and_ais = self.first_matched.len();
-        let delays: Vec<u32> = self
-            .first_paired
-            .iter()
-            .filter_map(|(ship, p)| self.first_matched.get(ship).map(|m| p.saturating_sub(*m)))
-            .collect();
+        let delays_of = |first: &BTreeMap<u32, u32>| -> Vec<u32> {
+            first
+                .iter()
+                .filter_map(|(ship, p)| self.first_matched.get(ship).map(|m| p.saturating_sub(*m)))
+                .collect()
+        };
+        let delays = delays_of(&self.first_paired);
         s.ships_paired = delays.len();
         s.ships_paired_in_time = delays
             .iter()
@@ -145,14 +160,23 @@ impl PairingScorer {
         s.time_to_pair_mean_s =
             delays.iter().map(|d| f64::from(*d)).sum::<f64>() / delays.len().max(1) as f64 * scan_s;
         s.time_to_pair_max_s = f64::from(delays.iter().copied().max().unwrap_or(0)) * scan_s;
-        let mut sorted = delays.clone();
-        sorted.sort_unstable();
         // The delay of the ship at the 95th percentile of all ships with a track and AIS.
         let at = (s.ships_with_track_and_ais as f64 * 0.95).ceil() as usize;
-        s.time_to_pair_p95_s = match at.checked_sub(1) {
-            None => Some(0.0),
-            Some(i) => sorted.get(i).map(|d| f64::from(*d) * scan_s),
+        let p95 = |delays: &[u32]| {
+            let mut sorted = delays.to_vec();
+            sorted.sort_unstable();
+            match at.checked_sub(1) {
+                None => Some(0.0),
+                Some(i) => sorted.get(i).map(|d| f64::from(*d) * scan_s),
+            }
         };
+        s.time_to_pair_p95_s = p95(&delays);
+        let associated = delays_of(&self.first_associated);
+        s.ships_associated = associated.len();
+        s.time_to_associate_mean_s = associated.iter().map(|d| f64::from(*d)).sum::<f64>()
+            / associated.len().max(1) as f64
+            * scan_s;
+        s.time_to_associate_p95_s = p95(&associated);
         s
     }
 }
@@ -206,5 +230,34 @@ mod tests {
         assert!((s.time_to_pair_max_s - 25.0).abs() < 1e-9);
         // Two ships, both paired: the 95th percentile is the slower one's 10 scans.
         assert_eq!(s.time_to_pair_p95_s, Some(25.0));
+        assert_eq!(s.ships_associated, 2);
+        assert_eq!(s.time_to_associate_p95_s, Some(25.0));
+    }
+
+    #[test]
+    fn a_radar_target_shown_as_ais_counts_once_and_hides_a_ship_without_ais() {
+        let mut p = PairingScorer::default();
+        // Track 1 follows ship 100, track 2 ship 200 (no AIS held), track 3 ship 300.
+        let matched: BTreeMap<u16, u32> = [(1, 100), (2, 200), (3, 300)].into();
+        // Track 1 shown as AIS 100 and 400 (ships it does not tell apart): right, ship 100
+        // shown once and associated; track 2 shown as AIS 100 too: wrong, and ship 200 is
+        // not shown at all; track 3 shown apart from AIS 300: twice.
+        p.scan(
+            4,
+            &matched,
+            &matched,
+            &[],
+            &[(1, 100), (1, 400), (2, 100)],
+            &[100, 300, 400],
+        );
+        let s = p.scores(2.5);
+        assert_eq!(
+            (s.merged_correct, s.merged_wrong, s.merged_unverified),
+            (1, 1, 0)
+        );
+        assert_eq!(s.ships_hidden, 1);
+        assert_eq!(s.ships_unpaired, 1);
+        assert_eq!((s.ships_associated, s.ships_paired), (1, 0));
+        assert_eq!(s.time_to_associate_p95_s, None);
     }
 }

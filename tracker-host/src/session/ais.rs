@@ -5,18 +5,25 @@
 //! Pairing is time-aligned (the AIS position is extrapolated along its COG at its SOG to
 //! the scan's time) and held with hysteresis, so a pair does not flicker:
 //!
-//! - a radar target (confirmed) and an AIS target are *candidates* when their positions are
-//!   within [`PairingGates::position_m`] and their velocities over ground within
+//! - a radar target (confirmed) and an AIS target fit when their positions are within
+//!   [`PairingGates::position_m`] and their velocities over ground within
 //!   [`PairingGates::velocity_mps`] of each other (the vector difference, which holds both
-//!   course and speed, and does not make a course of a stopped ship matter), and each is
-//!   the other's nearest candidate;
-//! - a candidate is set aside while another AIS target fits the radar target, or another
-//!   radar target the AIS target, nearly as well ([`PairingGates::ambiguity_ratio`]):
-//!   ships in one resolution cell or in company are shown twice rather than paired wrong;
+//!   course and speed; widened for a young track); their *cost* is the squared distances
+//!   in their sigmas ([`PairingGates::position_sigma_m`], growing with the AIS report's
+//!   age, and [`PairingGates::velocity_sigma_mps`]);
+//! - a fit is a pair's candidate when each is the other's cheapest and no other AIS target
+//!   fits the radar target, nor other radar target the AIS target, within
+//!   [`PairingGates::ambiguity_margin`] of its cost: ships in one resolution cell or in
+//!   company are not paired wrong;
 //! - candidates for [`PairingGates::scans_to_pair`] scans in a row are paired (an event);
 //! - a pair outside gates [`PairingGates::keep_factor`] times as wide for
 //!   [`PairingGates::scans_to_part`] scans in a row is parted (an event), as is one whose
-//!   track or AIS target is lost, or one another AIS target fits far better for as long.
+//!   track or AIS target is lost, or one another AIS target fits nearly as well (within
+//!   the margin) for as long;
+//! - while a radar target and an AIS target fit but are not paired, the radar target is
+//!   shown as the AIS target ([`Candidate`], `ScanReport::merged`), so the ship is not
+//!   shown twice while its pair is confirmed, nor while it cannot be told which of
+//!   several ships in one cell it is.
 
 use std::collections::BTreeMap;
 
@@ -63,6 +70,9 @@ pub struct PairingGates {
     /// velocity), and only for the AIS targets that fit it within
     /// [`PairingGates::ambiguity_margin`] of its best.
     pub merge_cost: f32,
+    /// A track younger than this many scans has its velocity gate and sigma widened by
+    /// this over its age: its first velocities are rough.
+    pub settled_scans: f32,
 }
 
 impl Default for PairingGates {
@@ -71,28 +81,25 @@ impl Default for PairingGates {
     /// plots of the IMO model), plus an AIS antenna's offset from the hull's centre; three
     /// scans to pair, three outside 1.5× the gates to part. Sigmas 30 m (the track's 26 m
     /// RMS and 10 m of GNSS and antenna offset) and 1.8 m/s (the track's 1.75 m/s), 0.5 m/s
-    /// of drift a second of the report's age; a rival within 6 of the cost makes a pair
-    /// ambiguous. Gates chosen on the Solent run with own ship 234586000 among 150/250 m
-    /// and 1.5/2.5/3.5 m/s, the margin among 2, 4, 6 and 9 (wrong pair-scans, time to
-    /// pair), checked on own ship 370869000.
+    /// of drift a second of the report's age, velocities widened over a track's first
+    /// 8 scans; a rival within 6 of the cost makes a pair ambiguous; shown as the AIS
+    /// target up to a cost of 6. Gates chosen on the Solent run with own ship 234586000
+    /// among 150/250 m and 1.5/2.5/3.5 m/s; the margin among 2 and 6, the merge cost among
+    /// 6, 9 and 13.3, the drift among 0.2 and 0.5 m/s, the settling among 1 and 8 scans
+    /// (wrong pair-scans, ships hidden, ships shown twice), checked on own ship 370869000.
     fn default() -> Self {
-        let env = |k: &str, d: f32| {
-            std::env::var(k)
-                .ok()
-                .and_then(|x| x.parse().ok())
-                .unwrap_or(d)
-        };
         PairingGates {
             position_m: 150.0,
             velocity_mps: 3.5,
             scans_to_pair: 3,
             keep_factor: 1.5,
             scans_to_part: 3,
-            position_sigma_m: env("PSIG", 30.0),
-            velocity_sigma_mps: env("VSIG", 1.8),
-            drift_sigma_mps: env("DSIG", 0.5),
-            ambiguity_margin: env("MARGIN", 6.0),
-            merge_cost: env("MERGE", 13.3),
+            position_sigma_m: 30.0,
+            velocity_sigma_mps: 1.8,
+            drift_sigma_mps: 0.5,
+            ambiguity_margin: 6.0,
+            merge_cost: 6.0,
+            settled_scans: 8.0,
         }
     }
 }
@@ -221,8 +228,11 @@ impl AisPicture {
             let dv = gap(x.velocity_mps, a.velocity_mps);
             let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
             let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
-            let sv2 = gates.velocity_sigma_mps * gates.velocity_sigma_mps;
-            (d <= gates.position_m * factor && dv <= gates.velocity_mps * factor)
+            // A young track's velocity is known only roughly.
+            let young = (gates.settled_scans / f32::from(x.age_scans.max(1))).max(1.0);
+            let sv = gates.velocity_sigma_mps * young;
+            let sv2 = sv * sv;
+            (d <= gates.position_m * factor && dv <= gates.velocity_mps * young * factor)
                 .then_some(d * d / sp2.max(1.0) + dv * dv / sv2.max(1e-3))
         };
         // Every radar target against every AIS target within the gates (the AIS targets
@@ -320,34 +330,7 @@ impl AisPicture {
             }
         }
         self.streaks = streaks;
-        // Candidates: each unpaired AIS target's best unpaired radar target in the gates.
-        let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
-        let mut best: BTreeMap<u32, (f32, u16)> = BTreeMap::new();
-        let mut track_best: BTreeMap<u16, f32> = BTreeMap::new();
-        for (c, track, mmsi) in &all {
-            if self.pairs.contains_key(track) || paired_mmsi.contains(mmsi) {
-                continue;
-            }
-            let e = track_best.entry(*track).or_insert(*c);
-            *e = e.min(*c);
-        }
-        for (c, track, mmsi) in &all {
-            if self.pairs.contains_key(track)
-                || paired_mmsi.contains(mmsi)
-                || *c > gates.merge_cost
-                || track_best.get(track).is_some_and(|b| *c > b + margin)
-            {
-                continue;
-            }
-            let e = best.entry(*mmsi).or_insert((*c, *track));
-            if *c < e.0 {
-                *e = (*c, *track);
-            }
-        }
-        report.merged = best
-            .into_iter()
-            .map(|(mmsi, (_, track))| Candidate { track, mmsi })
-            .collect();
+        report.merged = self.candidates(&all);
         report.paired = self
             .pairs
             .iter()
@@ -364,6 +347,64 @@ impl AisPicture {
             })
             .collect();
         report.ais = ais;
+    }
+
+    /// The radar targets shown as AIS targets this scan: among the unpaired within the
+    /// gates and [`PairingGates::merge_cost`], one to one by cost (the cheapest first), then
+    /// each AIS target left over whose best radar target was taken within
+    /// [`PairingGates::ambiguity_margin`] of that one's cost (one radar target for ships
+    /// it does not tell apart).
+    fn candidates(&self, all: &[(f32, u16, u32)]) -> Vec<Candidate> {
+        let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
+        let mut free: Vec<(f32, u16, u32)> = all
+            .iter()
+            .copied()
+            .filter(|(c, track, mmsi)| {
+                *c <= self.gates.merge_cost
+                    && !self.pairs.contains_key(track)
+                    && !paired_mmsi.contains(mmsi)
+            })
+            .collect();
+        free.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut taken: BTreeMap<u16, f32> = BTreeMap::new();
+        let mut out: Vec<Candidate> = Vec::new();
+        for (c, track, mmsi) in &free {
+            if taken.contains_key(track) || out.iter().any(|x| x.mmsi == *mmsi) {
+                continue;
+            }
+            taken.insert(*track, *c);
+            out.push(Candidate {
+                track: *track,
+                mmsi: *mmsi,
+            });
+        }
+        let mut grouped = Vec::new();
+        for (c, track, mmsi) in &free {
+            if out.iter().any(|x| x.mmsi == *mmsi)
+                || grouped.iter().any(|x: &Candidate| x.mmsi == *mmsi)
+            {
+                continue;
+            }
+            // `free` is sorted: the first entry of an AIS target is its best radar target.
+            if taken
+                .get(track)
+                .is_some_and(|t| *c <= t + self.gates.ambiguity_margin)
+            {
+                grouped.push(Candidate {
+                    track: *track,
+                    mmsi: *mmsi,
+                });
+            } else {
+                // Its best is not taken or fits far better elsewhere: shown apart.
+                grouped.push(Candidate {
+                    track: u16::MAX,
+                    mmsi: *mmsi,
+                });
+            }
+        }
+        out.extend(grouped.into_iter().filter(|x| x.track != u16::MAX));
+        out.sort_by_key(|x| (x.track, x.mmsi));
+        out
     }
 
     fn part_where(&mut self, f: impl Fn(&Pair) -> bool, t: f64, why: &str) {
