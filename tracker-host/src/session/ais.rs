@@ -19,7 +19,7 @@
 //! - a pair outside gates [`PairingGates::keep_factor`] times as wide for
 //!   [`PairingGates::scans_to_part`] scans in a row is parted (an event), as is one whose
 //!   track or AIS target is lost, or one another AIS target fits nearly as well (within
-//!   the margin) for as long;
+//!   the margin), or another radar target its AIS target, for as long;
 //! - while a radar target and an AIS target fit but are not paired, the radar target is
 //!   shown as the AIS target ([`Candidate`], `ScanReport::merged`), so the ship is not
 //!   shown twice while its pair is confirmed, nor while it cannot be told which of
@@ -62,7 +62,7 @@ pub struct PairingGates {
     /// 6 is a likelihood 20 times smaller). Two ships in one resolution cell, moored side
     /// by side, or sailing in company are not told apart: their radar target is shown as
     /// their AIS targets ([`Candidate`]) rather than paired wrong. A held pair is parted
-    /// when another AIS target comes within this much of its cost for
+    /// when another AIS target (or radar target) comes within this much of its cost for
     /// [`PairingGates::scans_to_part`] scans in a row.
     pub ambiguity_margin: f32,
     /// A radar target is shown as an AIS target ([`Candidate`]) only while its cost is at
@@ -138,7 +138,8 @@ struct Pair {
     mmsi: u32,
     /// Scans in a row outside the wide gates.
     outside: u32,
-    /// Scans in a row another AIS target fitted the track nearly as well.
+    /// Scans in a row another AIS target fitted the track, or another track the AIS
+    /// target, nearly as well.
     rivalled: u32,
 }
 
@@ -263,8 +264,9 @@ impl AisPicture {
                 .map(|(c, _, _)| *c)
                 .fold(f32::INFINITY, f32::min)
         };
-        // Pairs held: within the wide gates, or outside for too long; rivalled by a far
-        // better AIS target for too long.
+        // Pairs held: within the wide gates, or outside for too long; rivalled by another
+        // AIS target fitting the track, or another track the AIS target, nearly as well
+        // for too long.
         let mut parted = Vec::new();
         for (track, pair) in &mut self.pairs {
             let own = within(*track, pair.mmsi, gates.keep_factor);
@@ -273,7 +275,7 @@ impl AisPicture {
             } else {
                 pair.outside += 1;
             }
-            let rival = best_other_ais(*track, pair.mmsi);
+            let rival = best_other_ais(*track, pair.mmsi).min(best_other_track(*track, pair.mmsi));
             if own.is_none_or(|c| rival < c + margin) {
                 pair.rivalled += 1;
             } else {
