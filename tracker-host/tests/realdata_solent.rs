@@ -2,11 +2,16 @@
 //! `../shared/realdata/ais/`, or where `TRACKER_REALDATA` says) as the truth, for two own
 //! ships (234586000 leaving Portsmouth, 370869000 arriving from the east): the others seen
 //! by the radar model and heard on AIS (sent as AIVDM, read back by the product's decoder),
-//! tracked and paired. A table is printed; asserted: every AIS sentence decoded, at least
-//! 90 % of the ships with a track and AIS paired, at most 5 % of pair-scans wrong (measured:
-//! 1.8 % and 2.8 %: ships in company or moored side by side whose radar track swaps from
-//! one to the other under a held pair), at most 1 % on a track that follows no ship that
-//! scan (measured: 102 pair-scans of 37,743, coasting tracks drifting from their ship).
+//! tracked and paired. A table is printed; asserted, for each own ship: every AIS sentence
+//! decoded; at most 0.5 % of pair-scans wrong (measured 0.12 % and 0.18 %: ships whose
+//! radar track swapped to a ship moored or sailing beside them, or to where an AIS target of
+//! a ship out of the truth still stood); at most 1 % on a track that follows no ship (coasting
+//! tracks of ships whose truth ended); at most 5 % of the scans a radar target is shown as an
+//! AIS target on another ship (3.0 % and 0.5 %), and at most 0.1 % of ship-scans hidden (a
+//! ship with no AIS target held whose radar target is shown as another's AIS target: 18 and
+//! 3); at most 3 % of the ship-scans with a track and AIS shown twice (1.0 % and 2.2 %); at
+//! least 95 % of the ships with a track and AIS associated (paired, or shown as their AIS
+//! target) within 30 s of their track (measured 22 s and 10 s), and 90 % paired at some time.
 
 use tracker_core::filter::FilterKind;
 use tracker_core::sim::ScenarioKind;
@@ -59,6 +64,20 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
             p.time_to_pair_max_s,
             p.ships_unpaired
         );
+        println!(
+            "|   | shown as AIS while pairing: right / wrong / no ship {} / {} / {}, ships hidden {}; associated (paired or shown as AIS) {} of {}, mean {:.0} s, 95 % within {}; pairings {}, partings {} |",
+            p.merged_correct,
+            p.merged_wrong,
+            p.merged_unverified,
+            p.ships_hidden,
+            p.ships_associated,
+            p.ships_with_track_and_ais,
+            p.time_to_associate_mean_s,
+            p.time_to_associate_p95_s
+                .map_or("not reached".to_string(), |t| format!("{t:.0} s")),
+            ais.pairing.paired,
+            ais.pairing.parted,
+        );
         assert!(s.scans > 1000, "{own_mmsi}: {} scans", s.scans);
         assert_eq!(
             ais.sentences.decoded(),
@@ -71,11 +90,22 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
             p.ships_paired * 10 >= p.ships_with_track_and_ais * 9,
             "{p:?}"
         );
-        assert!(
-            p.pairs_wrong * 20 <= p.pairs_correct + p.pairs_wrong,
-            "{p:?}"
-        );
+        let pair_scans = p.pairs_correct + p.pairs_wrong;
+        assert!(p.pairs_wrong * 200 <= pair_scans, "{p:?}");
         let all = p.pairs_correct + p.pairs_wrong + p.pairs_unverified;
         assert!(p.pairs_unverified * 100 <= all, "{p:?}");
+        let merged = p.merged_correct + p.merged_wrong;
+        assert!(p.merged_wrong * 20 <= merged, "{p:?}");
+        let ship_scans = p.pairs_correct + p.merged_correct + p.ships_unpaired;
+        assert!(p.ships_hidden * 1000 <= ship_scans, "{p:?}");
+        assert!(p.ships_unpaired * 100 <= ship_scans * 3, "{p:?}");
+        assert!(
+            p.ships_associated * 20 >= p.ships_with_track_and_ais * 19,
+            "{p:?}"
+        );
+        assert!(
+            p.time_to_associate_p95_s.is_some_and(|t| t <= 30.0),
+            "{p:?}"
+        );
     }
 }

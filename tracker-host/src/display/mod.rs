@@ -382,7 +382,13 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
             ctx.draw(&Points::new(&plots, Color::Yellow));
             ctx.layer();
             ctx.draw(&Points::new(&trails, Color::Gray));
-            for t in &view.targets {
+            // A radar target shown as an AIS target (their pair being confirmed) is drawn as
+            // that AIS target only.
+            for t in view
+                .targets
+                .iter()
+                .filter(|t| !view.merged.iter().any(|c| c.track == t.track))
+            {
                 let (x, y) = rel(t.position_m);
                 let v = match state.vectors {
                     VectorMode::Relative => [
@@ -489,10 +495,7 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             format!("{:.1}", t.speed_mps / MPS_PER_KNOT),
             format!("{:.2}", t.cpa_m / METRES_PER_NM),
             format!("{:.1}", t.tcpa_s / 60.0),
-            view.paired
-                .iter()
-                .find(|p| p.track == t.track)
-                .map_or(String::new(), |p| p.label.clone()),
+            ais_column(view, t.track),
         ])
         .style(style)
     });
@@ -503,6 +506,21 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             .title(" targets, nearest first "),
     );
     frame.render_widget(table, area);
+}
+
+/// The table's AIS column: the paired AIS target's name, or the names of the AIS targets a
+/// radar target is shown as while its pair is confirmed, each with a `?`.
+fn ais_column(view: &ScanReport, track: u16) -> String {
+    if let Some(p) = view.paired.iter().find(|p| p.track == track) {
+        return p.label.clone();
+    }
+    view.merged
+        .iter()
+        .filter(|c| c.track == track)
+        .filter_map(|c| view.ais.iter().find(|a| a.mmsi == c.mmsi))
+        .map(|a| format!("{}?", a.label))
+        .collect::<Vec<_>>()
+        .join(" ")
 }
 
 fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {

@@ -355,8 +355,10 @@ impl crate::sink::ScanSink for ScoreSink {
                 let ais: Vec<u32> = report.ais.iter().map(|a| a.mmsi).collect();
                 let matched = self.scorer.matched(&report.tracks);
                 let nearest = nearest_truth(truth, &report.tracks, &matched);
+                let merged: Vec<(u16, u32)> =
+                    report.merged.iter().map(|c| (c.track, c.mmsi)).collect();
                 self.pairing
-                    .scan(report.scan, &matched, &nearest, &pairs, &ais);
+                    .scan(report.scan, &matched, &nearest, &pairs, &merged, &ais);
                 self.pairing_scored = true;
             }
         }

@@ -20,8 +20,18 @@ pub struct PairingScores {
     pub pairs_wrong: u64,
     /// Pair-scans whose track followed no ship (a false or lost track).
     pub pairs_unverified: u64,
-    /// Ship-scans with a matched track and an AIS target held but no pair (the ship shown
-    /// twice).
+    /// Scans a radar target was merged into AIS targets' symbols ([`crate::session::ais::Candidate`])
+    /// and followed one of those ships (or one of them was the ship nearest it).
+    pub merged_correct: u64,
+    /// … and followed another ship.
+    pub merged_wrong: u64,
+    /// … and followed no ship.
+    pub merged_unverified: u64,
+    /// Ship-scans with a matched track merged into other ships' AIS symbols and no AIS
+    /// target of its own: the ship not shown at all.
+    pub ships_hidden: u64,
+    /// Ship-scans with a matched track shown as a radar target and an AIS target shown
+    /// apart (not paired with a radar target): the ship shown twice.
     pub ships_unpaired: u64,
     /// … of those, later than [`PAIRING_ALLOWANCE_SCANS`] after the track was matched.
     pub ships_unpaired_late: u64,
@@ -38,6 +48,14 @@ pub struct PairingScores {
     /// 95 % of the ships with a track and AIS were paired within this, s (`None` when
     /// fewer than 95 % were paired at all).
     pub time_to_pair_p95_s: Option<f64>,
+    /// Ships with a track and AIS whose track was, at some scan, paired with their AIS
+    /// target or shown as it (merged, [`crate::session::ais::Candidate`]): associated.
+    pub ships_associated: usize,
+    /// Mean time from a track matched to its first association, s.
+    pub time_to_associate_mean_s: f64,
+    /// 95 % of the ships with a track and AIS were associated within this, s (`None` when
+    /// fewer than 95 % were at all).
+    pub time_to_associate_p95_s: Option<f64>,
 }
 
 /// The time a pair may take to form after the track is matched, scans: the pairing's own
@@ -51,20 +69,47 @@ pub struct PairingScorer {
     /// Per ship: the scan its track was first matched, and first correctly paired.
     first_matched: BTreeMap<u32, u32>,
     first_paired: BTreeMap<u32, u32>,
+    first_associated: BTreeMap<u32, u32>,
 }
 
 impl PairingScorer {
     /// One scan: `matched` maps each confirmed track to the ship (MMSI) the scorer matched
-    /// it to, `nearest` to the ship nearest it; `pairs` are the session's (track, MMSI);
-    /// `ais` the MMSIs of the AIS targets held.
+    /// it to, `nearest` to the ship nearest it; `pairs` are the session's (track, MMSI),
+    /// `merged` its radar targets shown as AIS targets (track, MMSI); `ais` the MMSIs of
+    /// the AIS targets held.
     pub fn scan(
         &mut self,
         scan: u32,
         matched: &BTreeMap<u16, u32>,
         nearest: &BTreeMap<u16, u32>,
         pairs: &[(u16, u32)],
+        merged: &[(u16, u32)],
         ais: &[u32],
     ) {
+        let mut merged_tracks: BTreeMap<u16, Vec<u32>> = BTreeMap::new();
+        for (track, mmsi) in merged {
+            merged_tracks.entry(*track).or_default().push(*mmsi);
+        }
+        for (track, under) in &merged_tracks {
+            match matched.get(track) {
+                Some(ship)
+                    if under.contains(ship)
+                        || nearest.get(track).is_some_and(|n| under.contains(n)) =>
+                {
+                    self.scores.merged_correct += 1;
+                    if ais.contains(ship) {
+                        self.first_associated.entry(*ship).or_insert(scan);
+                    }
+                }
+                Some(ship) => {
+                    self.scores.merged_wrong += 1;
+                    if !ais.contains(ship) {
+                        self.scores.ships_hidden += 1;
+                    }
+                }
+                None => self.scores.merged_unverified += 1,
+            }
+        }
         for ship in matched.values() {
             if ais.contains(ship) {
                 self.first_matched.entry(*ship).or_insert(scan);
@@ -75,14 +120,15 @@ impl PairingScorer {
                 Some(ship) if ship == mmsi || nearest.get(track) == Some(mmsi) => {
                     self.scores.pairs_correct += 1;
                     self.first_paired.entry(*ship).or_insert(scan);
+                    self.first_associated.entry(*ship).or_insert(scan);
                 }
                 Some(_) => self.scores.pairs_wrong += 1,
                 None => self.scores.pairs_unverified += 1,
             }
         }
-        for ship in matched.values() {
+        for (track, ship) in matched {
             let paired = pairs.iter().any(|(_, m)| m == ship);
-            if ais.contains(ship) && !paired {
+            if ais.contains(ship) && !paired && !merged_tracks.contains_key(track) {
                 self.scores.ships_unpaired += 1;
                 let since = self
                     .first_matched
@@ -99,11 +145,13 @@ impl PairingScorer {
     pub fn scores(&self, scan_s: f64) -> PairingScores {
         let mut s = self.scores.clone();
         s.ships_with_track_and_ais = self.first_matched.len();
-        let delays: Vec<u32> = self
-            .first_paired
-            .iter()
-            .filter_map(|(ship, p)| self.first_matched.get(ship).map(|m| p.saturating_sub(*m)))
-            .collect();
+        let delays_of = |first: &BTreeMap<u32, u32>| -> Vec<u32> {
+            first
+                .iter()
+                .filter_map(|(ship, p)| self.first_matched.get(ship).map(|m| p.saturating_sub(*m)))
+                .collect()
+        };
+        let delays = delays_of(&self.first_paired);
         s.ships_paired = delays.len();
         s.ships_paired_in_time = delays
             .iter()
@@ -112,14 +160,23 @@ impl PairingScorer {
         s.time_to_pair_mean_s =
             delays.iter().map(|d| f64::from(*d)).sum::<f64>() / delays.len().max(1) as f64 * scan_s;
         s.time_to_pair_max_s = f64::from(delays.iter().copied().max().unwrap_or(0)) * scan_s;
-        let mut sorted = delays.clone();
-        sorted.sort_unstable();
         // The delay of the ship at the 95th percentile of all ships with a track and AIS.
         let at = (s.ships_with_track_and_ais as f64 * 0.95).ceil() as usize;
-        s.time_to_pair_p95_s = match at.checked_sub(1) {
-            None => Some(0.0),
-            Some(i) => sorted.get(i).map(|d| f64::from(*d) * scan_s),
+        let p95 = |delays: &[u32]| {
+            let mut sorted = delays.to_vec();
+            sorted.sort_unstable();
+            match at.checked_sub(1) {
+                None => Some(0.0),
+                Some(i) => sorted.get(i).map(|d| f64::from(*d) * scan_s),
+            }
         };
+        s.time_to_pair_p95_s = p95(&delays);
+        let associated = delays_of(&self.first_associated);
+        s.ships_associated = associated.len();
+        s.time_to_associate_mean_s = associated.iter().map(|d| f64::from(*d)).sum::<f64>()
+            / associated.len().max(1) as f64
+            * scan_s;
+        s.time_to_associate_p95_s = p95(&associated);
         s
     }
 }
@@ -133,13 +190,14 @@ mod tests {
         let mut p = PairingScorer::default();
         let matched: BTreeMap<u16, u32> = [(1, 100), (2, 200)].into();
         // Scan 0: nothing paired yet; both ships have AIS: both shown twice.
-        p.scan(0, &matched, &matched, &[], &[100, 200]);
+        p.scan(0, &matched, &matched, &[], &[], &[100, 200]);
         // Scan 3: track 1 paired right, track 2 paired wrong.
         p.scan(
             3,
             &matched,
             &matched,
             &[(1, 100), (2, 300)],
+            &[],
             &[100, 200, 300],
         );
         // Scan 10: track 2 paired right, late.
@@ -148,13 +206,14 @@ mod tests {
             &matched,
             &matched,
             &[(1, 100), (2, 200)],
+            &[],
             &[100, 200, 300],
         );
         // Track 2 follows ship 200 but ship 300 is nearest it (one resolution cell): right.
         let nearest: BTreeMap<u16, u32> = [(1, 100), (2, 300)].into();
-        p.scan(11, &matched, &nearest, &[(2, 300)], &[100, 200, 300]);
+        p.scan(11, &matched, &nearest, &[(2, 300)], &[], &[100, 200, 300]);
         assert_eq!(p.scores(2.5).pairs_correct, 4);
-        p.scan(12, &matched, &matched, &[(2, 300)], &[100, 200, 300]);
+        p.scan(12, &matched, &matched, &[(2, 300)], &[], &[100, 200, 300]);
         let s = p.scores(2.5);
         assert_eq!((s.pairs_correct, s.pairs_wrong), (4, 2));
         assert_eq!(s.ships_unpaired, 7);
@@ -171,5 +230,34 @@ mod tests {
         assert!((s.time_to_pair_max_s - 25.0).abs() < 1e-9);
         // Two ships, both paired: the 95th percentile is the slower one's 10 scans.
         assert_eq!(s.time_to_pair_p95_s, Some(25.0));
+        assert_eq!(s.ships_associated, 2);
+        assert_eq!(s.time_to_associate_p95_s, Some(25.0));
+    }
+
+    #[test]
+    fn a_radar_target_shown_as_ais_counts_once_and_hides_a_ship_without_ais() {
+        let mut p = PairingScorer::default();
+        // Track 1 follows ship 100, track 2 ship 200 (no AIS held), track 3 ship 300.
+        let matched: BTreeMap<u16, u32> = [(1, 100), (2, 200), (3, 300)].into();
+        // Track 1 shown as AIS 100 and 400 (ships it does not tell apart): right, ship 100
+        // shown once and associated; track 2 shown as AIS 100 too: wrong, and ship 200 is
+        // not shown at all; track 3 shown apart from AIS 300: twice.
+        p.scan(
+            4,
+            &matched,
+            &matched,
+            &[],
+            &[(1, 100), (1, 400), (2, 100)],
+            &[100, 300, 400],
+        );
+        let s = p.scores(2.5);
+        assert_eq!(
+            (s.merged_correct, s.merged_wrong, s.merged_unverified),
+            (1, 1, 0)
+        );
+        assert_eq!(s.ships_hidden, 1);
+        assert_eq!(s.ships_unpaired, 1);
+        assert_eq!((s.ships_associated, s.ships_paired), (1, 0));
+        assert_eq!(s.time_to_associate_p95_s, None);
     }
 }

@@ -104,7 +104,7 @@ impl Summary {
         );
         if let Some(p) = &self.pairing {
             s += &format!(
-                "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.0} s, 95 % {}, max {:.0} s; ships shown twice: {} ship-scans ({} after {} scans)",
+                "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.0} s, 95 % {}, max {:.0} s; radar targets shown as AIS targets while pairing: {} scans right, {} wrong ({} ship-scans hidden), {} on tracks of no ship; {} ships associated (paired or shown as their AIS target), mean {:.0} s, 95 % {}; ships shown twice: {} ship-scans ({} after {} scans)",
                 p.pairs_correct,
                 p.pairs_wrong,
                 p.pairs_unverified,
@@ -116,6 +116,14 @@ impl Summary {
                 p.time_to_pair_p95_s
                     .map_or("never paired".to_string(), |t| format!("within {t:.0} s")),
                 p.time_to_pair_max_s,
+                p.merged_correct,
+                p.merged_wrong,
+                p.ships_hidden,
+                p.merged_unverified,
+                p.ships_associated,
+                p.time_to_associate_mean_s,
+                p.time_to_associate_p95_s
+                    .map_or("never associated".to_string(), |t| format!("within {t:.0} s")),
                 p.ships_unpaired,
                 p.ships_unpaired_late,
                 super::pairing::PAIRING_ALLOWANCE_SCANS,

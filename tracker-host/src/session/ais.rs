@@ -5,18 +5,25 @@
 //! Pairing is time-aligned (the AIS position is extrapolated along its COG at its SOG to
 //! the scan's time) and held with hysteresis, so a pair does not flicker:
 //!
-//! - a radar target (confirmed) and an AIS target are *candidates* when their positions are
-//!   within [`PairingGates::position_m`] and their velocities over ground within
+//! - a radar target (confirmed) and an AIS target fit when their positions are within
+//!   [`PairingGates::position_m`] and their velocities over ground within
 //!   [`PairingGates::velocity_mps`] of each other (the vector difference, which holds both
-//!   course and speed, and does not make a course of a stopped ship matter), and each is
-//!   the other's nearest candidate;
-//! - a candidate is set aside while another AIS target fits the radar target, or another
-//!   radar target the AIS target, nearly as well ([`PairingGates::ambiguity_ratio`]):
-//!   ships in one resolution cell or in company are shown twice rather than paired wrong;
+//!   course and speed; widened for a young track); their *cost* is the squared distances
+//!   in their sigmas ([`PairingGates::position_sigma_m`], growing with the AIS report's
+//!   age, and [`PairingGates::velocity_sigma_mps`]);
+//! - a fit is a pair's candidate when each is the other's cheapest and no other AIS target
+//!   fits the radar target, nor other radar target the AIS target, within
+//!   [`PairingGates::ambiguity_margin`] of its cost: ships in one resolution cell or in
+//!   company are not paired wrong;
 //! - candidates for [`PairingGates::scans_to_pair`] scans in a row are paired (an event);
 //! - a pair outside gates [`PairingGates::keep_factor`] times as wide for
 //!   [`PairingGates::scans_to_part`] scans in a row is parted (an event), as is one whose
-//!   track or AIS target is lost, or one another AIS target fits far better for as long.
+//!   track or AIS target is lost, or one another AIS target fits nearly as well (within
+//!   the margin), or another radar target its AIS target, for as long;
+//! - while a radar target and an AIS target fit but are not paired, the radar target is
+//!   shown as the AIS target ([`Candidate`], `ScanReport::merged`), so the ship is not
+//!   shown twice while its pair is confirmed, nor while it cannot be told which of
+//!   several ships in one cell it is.
 
 use std::collections::BTreeMap;
 
@@ -41,23 +48,45 @@ pub struct PairingGates {
     pub keep_factor: f32,
     /// Scans in a row outside the wide gates before a pair is parted.
     pub scans_to_part: u32,
-    /// A candidate pair is taken only when the next best AIS target for the radar target,
-    /// and the next best radar target for the AIS target, cost at least this many times
-    /// more (two ships in one resolution cell, moored side by side, or sailing in company
-    /// are not told apart: they stay unpaired and shown twice rather than paired wrong).
-    /// A held pair is parted when another AIS target costs less than its own cost divided
-    /// by this for [`PairingGates::scans_to_part`] scans in a row.
-    pub ambiguity_ratio: f32,
+    /// The spread of a radar target's position about the ship's AIS position, m: the
+    /// track's error, the GNSS fix's and the AIS antenna's offset from the hull's centre.
+    pub position_sigma_m: f32,
+    /// The spread of their velocities' difference, m/s: mostly the track's.
+    pub velocity_sigma_mps: f32,
+    /// How fast an AIS position extrapolated from an old report loses accuracy, m/s of its
+    /// age (course and speed errors, turns since the report).
+    pub drift_sigma_mps: f32,
+    /// A pair is taken only when every other AIS target fits the radar target, and every
+    /// other radar target the AIS target, worse by at least this much in cost (the sum of
+    /// the squared position and velocity differences in their sigmas: a difference of
+    /// 6 is a likelihood 20 times smaller). Two ships in one resolution cell, moored side
+    /// by side, or sailing in company are not told apart: their radar target is shown as
+    /// their AIS targets ([`Candidate`]) rather than paired wrong. A held pair is parted
+    /// when another AIS target (or radar target) comes within this much of its cost for
+    /// [`PairingGates::scans_to_part`] scans in a row.
+    pub ambiguity_margin: f32,
+    /// A radar target is shown as an AIS target ([`Candidate`]) only while its cost is at
+    /// most this (13.3: 99 % of a chi-square of 4 degrees of freedom, position and
+    /// velocity), and only for the AIS targets that fit it within
+    /// [`PairingGates::ambiguity_margin`] of its best.
+    pub merge_cost: f32,
+    /// A track younger than this many scans has its velocity gate and sigma widened by
+    /// this over its age: its first velocities are rough.
+    pub settled_scans: f32,
 }
 
 impl Default for PairingGates {
-    /// 150 m and 3.5 m/s (7 kn): about four times a tracked target's position error and
-    /// twice its velocity error on real traffic (the Solent run: 39 m and 1.7 m/s RMS, plots
-    /// of the IMO model), plus an AIS antenna's offset from the hull's centre; three scans
-    /// to pair, three outside 1.5× the gates to part; a rival must be twice as far (in the
-    /// gates' units) for a pair to be unambiguous. Chosen on the Solent run with own ship
-    /// 234586000 among 150/250 m and 1.5/2.5/3.5 m/s (wrong pair-scans, time to pair), and
-    /// checked on own ship 370869000.
+    /// 150 m and 3.5 m/s (7 kn): about five times a tracked target's position error and
+    /// twice its velocity error on real traffic (the Solent run: 26 m and 1.75 m/s RMS,
+    /// plots of the IMO model), plus an AIS antenna's offset from the hull's centre; three
+    /// scans to pair, three outside 1.5× the gates to part. Sigmas 30 m (the track's 26 m
+    /// RMS and 10 m of GNSS and antenna offset) and 1.8 m/s (the track's 1.75 m/s), 0.5 m/s
+    /// of drift a second of the report's age, velocities widened over a track's first
+    /// 8 scans; a rival within 6 of the cost makes a pair ambiguous; shown as the AIS
+    /// target up to a cost of 6. Gates chosen on the Solent run with own ship 234586000
+    /// among 150/250 m and 1.5/2.5/3.5 m/s; the margin among 2 and 6, the merge cost among
+    /// 6, 9 and 13.3, the drift among 0.2 and 0.5 m/s, the settling among 1 and 8 scans
+    /// (wrong pair-scans, ships hidden, ships shown twice), checked on own ship 370869000.
     fn default() -> Self {
         PairingGates {
             position_m: 150.0,
@@ -65,7 +94,12 @@ impl Default for PairingGates {
             scans_to_pair: 3,
             keep_factor: 1.5,
             scans_to_part: 3,
-            ambiguity_ratio: 2.0,
+            position_sigma_m: 30.0,
+            velocity_sigma_mps: 1.8,
+            drift_sigma_mps: 0.5,
+            ambiguity_margin: 6.0,
+            merge_cost: 6.0,
+            settled_scans: 8.0,
         }
     }
 }
@@ -85,12 +119,27 @@ pub struct Pairing {
     pub distance_m: f32,
 }
 
+/// A radar target taken for an AIS target's ship while their pair is being confirmed, or
+/// while it cannot be told which of several AIS targets it is (ships in one resolution
+/// cell): the ship is shown once, as the AIS target (IEC 62388 §11.4: a radar target and
+/// an AIS target of one ship are shown as one, the AIS symbol by default), and the radar
+/// target is not drawn apart. Each AIS target takes at most one radar target, its best
+/// within the gates; one radar target may stand for several AIS targets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Candidate {
+    /// The radar track.
+    pub track: u16,
+    /// The AIS target's MMSI.
+    pub mmsi: u32,
+}
+
 #[derive(Clone, Copy, Debug)]
 struct Pair {
     mmsi: u32,
     /// Scans in a row outside the wide gates.
     outside: u32,
-    /// Scans in a row another AIS target fitted the track far better.
+    /// Scans in a row another AIS target fitted the track, or another track the AIS
+    /// target, nearly as well.
     rivalled: u32,
 }
 
@@ -178,8 +227,14 @@ impl AisPicture {
             let a = by_mmsi.get(&mmsi)?;
             let d = gap(x.position_m, a.position_m);
             let dv = gap(x.velocity_mps, a.velocity_mps);
-            (d <= gates.position_m * factor && dv <= gates.velocity_mps * factor)
-                .then_some(d / gates.position_m + dv / gates.velocity_mps)
+            let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
+            let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
+            // A young track's velocity is known only roughly.
+            let young = (gates.settled_scans / f32::from(x.age_scans.max(1))).max(1.0);
+            let sv = gates.velocity_sigma_mps * young;
+            let sv2 = sv * sv;
+            (d <= gates.position_m * factor && dv <= gates.velocity_mps * young * factor)
+                .then_some(d * d / sp2.max(1.0) + dv * dv / sv2.max(1e-3))
         };
         // Every radar target against every AIS target within the gates (the AIS targets
         // nearer than the position gate, by a cheap bound, first).
@@ -194,7 +249,7 @@ impl AisPicture {
                 }
             }
         }
-        let ratio = gates.ambiguity_ratio;
+        let margin = gates.ambiguity_margin;
         // The best cost of a track against AIS targets other than `mmsi`, and of an AIS
         // target against tracks other than `track`.
         let best_other_ais = |track: u16, mmsi: u32| {
@@ -209,8 +264,9 @@ impl AisPicture {
                 .map(|(c, _, _)| *c)
                 .fold(f32::INFINITY, f32::min)
         };
-        // Pairs held: within the wide gates, or outside for too long; rivalled by a far
-        // better AIS target for too long.
+        // Pairs held: within the wide gates, or outside for too long; rivalled by another
+        // AIS target fitting the track, or another track the AIS target, nearly as well
+        // for too long.
         let mut parted = Vec::new();
         for (track, pair) in &mut self.pairs {
             let own = within(*track, pair.mmsi, gates.keep_factor);
@@ -219,8 +275,8 @@ impl AisPicture {
             } else {
                 pair.outside += 1;
             }
-            let rival = best_other_ais(*track, pair.mmsi);
-            if own.is_none_or(|c| rival * ratio < c) {
+            let rival = best_other_ais(*track, pair.mmsi).min(best_other_track(*track, pair.mmsi));
+            if own.is_none_or(|c| rival < c + margin) {
                 pair.rivalled += 1;
             } else {
                 pair.rivalled = 0;
@@ -250,8 +306,8 @@ impl AisPicture {
             }
             used_tracks.push(track);
             used_mmsi.push(mmsi);
-            let clear = best_other_ais(track, mmsi) >= ratio * c
-                && best_other_track(track, mmsi) >= ratio * c;
+            let clear = best_other_ais(track, mmsi) >= c + margin
+                && best_other_track(track, mmsi) >= c + margin;
             if !clear {
                 continue;
             }
@@ -276,6 +332,7 @@ impl AisPicture {
             }
         }
         self.streaks = streaks;
+        report.merged = self.candidates(&all);
         report.paired = self
             .pairs
             .iter()
@@ -292,6 +349,64 @@ impl AisPicture {
             })
             .collect();
         report.ais = ais;
+    }
+
+    /// The radar targets shown as AIS targets this scan: among the unpaired within the
+    /// gates and [`PairingGates::merge_cost`], one to one by cost (the cheapest first), then
+    /// each AIS target left over whose best radar target was taken within
+    /// [`PairingGates::ambiguity_margin`] of that one's cost (one radar target for ships
+    /// it does not tell apart).
+    fn candidates(&self, all: &[(f32, u16, u32)]) -> Vec<Candidate> {
+        let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
+        let mut free: Vec<(f32, u16, u32)> = all
+            .iter()
+            .copied()
+            .filter(|(c, track, mmsi)| {
+                *c <= self.gates.merge_cost
+                    && !self.pairs.contains_key(track)
+                    && !paired_mmsi.contains(mmsi)
+            })
+            .collect();
+        free.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut taken: BTreeMap<u16, f32> = BTreeMap::new();
+        let mut out: Vec<Candidate> = Vec::new();
+        for (c, track, mmsi) in &free {
+            if taken.contains_key(track) || out.iter().any(|x| x.mmsi == *mmsi) {
+                continue;
+            }
+            taken.insert(*track, *c);
+            out.push(Candidate {
+                track: *track,
+                mmsi: *mmsi,
+            });
+        }
+        let mut grouped = Vec::new();
+        for (c, track, mmsi) in &free {
+            if out.iter().any(|x| x.mmsi == *mmsi)
+                || grouped.iter().any(|x: &Candidate| x.mmsi == *mmsi)
+            {
+                continue;
+            }
+            // `free` is sorted: the first entry of an AIS target is its best radar target.
+            if taken
+                .get(track)
+                .is_some_and(|t| *c <= t + self.gates.ambiguity_margin)
+            {
+                grouped.push(Candidate {
+                    track: *track,
+                    mmsi: *mmsi,
+                });
+            } else {
+                // Its best is not taken or fits far better elsewhere: shown apart.
+                grouped.push(Candidate {
+                    track: u16::MAX,
+                    mmsi: *mmsi,
+                });
+            }
+        }
+        out.extend(grouped.into_iter().filter(|x| x.track != u16::MAX));
+        out.sort_by_key(|x| (x.track, x.mmsi));
+        out
     }
 
     fn part_where(&mut self, f: impl Fn(&Pair) -> bool, t: f64, why: &str) {

@@ -121,6 +121,9 @@ pub struct ScanReport {
     pub ais: Vec<crate::ais::AisTargetData>,
     /// Radar targets and the AIS targets of the same ship.
     pub paired: Vec<ais::Pairing>,
+    /// Radar targets being confirmed as AIS targets' ships ([`ais::Candidate`]): shown as
+    /// the AIS target, not apart.
+    pub merged: Vec<ais::Candidate>,
     /// The rotation's echoes, when the plots came from a radar (for the display).
     pub echoes: Option<std::sync::Arc<crate::radar::EchoImage>>,
 }
@@ -287,6 +290,7 @@ impl Session {
                     skipped: Some(why),
                     ais: Vec::new(),
                     paired: Vec::new(),
+                    merged: Vec::new(),
                     echoes: None,
                 });
             }
@@ -312,6 +316,7 @@ impl Session {
             skipped: None,
             ais: Vec::new(),
             paired: Vec::new(),
+            merged: Vec::new(),
             echoes: None,
         })
     }
