@@ -279,7 +279,7 @@ impl Track {
             position_m: e.position_m,
             velocity_mps: e.velocity_mps,
             age_scans: self.age_scans,
-            hit_history: self.hits & ((1 << KEEP_N) - 1),
+            hit_history: self.hit_history(),
         }
     }
 
@@ -693,23 +693,21 @@ impl TrackTable {
     }
 
     /// Drops the tracks at the places in the table whose bits are set in `at` (bit 0: the
-    /// first track); their slots become free. Returns how many went.
-    fn drop_at(&mut self, at: u64) -> u16 {
+    /// first track); their slots become free.
+    fn drop_at(&mut self, at: u64) {
         if at == 0 {
-            return 0;
+            return;
         }
-        let (mut place, mut dropped, mut free) = (0u32, 0u16, self.free);
+        let (mut place, mut free) = (0u32, self.free);
         self.order.retain(|&slot| {
             let drop = (at >> place) & 1 == 1;
             place += 1;
             if drop {
                 free |= 1 << (slot & 63);
-                dropped += 1;
             }
             !drop
         });
         self.free = free;
-        dropped
     }
 
     /// The place in the table of track `id`, looked for from place `from` on first: the

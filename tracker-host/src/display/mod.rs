@@ -382,13 +382,7 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
             ctx.draw(&Points::new(&plots, Color::Yellow));
             ctx.layer();
             ctx.draw(&Points::new(&trails, Color::Gray));
-            // A radar target shown as an AIS target (their pair being confirmed) is drawn as
-            // that AIS target only.
-            for t in view
-                .targets
-                .iter()
-                .filter(|t| !view.merged.iter().any(|c| c.track == t.track))
-            {
+            for t in view.targets_shown_apart() {
                 let (x, y) = rel(t.position_m);
                 let v = match state.vectors {
                     VectorMode::Relative => [

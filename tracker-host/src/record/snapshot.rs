@@ -56,14 +56,7 @@ impl ScanSink for Snapshot {
             echoes: scan.echoes.clone(),
             plots_m: report.plots_m.clone(),
             own_m: report.own.position_m,
-            // A radar target shown as an AIS target (its pair being confirmed) is drawn as
-            // that AIS target only.
-            targets: report
-                .targets
-                .iter()
-                .filter(|t| !report.merged.iter().any(|c| c.track == t.track))
-                .cloned()
-                .collect(),
+            targets: report.targets_shown_apart().cloned().collect(),
             ais: report.ais.clone(),
             paired: report.paired.iter().map(|p| p.mmsi).collect(),
         });

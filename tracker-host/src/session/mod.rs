@@ -129,6 +129,15 @@ pub struct ScanReport {
 }
 
 impl ScanReport {
+    /// The radar targets drawn as radar targets: all but those shown as an AIS target while
+    /// their pair is confirmed ([`ScanReport::merged`]), which are drawn as that AIS target
+    /// only.
+    pub fn targets_shown_apart(&self) -> impl Iterator<Item = &TargetData> {
+        self.targets
+            .iter()
+            .filter(|t| !self.merged.iter().any(|c| c.track == t.track))
+    }
+
     /// Tracks still being acquired (tentative).
     pub fn acquiring(&self) -> usize {
         self.tracks

@@ -198,8 +198,8 @@ pub struct RadarPlotSource {
     heading_cache: Option<(f64, Option<(f32, bool)>)>,
     /// Own ship's yaw measured from the picture, for the fixed heading.
     yaw: PictureYaw,
-    /// Spokes of this rotation given the fixed heading.
-    fixed_heading_spokes: u64,
+    /// A spoke of this rotation was given the fixed heading.
+    fixed_heading_seen: bool,
     /// The heading the last scan reported when it was the fixed one (turned), rad: the
     /// run's own ship hands it back, and it is not a heading from elsewhere.
     reported_fixed_rad: Option<f32>,
@@ -291,7 +291,7 @@ impl RadarPlotSource {
             heading_cache: None,
             radar_heading_rad: None,
             yaw: PictureYaw::new(),
-            fixed_heading_spokes: 0,
+            fixed_heading_seen: false,
             reported_fixed_rad: None,
         })
     }
@@ -307,6 +307,8 @@ impl RadarPlotSource {
             c.blobs_dropped = s.blobs_dropped;
             c.restarts = s.range_changes + s.out_of_order + s.format_changes;
         }
+        (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
+        c.yaw_deg = self.yaw.yaw_rad().to_degrees();
         c
     }
 
@@ -408,7 +410,7 @@ impl RadarPlotSource {
                 let found = self.heading_for(time_s);
                 heading_rad = found.map(|(h, _)| h);
                 self.counts.spokes_heading_added += u64::from(found.is_some());
-                self.fixed_heading_spokes += u64::from(found.is_some_and(|(_, fixed)| fixed));
+                self.fixed_heading_seen |= found.is_some_and(|(_, fixed)| fixed);
             }
             match &self.extractor {
                 Some((k, _)) if *k != kind => {
@@ -453,7 +455,7 @@ impl RadarPlotSource {
     /// Closes the rotation gathered so far as a scan at `time_s`.
     fn close_scan(&mut self, time_s: f64) -> SourceScan {
         let mut picture = std::mem::take(&mut self.current);
-        if std::mem::take(&mut self.fixed_heading_spokes) > 0 && self.options.picture_yaw {
+        if std::mem::take(&mut self.fixed_heading_seen) && self.options.picture_yaw {
             self.turn_by_picture(&mut picture);
         }
         let own_nmea = self.nmea_own_ship(time_s);
@@ -523,8 +525,6 @@ impl RadarPlotSource {
             .map(|p| (p.range_m, p.bearing_rad))
             .collect();
         let step = self.yaw.measure(&plots);
-        (self.counts.yaw_measured, self.counts.yaw_unmatched) = self.yaw.counts();
-        self.counts.yaw_deg = self.yaw.yaw_rad().to_degrees();
         // The next spokes take the new yaw.
         self.heading_cache = None;
         if step == 0.0 {
