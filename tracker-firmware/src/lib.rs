@@ -45,7 +45,7 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 }
 
 /// Tracks the firmware holds (reported to the host; the table itself comes with tracking).
-pub const MAX_TRACKS: u16 = 64;
+pub const MAX_TRACKS: u16 = tracker_core::track::MAX_TRACKS as u16;
 
 /// Plots accepted per scan.
 pub const MAX_PLOTS_PER_SCAN: u16 = 256;

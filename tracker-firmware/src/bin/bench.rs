@@ -299,7 +299,8 @@ fn scan_row(
         let t_plots = t;
         let tracker = device.tracker();
         let n = tracker.table().len();
-        let mut assignments: heapless::Vec<(u16, u16), 64> = heapless::Vec::new();
+        let mut assignments: heapless::Vec<(u16, u16), { tracker_core::track::MAX_TRACKS }> =
+            heapless::Vec::new();
         let (taken, gated) = (&mut bench.taken, &mut bench.gated);
         taken.fill(false);
         gated.fill(false);
@@ -621,8 +622,46 @@ fn filter_rows<S: Scalar>(counter: &mut icount::InstructionCounter) {
     );
 }
 
+/// The stack's lowest address: flip-link puts the stack at the start of RAM (memory.x), below
+/// the static data, so that an overflow faults instead of corrupting it.
+const RAM_START: usize = 0x2000_0000;
+/// What the unused stack is painted with.
+const STACK_PAINT: u32 = 0x5aa5_5aa5;
+
+/// Paints the stack below this function's frame, so that [`stack_peak_bytes`] can tell how
+/// deep the rows went. Its own frame, so that the painting stops below it.
+#[inline(never)]
+fn paint_stack() {
+    let sp = cortex_m::register::msp::read() as usize;
+    let mut at = RAM_START;
+    // 64 bytes below the stack pointer left alone: an exception's frame may be pushed there.
+    while at + 64 < sp {
+        // SAFETY: RAM below the stack pointer, which nothing uses.
+        unsafe { core::ptr::write_volatile(at as *mut u32, STACK_PAINT) };
+        at += 4;
+    }
+}
+
+/// The stack the deepest row used since [`paint_stack`], B: from the top of the stack
+/// (cortex-m-rt's `_stack_start`, which flip-link sets) down to the lowest word no longer
+/// painted.
+fn stack_peak_bytes() -> usize {
+    extern "C" {
+        static _stack_start: u32;
+    }
+    // Only the symbol's address is taken.
+    let top = core::ptr::addr_of!(_stack_start) as usize;
+    let mut at = RAM_START;
+    // SAFETY: reads of the stack's own RAM, word aligned.
+    while at < top && unsafe { core::ptr::read_volatile(at as *const u32) } == STACK_PAINT {
+        at += 4;
+    }
+    top - at
+}
+
 #[entry]
 fn main() -> ! {
+    paint_stack();
     let Some(peripherals) = cortex_m::Peripherals::take() else {
         board::exit(1)
     };
@@ -678,5 +717,11 @@ fn main() -> ! {
         _ => None,
     };
     filter_row::<f32, _>(&mut counter, "imm", imm);
+    // The deepest any row went (painted once, read once: a reading between rows would move
+    // the next rows' SysTick phase and their figures by a few instructions). This bench's
+    // `main` and the rows' own buffers are included, so it is more than the firmware's
+    // `serve` loop needs; the deepest rows are the scans through the device with a full
+    // table and 256 plots.
+    row("stack-peak", "-", 0.0, stack_peak_bytes());
     board::exit(0)
 }

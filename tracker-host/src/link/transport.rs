@@ -37,7 +37,7 @@ fn fresh_device() -> Box<Device> {
     Box::new(Device::new(DeviceConfig {
         firmware: concat!("tracker-core ", env!("CARGO_PKG_VERSION"), " (inproc)"),
         boot_id: fastrand::u32(1..),
-        max_tracks: 64,
+        max_tracks: tracker_core::track::MAX_TRACKS as u16,
         max_plots_per_scan: 256,
     }))
 }
