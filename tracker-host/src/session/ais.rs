@@ -104,6 +104,19 @@ impl Default for PairingGates {
     }
 }
 
+/// How a ship whose radar target and AIS target are associated (paired, or the radar
+/// target shown as the AIS target while their pair is confirmed) is drawn on the display
+/// and the snapshot: once either way, as IEC 62388 §11.4 asks, by the AIS symbol unless the
+/// operator chooses the radar one. The table and `TTM`/`TLL` are the same either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AssociatedSymbol {
+    /// The AIS triangle with its heading line; the radar target's symbol not drawn.
+    #[default]
+    Ais,
+    /// The radar target's symbol and vector; the AIS triangle not drawn.
+    Radar,
+}
+
 /// A radar target and the AIS target of the same ship.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pairing {
