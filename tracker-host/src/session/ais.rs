@@ -374,7 +374,7 @@ impl AisPicture {
         costs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut streaks = BTreeMap::new();
         let (mut used_tracks, mut used_mmsi) = (Vec::new(), Vec::new());
-        for (c, track, mmsi) in costs {
+        for &(c, track, mmsi) in &costs {
             if used_tracks.contains(&track) || used_mmsi.contains(&mmsi) {
                 continue;
             }
@@ -399,7 +399,7 @@ impl AisPicture {
             }
         }
         self.streaks = streaks;
-        report.merged = self.candidates(&all);
+        report.merged = self.candidates(&costs);
         report.paired = self
             .pairs
             .iter()
@@ -422,56 +422,42 @@ impl AisPicture {
     /// gates and [`PairingGates::merge_cost`], one to one by cost (the cheapest first), then
     /// each AIS target left over whose best radar target was taken within
     /// [`PairingGates::ambiguity_margin`] of that one's cost (one radar target for ships
-    /// it does not tell apart).
-    fn candidates(&self, all: &[(f32, u16, u32)]) -> Vec<Candidate> {
+    /// it does not tell apart). `costs`: the scan's fits among the pairs unpaired before
+    /// it, cheapest first.
+    fn candidates(&self, costs: &[(f32, u16, u32)]) -> Vec<Candidate> {
+        // Those paired this scan are out too.
         let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
-        let mut free: Vec<(f32, u16, u32)> = all
-            .iter()
-            .copied()
-            .filter(|(c, track, mmsi)| {
-                *c <= self.gates.merge_cost
-                    && !self.pairs.contains_key(track)
-                    && !paired_mmsi.contains(mmsi)
-            })
-            .collect();
-        free.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let free = costs.iter().filter(|(c, track, mmsi)| {
+            *c <= self.gates.merge_cost
+                && !self.pairs.contains_key(track)
+                && !paired_mmsi.contains(mmsi)
+        });
         let mut taken: BTreeMap<u16, f32> = BTreeMap::new();
         let mut out: Vec<Candidate> = Vec::new();
-        for (c, track, mmsi) in &free {
-            if taken.contains_key(track) || out.iter().any(|x| x.mmsi == *mmsi) {
+        for &(c, track, mmsi) in free.clone() {
+            if taken.contains_key(&track) || out.iter().any(|x| x.mmsi == mmsi) {
                 continue;
             }
-            taken.insert(*track, *c);
-            out.push(Candidate {
-                track: *track,
-                mmsi: *mmsi,
-            });
+            taken.insert(track, c);
+            out.push(Candidate { track, mmsi });
         }
+        // Each AIS target left over, at its first (its best) entry: shown as that radar
+        // target when the radar target was taken nearly as cheaply, else shown apart.
+        let mut seen: Vec<u32> = out.iter().map(|x| x.mmsi).collect();
         let mut grouped = Vec::new();
-        for (c, track, mmsi) in &free {
-            if out.iter().any(|x| x.mmsi == *mmsi)
-                || grouped.iter().any(|x: &Candidate| x.mmsi == *mmsi)
-            {
+        for &(c, track, mmsi) in free {
+            if seen.contains(&mmsi) {
                 continue;
             }
-            // `free` is sorted: the first entry of an AIS target is its best radar target.
+            seen.push(mmsi);
             if taken
-                .get(track)
-                .is_some_and(|t| *c <= t + self.gates.ambiguity_margin)
+                .get(&track)
+                .is_some_and(|t| c <= t + self.gates.ambiguity_margin)
             {
-                grouped.push(Candidate {
-                    track: *track,
-                    mmsi: *mmsi,
-                });
-            } else {
-                // Its best is not taken or fits far better elsewhere: shown apart.
-                grouped.push(Candidate {
-                    track: u16::MAX,
-                    mmsi: *mmsi,
-                });
+                grouped.push(Candidate { track, mmsi });
             }
         }
-        out.extend(grouped.into_iter().filter(|x| x.track != u16::MAX));
+        out.extend(grouped);
         out.sort_by_key(|x| (x.track, x.mmsi));
         out
     }
