@@ -2,9 +2,10 @@
 //! up, own ship at the centre: the rotation's echoes (a radar source's; green, brighter for
 //! stronger), the extracted plots (yellow), the targets with their numbers and true vectors
 //! (cyan, red when dangerous; as long as the time in the caption, which grows with the
-//! range), AIS targets (magenta triangles; an associated ship's with its radar target's
-//! number, or drawn as the radar target instead: [`AssociatedSymbol`]), range rings. For a
-//! person to check the extraction and the tracking by eye.
+//! range), AIS targets (magenta triangles, with their vectors when activated; an
+//! associated ship's with its radar target's number, or drawn as the radar target instead:
+//! [`AssociatedSymbol`]), range rings. For a person to check the extraction and the
+//! tracking by eye.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -178,6 +179,21 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
             tri,
             colour.stroke_width(2),
         )))?;
+        // Its true vector when activated, as the display draws it: an associated ship drawn
+        // as its AIS target shows where it is going.
+        if a.active {
+            let v = a.velocity_mps;
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![
+                    (x, y),
+                    (
+                        x + f64::from(v[0] * vector_s),
+                        y + f64::from(v[1] * vector_s),
+                    ),
+                ],
+                colour.stroke_width(1),
+            )))?;
+        }
         // An associated ship drawn as its AIS target keeps its radar target's number, as
         // the table and `TTM` do.
         if let Some(t) = radar {
