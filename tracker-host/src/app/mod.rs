@@ -57,6 +57,8 @@ pub struct Outputs {
     pub record_tracks: Option<PathBuf>,
     /// A PNG of the last scan (echoes, plots, targets, AIS) when the run ends.
     pub snapshot: Option<PathBuf>,
+    /// How the snapshot draws a ship with a radar target and an AIS target associated.
+    pub associated_symbol: crate::session::ais::AssociatedSymbol,
 }
 
 /// The own-ship source `o` asks for, in the frame of `origin`.
@@ -111,6 +113,7 @@ pub fn sinks(o: &Outputs, origin: Origin) -> anyhow::Result<Vec<Box<dyn ScanSink
         sinks.push(Box::new(crate::record::snapshot::Snapshot::new(
             p.clone(),
             crate::session::target::AlarmLimits::default(),
+            o.associated_symbol,
         )));
     }
     Ok(sinks)

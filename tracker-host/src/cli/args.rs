@@ -53,6 +53,24 @@ impl From<AssociationArg> for crate::session::associate::Association {
     }
 }
 
+/// `--associated-symbol`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum AssociatedSymbolArg {
+    /// The AIS triangle with its heading line (IEC 62388's default).
+    Ais,
+    /// The radar target's symbol and vector.
+    Radar,
+}
+
+impl From<AssociatedSymbolArg> for crate::session::ais::AssociatedSymbol {
+    fn from(a: AssociatedSymbolArg) -> Self {
+        match a {
+            AssociatedSymbolArg::Ais => Self::Ais,
+            AssociatedSymbolArg::Radar => Self::Radar,
+        }
+    }
+}
+
 /// How a tracking run is shown, where own ship comes from, where results go.
 #[derive(Clone, Debug, Args)]
 pub struct RunArgs {
@@ -73,6 +91,12 @@ pub struct RunArgs {
     /// terminal, progress lines otherwise).
     #[arg(long)]
     pub plain: bool,
+    /// How the display and the snapshot draw a ship whose radar target and AIS target are
+    /// associated (paired, or the radar target shown as the AIS target): once, as `ais`
+    /// (the AIS triangle, IEC 62388's default) or `radar` (the radar target's symbol and
+    /// vector). The table and `TTM` keep the radar number and the AIS name either way.
+    #[arg(long, value_enum, default_value_t = AssociatedSymbolArg::Ais)]
+    pub associated_symbol: AssociatedSymbolArg,
     /// Send every target to a chart plotter as NMEA 0183 `TTM` and `TLL` sentences each
     /// scan: `udp:HOST:PORT` or `tcp:PORT` (a server plotters connect to).
     #[arg(long, value_name = "udp:HOST:PORT|tcp:PORT")]
@@ -178,6 +202,7 @@ impl RunArgs {
             record_truth,
             record_tracks: self.record_tracks.clone(),
             snapshot: self.snapshot.clone(),
+            associated_symbol: self.associated_symbol.into(),
         }
     }
 }

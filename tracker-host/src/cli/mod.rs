@@ -537,6 +537,7 @@ fn track_to_end(cli: &Cli, mut tracking: Run, args: &RunArgs) -> anyhow::Result<
     if use_tui {
         let mut state = crate::display::DisplayState::new(link.clone());
         state.limits = limits;
+        state.associated = args.associated_symbol.into();
         crate::display::run_tui(&mut tracking, &mut state, args.speedup())?;
         tracking.finish()?;
     } else {

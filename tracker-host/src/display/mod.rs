@@ -27,6 +27,7 @@ use tracker_core::icd::TrackStatus;
 use tracker_core::track::MAX_TRACKS;
 
 use crate::app::run::Run;
+use crate::session::ais::AssociatedSymbol;
 use crate::session::target::{status_name, AlarmLimits, TargetData};
 use crate::session::ScanReport;
 
@@ -93,6 +94,8 @@ pub struct DisplayState {
     scale_chosen: bool,
     /// Draw the radar's echoes under the plots (when the source is a radar).
     pub echoes: bool,
+    /// How a ship with a radar target and an AIS target associated is drawn.
+    pub associated: AssociatedSymbol,
     trails: BTreeMap<u16, VecDeque<EastNorth>>,
     lost: Vec<String>,
 }
@@ -111,6 +114,7 @@ impl DisplayState {
             message: None,
             scale_chosen: false,
             echoes: true,
+            associated: AssociatedSymbol::default(),
             trails: BTreeMap::new(),
             lost: Vec::new(),
         }
@@ -382,7 +386,7 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
             ctx.draw(&Points::new(&plots, Color::Yellow));
             ctx.layer();
             ctx.draw(&Points::new(&trails, Color::Gray));
-            for t in view.targets_shown_apart() {
+            for t in view.targets_drawn(state.associated) {
                 let (x, y) = rel(t.position_m);
                 let v = match state.vectors {
                     VectorMode::Relative => [
@@ -402,19 +406,23 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
                 ctx.draw(&CanvasLine::new(x, y, x + to(v[0]), y + to(v[1]), colour));
                 ctx.draw(&Circle::new(x, y, scale / 60.0, colour));
             }
-            // AIS targets not paired with a radar target: a triangle pointing along the
-            // heading (else the course), with a vector when activated.
-            for a in view
-                .ais
-                .iter()
-                .filter(|a| !view.paired.iter().any(|p| p.mmsi == a.mmsi))
-            {
+            // AIS targets (those of associated ships too, with the AIS symbol): a triangle
+            // pointing along the heading (else the course), with a vector when activated;
+            // an associated ship's takes its radar target's alarm and selection.
+            for a in view.ais_drawn(state.associated) {
                 let (x, y) = rel(a.position_m);
                 if x.abs() > scale || y.abs() > scale {
                     continue;
                 }
-                let colour = if a.active && ais_dangerous(a, &state.limits) {
+                let radar = view
+                    .associated_track(a.mmsi)
+                    .and_then(|track| view.targets.iter().find(|t| t.track == track));
+                let colour = if (a.active && ais_dangerous(a, &state.limits))
+                    || radar.is_some_and(|t| t.dangerous(&state.limits))
+                {
                     Color::Red
+                } else if radar.is_some_and(|t| state.selected == Some(t.track)) {
+                    Color::Cyan
                 } else {
                     Color::Magenta
                 };
@@ -493,7 +501,7 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
         ])
         .style(style)
     });
-    let widths = [5, 10, 7, 7, 7, 7, 7, 9, 20].map(Constraint::Length);
+    let widths = [5, 10, 7, 7, 7, 7, 7, 9, AIS_COLUMN_WIDTH].map(Constraint::Length);
     let table = Table::new(rows, widths).header(header).block(
         Block::default()
             .borders(Borders::ALL)
@@ -502,19 +510,53 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     frame.render_widget(table, area);
 }
 
-/// The table's AIS column: the paired AIS target's name, or the names of the AIS targets a
-/// radar target is shown as while its pair is confirmed, each with a `?`.
+/// The table's AIS column, characters: an AIS name is at most 20.
+pub const AIS_COLUMN_WIDTH: u16 = 20;
+
+/// The table's AIS column, at most [`AIS_COLUMN_WIDTH`] characters: the paired AIS target's
+/// name; or, while a radar target is shown as AIS targets (its pair being confirmed, or
+/// ships it does not tell apart), the nearest one's name with a `?` and how many more
+/// (`+1`), the name cut short to fit.
 fn ais_column(view: &ScanReport, track: u16) -> String {
     if let Some(p) = view.paired.iter().find(|p| p.track == track) {
-        return p.label.clone();
+        return fit(&p.label, "");
     }
-    view.merged
+    let Some(x) = view.targets.iter().find(|t| t.track == track) else {
+        return String::new();
+    };
+    let gap = |a: &crate::ais::AisTargetData| {
+        libm::hypotf(
+            a.position_m[0] - x.position_m[0],
+            a.position_m[1] - x.position_m[1],
+        )
+    };
+    let shown: Vec<&crate::ais::AisTargetData> = view
+        .merged
         .iter()
         .filter(|c| c.track == track)
         .filter_map(|c| view.ais.iter().find(|a| a.mmsi == c.mmsi))
-        .map(|a| format!("{}?", a.label))
-        .collect::<Vec<_>>()
-        .join(" ")
+        .collect();
+    let Some(nearest) = shown.iter().min_by(|a, b| gap(a).total_cmp(&gap(b))) else {
+        return String::new();
+    };
+    let more = match shown.len() - 1 {
+        0 => "?".to_string(),
+        n => format!("? +{n}"),
+    };
+    fit(&nearest.label, &more)
+}
+
+/// `name` cut short so that it and `suffix` fill at most [`AIS_COLUMN_WIDTH`] characters.
+fn fit(name: &str, suffix: &str) -> String {
+    let room = usize::from(AIS_COLUMN_WIDTH).saturating_sub(suffix.chars().count());
+    let mut out = name
+        .chars()
+        .take(room)
+        .collect::<String>()
+        .trim_end()
+        .to_string();
+    out.push_str(suffix);
+    out
 }
 
 fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
@@ -665,7 +707,7 @@ pub fn run_tui(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::app::demo::{self, DemoOptions};
     use crate::link::{Client, InprocTransport};
@@ -701,6 +743,133 @@ mod tests {
             text.push('\n');
         }
         text
+    }
+
+    /// `view` cut to its nearest radar target, with an AIS target on it, paired with it
+    /// when `paired`, else the radar target shown as it ([`ScanReport::merged`]).
+    pub(crate) fn one_associated_ship(mut view: ScanReport, paired: bool) -> ScanReport {
+        let t = view.targets[0];
+        view.targets = vec![t];
+        view.plots_m.clear();
+        view.ais = vec![crate::ais::AisTargetData {
+            mmsi: 235_000_001,
+            label: "SHIP".into(),
+            position_m: t.position_m,
+            velocity_mps: t.velocity_mps,
+            range_m: t.range_m,
+            bearing_rad: t.bearing_rad,
+            cpa_m: t.cpa_m,
+            tcpa_s: t.tcpa_s,
+            heading_rad: None,
+            age_s: 0.0,
+            active: true,
+        }];
+        if paired {
+            view.paired = vec![crate::session::ais::Pairing {
+                track: t.track,
+                number: t.number,
+                mmsi: 235_000_001,
+                label: "SHIP".into(),
+                distance_m: 0.0,
+            }];
+        } else {
+            view.merged = vec![crate::session::ais::Candidate {
+                track: t.track,
+                mmsi: 235_000_001,
+            }];
+        }
+        view
+    }
+
+    /// Cells of the PPI (the left half) drawn in `colour`.
+    fn ppi_cells(state: &DisplayState, view: &ScanReport, colour: Color) -> usize {
+        let mut terminal = Terminal::new(TestBackend::new(160, 40)).unwrap();
+        terminal.draw(|f| render(f, state, view)).unwrap();
+        let buffer = terminal.backend().buffer();
+        (1..39)
+            .flat_map(|y| (1..70).map(move |x| (x, y)))
+            .filter(|&(x, y)| buffer[(x, y)].fg == colour && buffer[(x, y)].symbol() != " ")
+            .count()
+    }
+
+    #[test]
+    fn an_associated_ship_is_drawn_once_by_the_chosen_symbol() {
+        let mut d = demo();
+        let mut view = step(&mut d);
+        for _ in 0..10 {
+            view = step(&mut d);
+        }
+        let mut state = DisplayState::new("inproc".into());
+        // No alarm: the radar target green, the AIS target magenta.
+        state.limits = AlarmLimits {
+            cpa_m: 0.0,
+            tcpa_s: 0.0,
+        };
+        assert_eq!(
+            state.associated,
+            AssociatedSymbol::Ais,
+            "IEC 62388's default"
+        );
+        for paired in [true, false] {
+            let view = one_associated_ship(view.clone(), paired);
+            state.associated = AssociatedSymbol::Ais;
+            let (radar, ais) = (
+                ppi_cells(&state, &view, Color::Green),
+                ppi_cells(&state, &view, Color::Magenta),
+            );
+            assert!(radar == 0 && ais > 0, "paired {paired}: {radar} / {ais}");
+            state.associated = AssociatedSymbol::Radar;
+            let (radar, ais) = (
+                ppi_cells(&state, &view, Color::Green),
+                ppi_cells(&state, &view, Color::Magenta),
+            );
+            assert!(radar > 0 && ais == 0, "paired {paired}: {radar} / {ais}");
+            // The table names it either way, under the radar target's number.
+            let text = screen(&state, &view);
+            assert!(text.contains(&view.targets[0].label()), "{text}");
+            assert!(text.contains("SHIP"), "{text}");
+        }
+    }
+
+    #[test]
+    fn the_ais_column_fits_a_radar_target_shown_as_several_ais_targets() {
+        let mut d = demo();
+        let mut view = step(&mut d);
+        for _ in 0..10 {
+            view = step(&mut d);
+        }
+        let mut view = one_associated_ship(view, false);
+        let track = view.targets[0].track;
+        assert_eq!(ais_column(&view, track), "SHIP?");
+        // Two more AIS targets on it, farther off, with 20-character names and MMSIs.
+        for (mmsi, label, off) in [
+            (235_000_002, "235000002", 50.0),
+            (235_000_003, "A VERY LONG SHIP NAM", 80.0),
+        ] {
+            let mut a = view.ais[0].clone();
+            a.mmsi = mmsi;
+            a.label = label.into();
+            a.position_m[0] += off;
+            view.ais.push(a);
+            view.merged
+                .push(crate::session::ais::Candidate { track, mmsi });
+        }
+        assert_eq!(ais_column(&view, track), "SHIP? +2", "the nearest first");
+        // The nearest one with a long name: cut short to fit, the count kept.
+        view.ais[0].position_m[0] += 1_000.0;
+        view.ais[2].position_m[0] -= 80.0;
+        let column = ais_column(&view, track);
+        assert_eq!(column, "A VERY LONG SHIP? +2");
+        assert_eq!(column.chars().count(), usize::from(AIS_COLUMN_WIDTH));
+        // On the screen: the whole of it, nothing of the next name (no alarm lines).
+        let mut state = DisplayState::new("inproc".into());
+        state.limits = AlarmLimits {
+            cpa_m: 0.0,
+            tcpa_s: 0.0,
+        };
+        let text = screen(&state, &view);
+        assert!(text.contains("A VERY LONG SHIP? +2"), "{text}");
+        assert!(!text.contains("235000002"), "{text}");
     }
 
     #[test]

@@ -2,8 +2,10 @@
 //! up, own ship at the centre: the rotation's echoes (a radar source's; green, brighter for
 //! stronger), the extracted plots (yellow), the targets with their numbers and true vectors
 //! (cyan, red when dangerous; as long as the time in the caption, which grows with the
-//! range), AIS targets not paired with a target (magenta triangles), range rings. For a
-//! person to check the extraction and the tracking by eye.
+//! range), AIS targets (magenta triangles, with their vectors when activated; an
+//! associated ship's with its radar target's number, or drawn as the radar target instead:
+//! [`AssociatedSymbol`]), range rings. For a person to check the extraction and the
+//! tracking by eye.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -13,6 +15,7 @@ use plotters::prelude::*;
 
 use crate::ais::AisTargetData;
 use crate::radar::EchoImage;
+use crate::session::ais::AssociatedSymbol;
 use crate::session::target::{AlarmLimits, TargetData};
 use crate::session::ScanReport;
 use crate::sink::ScanSink;
@@ -26,24 +29,48 @@ struct Last {
     echoes: Option<Arc<EchoImage>>,
     plots_m: Vec<[f32; 2]>,
     own_m: [f32; 2],
+    /// The radar targets drawn as radar targets.
     targets: Vec<TargetData>,
-    ais: Vec<AisTargetData>,
-    paired: Vec<u32>,
+    /// The AIS targets drawn, each with the radar target of its ship when associated.
+    ais: Vec<(AisTargetData, Option<TargetData>)>,
+}
+
+impl Last {
+    fn of(scan: &SourceScan, report: &ScanReport, symbol: AssociatedSymbol) -> Self {
+        Last {
+            scan: report.scan,
+            echoes: scan.echoes.clone(),
+            plots_m: report.plots_m.clone(),
+            own_m: report.own.position_m,
+            targets: report.targets_drawn(symbol).copied().collect(),
+            ais: report
+                .ais_drawn(symbol)
+                .map(|a| {
+                    let radar = report
+                        .associated_track(a.mmsi)
+                        .and_then(|track| report.targets.iter().find(|t| t.track == track));
+                    (a.clone(), radar.copied())
+                })
+                .collect(),
+        }
+    }
 }
 
 /// Keeps the last scan and draws it when the run ends.
 pub struct Snapshot {
     path: PathBuf,
     limits: AlarmLimits,
+    symbol: AssociatedSymbol,
     last: Option<Last>,
 }
 
 impl Snapshot {
-    /// A snapshot to be written to `path` (PNG).
-    pub fn new(path: PathBuf, limits: AlarmLimits) -> Self {
+    /// A snapshot to be written to `path` (PNG), associated ships drawn by `symbol`.
+    pub fn new(path: PathBuf, limits: AlarmLimits, symbol: AssociatedSymbol) -> Self {
         Snapshot {
             path,
             limits,
+            symbol,
             last: None,
         }
     }
@@ -51,15 +78,7 @@ impl Snapshot {
 
 impl ScanSink for Snapshot {
     fn scan(&mut self, scan: &SourceScan, report: &ScanReport) -> anyhow::Result<()> {
-        self.last = Some(Last {
-            scan: report.scan,
-            echoes: scan.echoes.clone(),
-            plots_m: report.plots_m.clone(),
-            own_m: report.own.position_m,
-            targets: report.targets_shown_apart().cloned().collect(),
-            ais: report.ais.clone(),
-            paired: report.paired.iter().map(|p| p.mmsi).collect(),
-        });
+        self.last = Some(Last::of(scan, report, self.symbol));
         Ok(())
     }
 
@@ -133,7 +152,7 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
             .iter()
             .map(|p| Circle::new(rel(*p), 4, YELLOW.stroke_width(2))),
     )?;
-    for a in last.ais.iter().filter(|a| !last.paired.contains(&a.mmsi)) {
+    for (a, radar) in &last.ais {
         let (x, y) = rel(a.position_m);
         let c = a
             .heading_rad
@@ -151,10 +170,39 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
             corner(c - 2.5, 0.7),
             corner(c, 1.0),
         ];
+        let colour = if radar.is_some_and(|t| t.dangerous(limits)) {
+            RED
+        } else {
+            MAGENTA
+        };
         chart.draw_series(std::iter::once(PathElement::new(
             tri,
-            MAGENTA.stroke_width(2),
+            colour.stroke_width(2),
         )))?;
+        // Its true vector when activated, as the display draws it: an associated ship drawn
+        // as its AIS target shows where it is going.
+        if a.active {
+            let v = a.velocity_mps;
+            chart.draw_series(std::iter::once(PathElement::new(
+                vec![
+                    (x, y),
+                    (
+                        x + f64::from(v[0] * vector_s),
+                        y + f64::from(v[1] * vector_s),
+                    ),
+                ],
+                colour.stroke_width(1),
+            )))?;
+        }
+        // An associated ship drawn as its AIS target keeps its radar target's number, as
+        // the table and `TTM` do.
+        if let Some(t) = radar {
+            chart.draw_series(std::iter::once(Text::new(
+                t.label(),
+                (x + r / 80.0, y + r / 80.0),
+                ("sans-serif", 16).into_font().color(&colour),
+            )))?;
+        }
     }
     for t in &last.targets {
         let colour = if t.dangerous(limits) { RED } else { CYAN };
@@ -188,4 +236,51 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
     )))?;
     root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::demo::{self, DemoOptions};
+    use crate::display::tests::one_associated_ship;
+    use crate::link::{Client, InprocTransport};
+
+    #[test]
+    fn the_snapshot_draws_an_associated_ship_by_the_chosen_symbol() {
+        let options = DemoOptions::new(
+            tracker_core::sim::ScenarioKind::OpenSea,
+            12,
+            3,
+            60.0,
+            tracker_core::filter::FilterKind::KalmanCv,
+        );
+        let mut d = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+        let mut view = d.step().unwrap().unwrap();
+        for _ in 0..10 {
+            view = d.step().unwrap().unwrap();
+        }
+        let scan = SourceScan::default();
+        for paired in [true, false] {
+            let view = one_associated_ship(view.clone(), paired);
+            let track = view.targets[0].track;
+            let ais = Last::of(&scan, &view, AssociatedSymbol::Ais);
+            assert!(ais.targets.is_empty(), "paired {paired}");
+            assert_eq!(ais.ais.len(), 1);
+            assert_eq!(
+                ais.ais[0].1.map(|t| t.track),
+                Some(track),
+                "its number kept"
+            );
+            let radar = Last::of(&scan, &view, AssociatedSymbol::Radar);
+            assert_eq!(radar.targets.len(), 1, "paired {paired}");
+            assert!(radar.ais.is_empty(), "paired {paired}");
+            // Both draw.
+            let dir = tempfile::tempdir().unwrap();
+            for (last, name) in [(&ais, "ais.png"), (&radar, "radar.png")] {
+                let path = dir.path().join(name);
+                draw(&path, last, &AlarmLimits::default()).unwrap();
+                assert!(std::fs::metadata(&path).unwrap().len() > 0);
+            }
+        }
+    }
 }

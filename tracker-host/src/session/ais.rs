@@ -18,8 +18,10 @@
 //! - candidates for [`PairingGates::scans_to_pair`] scans in a row are paired (an event);
 //! - a pair outside gates [`PairingGates::keep_factor`] times as wide for
 //!   [`PairingGates::scans_to_part`] scans in a row is parted (an event), as is one whose
-//!   track or AIS target is lost, or one another AIS target fits nearly as well (within
-//!   the margin), or another radar target its AIS target, for as long;
+//!   track or AIS target is lost, or one another AIS target fits about as well (within
+//!   [`PairingGates::swap_margin`]), or another radar target its AIS target, for as long;
+//!   a rival only nearly as good (within the margin) parts a pair after more scans the
+//!   longer it has held ([`PairingGates::scans_to_part_rivalled`]);
 //! - while a radar target and an AIS target fit but are not paired, the radar target is
 //!   shown as the AIS target ([`Candidate`], `ScanReport::merged`), so the ship is not
 //!   shown twice while its pair is confirmed, nor while it cannot be told which of
@@ -46,8 +48,22 @@ pub struct PairingGates {
     pub scans_to_pair: u32,
     /// A pair is kept while within gates this many times as wide.
     pub keep_factor: f32,
-    /// Scans in a row outside the wide gates before a pair is parted.
+    /// Scans in a row outside the wide gates before a pair is parted; also scans in a row
+    /// with a rival within [`PairingGates::swap_margin`] of the pair's cost (the track
+    /// swapped under it).
     pub scans_to_part: u32,
+    /// A held pair needs one more scan in a row with a rival within
+    /// [`PairingGates::ambiguity_margin`] (but not within the swap margin) to be parted
+    /// for every this many scans it has been held (0: always
+    /// [`PairingGates::scans_to_part`]): ships in company told apart for long are not
+    /// parted, and their name dropped, by a rival that comes and goes.
+    pub hold_growth_scans: u32,
+    /// At most this many scans in a row with such a rival part a pair, however long held.
+    pub max_scans_to_part: u32,
+    /// A rival within this much of a held pair's cost is taken for the track swapped to
+    /// the other ship (or the AIS target to the other track): the pair is parted after
+    /// [`PairingGates::scans_to_part`] such scans, however long held.
+    pub swap_margin: f32,
     /// The spread of a radar target's position about the ship's AIS position, m: the
     /// track's error, the GNSS fix's and the AIS antenna's offset from the hull's centre.
     pub position_sigma_m: f32,
@@ -79,7 +95,10 @@ impl Default for PairingGates {
     /// 150 m and 3.5 m/s (7 kn): about five times a tracked target's position error and
     /// twice its velocity error on real traffic (the Solent run: 26 m and 1.75 m/s RMS,
     /// plots of the IMO model), plus an AIS antenna's offset from the hull's centre; three
-    /// scans to pair, three outside 1.5× the gates to part. Sigmas 30 m (the track's 26 m
+    /// scans to pair, three outside 1.5× the gates to part, three with a rival within 4 of
+    /// the cost, one more with a rival within 6 for every 5 scans held, at most 20 (chosen
+    /// on both Solent runs among 2–10 scans, 6–60 at most, 2–5 of cost: the fewest
+    /// pairings with no more wrong pair-scans). Sigmas 30 m (the track's 26 m
     /// RMS and 10 m of GNSS and antenna offset) and 1.8 m/s (the track's 1.75 m/s), 0.5 m/s
     /// of drift a second of the report's age, velocities widened over a track's first
     /// 8 scans; a rival within 6 of the cost makes a pair ambiguous; shown as the AIS
@@ -94,6 +113,9 @@ impl Default for PairingGates {
             scans_to_pair: 3,
             keep_factor: 1.5,
             scans_to_part: 3,
+            hold_growth_scans: 5,
+            max_scans_to_part: 20,
+            swap_margin: 4.0,
             position_sigma_m: 30.0,
             velocity_sigma_mps: 1.8,
             drift_sigma_mps: 0.5,
@@ -102,6 +124,19 @@ impl Default for PairingGates {
             settled_scans: 8.0,
         }
     }
+}
+
+/// How a ship whose radar target and AIS target are associated (paired, or the radar
+/// target shown as the AIS target while their pair is confirmed) is drawn on the display
+/// and the snapshot: once either way, as IEC 62388 §11.4 asks, by the AIS symbol unless the
+/// operator chooses the radar one. The table and `TTM`/`TLL` are the same either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AssociatedSymbol {
+    /// The AIS triangle with its heading line; the radar target's symbol not drawn.
+    #[default]
+    Ais,
+    /// The radar target's symbol and vector; the AIS triangle not drawn.
+    Radar,
 }
 
 /// A radar target and the AIS target of the same ship.
@@ -141,6 +176,33 @@ struct Pair {
     /// Scans in a row another AIS target fitted the track, or another track the AIS
     /// target, nearly as well.
     rivalled: u32,
+    /// Scans in a row a rival fitted within the swap margin.
+    beaten: u32,
+    /// Scans held.
+    held: u32,
+}
+
+impl Pair {
+    fn new(mmsi: u32) -> Self {
+        Pair {
+            mmsi,
+            outside: 0,
+            rivalled: 0,
+            beaten: 0,
+            held: 0,
+        }
+    }
+}
+
+impl PairingGates {
+    /// Scans in a row with a rival nearly as good (not within the swap margin) that part a
+    /// pair held for `held` scans.
+    pub fn scans_to_part_rivalled(&self, held: u32) -> u32 {
+        let more = held.checked_div(self.hold_growth_scans).unwrap_or(0);
+        self.scans_to_part
+            .saturating_add(more)
+            .min(self.max_scans_to_part.max(self.scans_to_part))
+    }
 }
 
 /// What the AIS picture has done.
@@ -281,7 +343,19 @@ impl AisPicture {
             } else {
                 pair.rivalled = 0;
             }
-            if pair.outside >= gates.scans_to_part || pair.rivalled >= gates.scans_to_part {
+            // A rival about as good as the pair or better is taken for a track swapped under
+            // it: parted as soon as before; one only nearly as good (ships in company) waits
+            // longer the longer the pair has held, so the name does not come and go.
+            if own.is_none_or(|c| rival < c + gates.swap_margin) {
+                pair.beaten += 1;
+            } else {
+                pair.beaten = 0;
+            }
+            pair.held = pair.held.saturating_add(1);
+            if pair.outside >= gates.scans_to_part
+                || pair.beaten >= gates.scans_to_part
+                || pair.rivalled >= gates.scans_to_part_rivalled(pair.held)
+            {
                 parted.push(*track);
             }
         }
@@ -300,7 +374,7 @@ impl AisPicture {
         costs.sort_by(|a, b| a.0.total_cmp(&b.0));
         let mut streaks = BTreeMap::new();
         let (mut used_tracks, mut used_mmsi) = (Vec::new(), Vec::new());
-        for (c, track, mmsi) in costs {
+        for &(c, track, mmsi) in &costs {
             if used_tracks.contains(&track) || used_mmsi.contains(&mmsi) {
                 continue;
             }
@@ -313,14 +387,7 @@ impl AisPicture {
             }
             let n = self.streaks.get(&(track, mmsi)).copied().unwrap_or(0) + 1;
             if n >= gates.scans_to_pair {
-                self.pairs.insert(
-                    track,
-                    Pair {
-                        mmsi,
-                        outside: 0,
-                        rivalled: 0,
-                    },
-                );
+                self.pairs.insert(track, Pair::new(mmsi));
                 self.counts.paired += 1;
                 let label = self.table.get(mmsi).map_or(mmsi.to_string(), |a| a.label());
                 let number = targets.get(&track).map_or("--".to_string(), |x| x.label());
@@ -332,7 +399,7 @@ impl AisPicture {
             }
         }
         self.streaks = streaks;
-        report.merged = self.candidates(&all);
+        report.merged = self.candidates(&costs);
         report.paired = self
             .pairs
             .iter()
@@ -355,56 +422,42 @@ impl AisPicture {
     /// gates and [`PairingGates::merge_cost`], one to one by cost (the cheapest first), then
     /// each AIS target left over whose best radar target was taken within
     /// [`PairingGates::ambiguity_margin`] of that one's cost (one radar target for ships
-    /// it does not tell apart).
-    fn candidates(&self, all: &[(f32, u16, u32)]) -> Vec<Candidate> {
+    /// it does not tell apart). `costs`: the scan's fits among the pairs unpaired before
+    /// it, cheapest first.
+    fn candidates(&self, costs: &[(f32, u16, u32)]) -> Vec<Candidate> {
+        // Those paired this scan are out too.
         let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
-        let mut free: Vec<(f32, u16, u32)> = all
-            .iter()
-            .copied()
-            .filter(|(c, track, mmsi)| {
-                *c <= self.gates.merge_cost
-                    && !self.pairs.contains_key(track)
-                    && !paired_mmsi.contains(mmsi)
-            })
-            .collect();
-        free.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let free = costs.iter().filter(|(c, track, mmsi)| {
+            *c <= self.gates.merge_cost
+                && !self.pairs.contains_key(track)
+                && !paired_mmsi.contains(mmsi)
+        });
         let mut taken: BTreeMap<u16, f32> = BTreeMap::new();
         let mut out: Vec<Candidate> = Vec::new();
-        for (c, track, mmsi) in &free {
-            if taken.contains_key(track) || out.iter().any(|x| x.mmsi == *mmsi) {
+        for &(c, track, mmsi) in free.clone() {
+            if taken.contains_key(&track) || out.iter().any(|x| x.mmsi == mmsi) {
                 continue;
             }
-            taken.insert(*track, *c);
-            out.push(Candidate {
-                track: *track,
-                mmsi: *mmsi,
-            });
+            taken.insert(track, c);
+            out.push(Candidate { track, mmsi });
         }
+        // Each AIS target left over, at its first (its best) entry: shown as that radar
+        // target when the radar target was taken nearly as cheaply, else shown apart.
+        let mut seen: Vec<u32> = out.iter().map(|x| x.mmsi).collect();
         let mut grouped = Vec::new();
-        for (c, track, mmsi) in &free {
-            if out.iter().any(|x| x.mmsi == *mmsi)
-                || grouped.iter().any(|x: &Candidate| x.mmsi == *mmsi)
-            {
+        for &(c, track, mmsi) in free {
+            if seen.contains(&mmsi) {
                 continue;
             }
-            // `free` is sorted: the first entry of an AIS target is its best radar target.
+            seen.push(mmsi);
             if taken
-                .get(track)
-                .is_some_and(|t| *c <= t + self.gates.ambiguity_margin)
+                .get(&track)
+                .is_some_and(|t| c <= t + self.gates.ambiguity_margin)
             {
-                grouped.push(Candidate {
-                    track: *track,
-                    mmsi: *mmsi,
-                });
-            } else {
-                // Its best is not taken or fits far better elsewhere: shown apart.
-                grouped.push(Candidate {
-                    track: u16::MAX,
-                    mmsi: *mmsi,
-                });
+                grouped.push(Candidate { track, mmsi });
             }
         }
-        out.extend(grouped.into_iter().filter(|x| x.track != u16::MAX));
+        out.extend(grouped);
         out.sort_by_key(|x| (x.track, x.mmsi));
         out
     }
@@ -436,5 +489,27 @@ impl AisPicture {
                 ));
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pair_that_has_held_long_needs_a_longer_rival_to_part() {
+        let g = PairingGates::default();
+        assert_eq!(g.scans_to_part_rivalled(0), g.scans_to_part);
+        assert_eq!(
+            g.scans_to_part_rivalled(g.hold_growth_scans * 4),
+            g.scans_to_part + 4
+        );
+        assert_eq!(g.scans_to_part_rivalled(u32::MAX), g.max_scans_to_part);
+        // No growth: always the scans to part.
+        let fixed = PairingGates {
+            hold_growth_scans: 0,
+            ..g
+        };
+        assert_eq!(fixed.scans_to_part_rivalled(1_000), fixed.scans_to_part);
     }
 }

@@ -117,7 +117,7 @@ pub struct ScanReport {
     pub skipped: Option<String>,
     /// AIS targets at the scan's time, nearest first, when AIS is read
     /// ([`ais::AisPicture`]); those paired with a radar target are in `paired` and shown
-    /// once, as the radar target.
+    /// once ([`ScanReport::targets_drawn`], [`ScanReport::ais_drawn`]).
     pub ais: Vec<crate::ais::AisTargetData>,
     /// Radar targets and the AIS targets of the same ship.
     pub paired: Vec<ais::Pairing>,
@@ -129,13 +129,41 @@ pub struct ScanReport {
 }
 
 impl ScanReport {
-    /// The radar targets drawn as radar targets: all but those shown as an AIS target while
-    /// their pair is confirmed ([`ScanReport::merged`]), which are drawn as that AIS target
-    /// only.
-    pub fn targets_shown_apart(&self) -> impl Iterator<Item = &TargetData> {
-        self.targets
+    /// The radar targets drawn as radar targets: with the AIS symbol for associated ships
+    /// ([`ais::AssociatedSymbol::Ais`]), all but those paired or shown as an AIS target
+    /// ([`ScanReport::merged`]), which are drawn as that AIS target; with the radar
+    /// symbol, all.
+    pub fn targets_drawn(
+        &self,
+        symbol: ais::AssociatedSymbol,
+    ) -> impl Iterator<Item = &TargetData> {
+        self.targets.iter().filter(move |t| {
+            symbol == ais::AssociatedSymbol::Radar
+                || (!self.paired.iter().any(|p| p.track == t.track)
+                    && !self.merged.iter().any(|c| c.track == t.track))
+        })
+    }
+
+    /// The AIS targets drawn as AIS triangles: with the AIS symbol for associated ships,
+    /// all; with the radar symbol, those neither paired with a radar target nor shown by
+    /// one (that radar target is drawn instead).
+    pub fn ais_drawn(
+        &self,
+        symbol: ais::AssociatedSymbol,
+    ) -> impl Iterator<Item = &crate::ais::AisTargetData> {
+        self.ais.iter().filter(move |a| {
+            symbol == ais::AssociatedSymbol::Ais || self.associated_track(a.mmsi).is_none()
+        })
+    }
+
+    /// The radar target (track) an AIS target is associated with: its pair, else the radar
+    /// target shown as it.
+    pub fn associated_track(&self, mmsi: u32) -> Option<u16> {
+        self.paired
             .iter()
-            .filter(|t| !self.merged.iter().any(|c| c.track == t.track))
+            .find(|p| p.mmsi == mmsi)
+            .map(|p| p.track)
+            .or_else(|| self.merged.iter().find(|c| c.mmsi == mmsi).map(|c| c.track))
     }
 
     /// Tracks still being acquired (tentative).
