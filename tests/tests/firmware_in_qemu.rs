@@ -180,14 +180,19 @@ fn filter_costs_are_within_budget() {
         .find(|r| r.name == "scan-40-targets-200-plots")
         .expect("scan row");
     assert!(scan.ram_bytes <= 40 * 1024, "{} B", scan.ram_bytes);
-    // The stack the bench's deepest row took, its own buffers included (measured 10,200 B,
-    // the scans with a full table): within 12 KiB, which the 64 KiB less that state
-    // (the firmware leaves 25,120 B for its stack, `scripts/size`) holds twice over.
+    // The stack the bench's deepest row took, the bench's own code included (measured
+    // 10,200 B): within 12 KiB, which the firmware's 25,120 B left for its stack
+    // (`scripts/size`) hold twice over; and more than `main`'s own frame (1.6 KiB), so
+    // that a painting that measured nothing fails.
     let stack = rows
         .iter()
         .find(|r| r.name == "stack-peak")
         .expect("stack-peak row");
-    assert!(stack.ram_bytes <= 12 * 1024, "{} B", stack.ram_bytes);
+    assert!(
+        (2 * 1024..=12 * 1024).contains(&stack.ram_bytes),
+        "{} B",
+        stack.ram_bytes
+    );
     // The budget for the device's tracking work (measured 70,724 with slots that
     // never move; 123,368 before), and the same with the lists read from their frames
     // (measured 89,280).

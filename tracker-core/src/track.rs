@@ -851,7 +851,7 @@ impl<'a> Iterator for Tracks<'a> {
 
 impl ExactSizeIterator for Tracks<'_> {}
 
-// `free` and the drop masks are one bit a slot or place.
+// `free` and the drop masks are one bit a slot or place; the wire counts tracks in a u16.
 const _: () = assert!(MAX_TRACKS <= 64);
 
 /// The nearest plots offered, kept sorted by (distance², plot number): the result does not

@@ -27,6 +27,9 @@ use crate::track::{ApplyReport, TrackTable, MAX_TRACKS};
 /// Plots one scan may hold.
 pub const MAX_PLOTS_PER_SCAN: usize = 256;
 
+// The handshake reports it in a u16.
+const _: () = assert!(MAX_PLOTS_PER_SCAN <= u16::MAX as usize);
+
 /// Where a scan is in its cycle.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

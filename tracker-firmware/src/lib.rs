@@ -48,7 +48,7 @@ fn panic(_: &core::panic::PanicInfo) -> ! {
 pub const MAX_TRACKS: u16 = tracker_core::track::MAX_TRACKS as u16;
 
 /// Plots accepted per scan.
-pub const MAX_PLOTS_PER_SCAN: u16 = 256;
+pub const MAX_PLOTS_PER_SCAN: u16 = tracker_core::tracker::MAX_PLOTS_PER_SCAN as u16;
 
 /// Firmware name and board, reported in the handshake.
 #[cfg(not(feature = "stm32f4-discovery"))]

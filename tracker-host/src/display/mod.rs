@@ -442,7 +442,8 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
                 for (a0, b0) in [(tip, left), (left, right), (right, tip)] {
                     ctx.draw(&CanvasLine::new(a0.0, a0.1, b0.0, b0.1, colour));
                 }
-                if a.active {
+                // An associated ship's vector is its radar target's, drawn at any range.
+                if a.active || radar.is_some() {
                     let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
                     let v = match state.vectors {
                         VectorMode::Relative => [

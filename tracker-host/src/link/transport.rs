@@ -38,7 +38,7 @@ fn fresh_device() -> Box<Device> {
         firmware: concat!("tracker-core ", env!("CARGO_PKG_VERSION"), " (inproc)"),
         boot_id: fastrand::u32(1..),
         max_tracks: tracker_core::track::MAX_TRACKS as u16,
-        max_plots_per_scan: 256,
+        max_plots_per_scan: tracker_core::tracker::MAX_PLOTS_PER_SCAN as u16,
     }))
 }
 

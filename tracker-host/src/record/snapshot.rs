@@ -106,6 +106,12 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
         .plots_m
         .iter()
         .chain(last.targets.iter().map(|t| &t.position_m))
+        .chain(
+            last.ais
+                .iter()
+                .filter(|(_, t)| t.is_some())
+                .map(|(a, _)| &a.position_m),
+        )
         .map(|p| {
             let (x, y) = rel(*p);
             x.hypot(y)
@@ -170,7 +176,10 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
             corner(c - 2.5, 0.7),
             corner(c, 1.0),
         ];
-        let colour = if radar.is_some_and(|t| t.dangerous(limits)) {
+        // Red as on the display: its radar target's alarm, or its own when activated.
+        let colour = if radar.is_some_and(|t| t.dangerous(limits))
+            || (a.active && crate::display::ais_dangerous(a, limits))
+        {
             RED
         } else {
             MAGENTA
@@ -179,9 +188,9 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
             tri,
             colour.stroke_width(2),
         )))?;
-        // Its true vector when activated, as the display draws it: an associated ship drawn
-        // as its AIS target shows where it is going.
-        if a.active {
+        // Its true vector when activated or associated, as the display draws it: an
+        // associated ship drawn as its AIS target shows where it is going, at any range.
+        if a.active || radar.is_some() {
             let v = a.velocity_mps;
             chart.draw_series(std::iter::once(PathElement::new(
                 vec![

@@ -54,7 +54,8 @@ pub struct PairingGates {
     pub scans_to_part: u32,
     /// A held pair needs one more scan in a row with a rival within
     /// [`PairingGates::ambiguity_margin`] (but not within the swap margin) to be parted
-    /// for every this many scans it has been held (0: always
+    /// for every this many scans it has been held, the rivalry's scans included (a pair held
+    /// 50 scans before a rival came parts after 16 with growth 5; 0: always
     /// [`PairingGates::scans_to_part`]): ships in company told apart for long are not
     /// parted, and their name dropped, by a rival that comes and goes.
     pub hold_growth_scans: u32,
