@@ -833,6 +833,34 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn an_associated_ship_keeps_its_vector_beyond_the_ais_activation_range() {
+        let mut d = demo();
+        let mut view = step(&mut d);
+        for _ in 0..10 {
+            view = step(&mut d);
+        }
+        let mut state = DisplayState::new("inproc".into());
+        state.limits = AlarmLimits {
+            cpa_m: 0.0,
+            tcpa_s: 0.0,
+        };
+        state.vectors = VectorMode::True;
+        // A sleeping AIS target (beyond the activation range) is a triangle without a
+        // vector; associated with a radar target and drawn as its AIS target, it shows the
+        // vector the radar target would.
+        let mut associated = one_associated_ship(view, true);
+        associated.ais[0].active = false;
+        associated.ais[0].velocity_mps = [8.0, 0.0];
+        let mut sleeping = associated.clone();
+        sleeping.paired.clear();
+        let (with, without) = (
+            ppi_cells(&state, &associated, Color::Magenta),
+            ppi_cells(&state, &sleeping, Color::Magenta),
+        );
+        assert!(with > without, "associated {with} / sleeping {without}");
+    }
+
+    #[test]
     fn the_ais_column_fits_a_radar_target_shown_as_several_ais_targets() {
         let mut d = demo();
         let mut view = step(&mut d);
