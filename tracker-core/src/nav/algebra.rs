@@ -266,7 +266,7 @@ pub(crate) fn chain_state<T: RealField + Copy, const N: usize, const B: usize>(
 }
 
 /// A·v for a full B×B block: the reference the models' sparse versions are tested against.
-#[cfg(test)]
+#[cfg(all(test, feature = "reference"))]
 pub(crate) fn full<T: RealField + Copy, const B: usize>(
     a: &SMatrix<T, B, B>,
 ) -> impl Fn([T; B]) -> [T; B] + '_ {
@@ -305,6 +305,7 @@ pub(crate) fn chain_scatter<T: RealField + Copy, const N: usize, const B: usize>
 #[cfg(test)]
 mod tests {
     use super::*;
+    #[cfg(feature = "reference")]
     use nalgebra::{Matrix2, Matrix3, Vector2};
 
     #[test]
