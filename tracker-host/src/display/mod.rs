@@ -782,6 +782,26 @@ pub(crate) mod tests {
         view
     }
 
+    /// The demo's eleventh scan: targets confirmed, with courses and speeds.
+    fn eleventh_scan() -> ScanReport {
+        let mut d = demo();
+        let mut view = step(&mut d);
+        for _ in 0..10 {
+            view = step(&mut d);
+        }
+        view
+    }
+
+    /// A display that raises no alarm: radar targets green, AIS targets magenta.
+    fn without_alarms() -> DisplayState {
+        let mut state = DisplayState::new("inproc".into());
+        state.limits = AlarmLimits {
+            cpa_m: 0.0,
+            tcpa_s: 0.0,
+        };
+        state
+    }
+
     /// Cells of the PPI (the left half) drawn in `colour`.
     fn ppi_cells(state: &DisplayState, view: &ScanReport, colour: Color) -> usize {
         let mut terminal = Terminal::new(TestBackend::new(160, 40)).unwrap();
@@ -795,17 +815,8 @@ pub(crate) mod tests {
 
     #[test]
     fn an_associated_ship_is_drawn_once_by_the_chosen_symbol() {
-        let mut d = demo();
-        let mut view = step(&mut d);
-        for _ in 0..10 {
-            view = step(&mut d);
-        }
-        let mut state = DisplayState::new("inproc".into());
-        // No alarm: the radar target green, the AIS target magenta.
-        state.limits = AlarmLimits {
-            cpa_m: 0.0,
-            tcpa_s: 0.0,
-        };
+        let view = eleventh_scan();
+        let mut state = without_alarms();
         assert_eq!(
             state.associated,
             AssociatedSymbol::Ais,
@@ -834,16 +845,8 @@ pub(crate) mod tests {
 
     #[test]
     fn an_associated_ship_keeps_its_vector_beyond_the_ais_activation_range() {
-        let mut d = demo();
-        let mut view = step(&mut d);
-        for _ in 0..10 {
-            view = step(&mut d);
-        }
-        let mut state = DisplayState::new("inproc".into());
-        state.limits = AlarmLimits {
-            cpa_m: 0.0,
-            tcpa_s: 0.0,
-        };
+        let view = eleventh_scan();
+        let mut state = without_alarms();
         state.vectors = VectorMode::True;
         // A sleeping AIS target (beyond the activation range) is a triangle without a
         // vector; associated with a radar target and drawn as its AIS target, it shows the
@@ -862,12 +865,7 @@ pub(crate) mod tests {
 
     #[test]
     fn the_ais_column_fits_a_radar_target_shown_as_several_ais_targets() {
-        let mut d = demo();
-        let mut view = step(&mut d);
-        for _ in 0..10 {
-            view = step(&mut d);
-        }
-        let mut view = one_associated_ship(view, false);
+        let mut view = one_associated_ship(eleventh_scan(), false);
         let track = view.targets[0].track;
         assert_eq!(ais_column(&view, track), "SHIP?");
         // Two more AIS targets on it, farther off, with 20-character names and MMSIs.

@@ -91,6 +91,18 @@ impl ScanSink for Snapshot {
     }
 }
 
+/// A true vector from `at` (chart metres) for `velocity_mps` over `vector_s` seconds.
+fn vector(at: (f64, f64), velocity_mps: [f32; 2], vector_s: f32) -> Vec<(f64, f64)> {
+    let (x, y) = at;
+    vec![
+        (x, y),
+        (
+            x + f64::from(velocity_mps[0] * vector_s),
+            y + f64::from(velocity_mps[1] * vector_s),
+        ),
+    ]
+}
+
 fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Result<()> {
     crate::font::register();
     let root = BitMapBackend::new(path, (SIZE, SIZE)).into_drawing_area();
@@ -191,15 +203,8 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
         // Its true vector when activated or associated, as the display draws it: an
         // associated ship drawn as its AIS target shows where it is going, at any range.
         if a.active || radar.is_some() {
-            let v = a.velocity_mps;
             chart.draw_series(std::iter::once(PathElement::new(
-                vec![
-                    (x, y),
-                    (
-                        x + f64::from(v[0] * vector_s),
-                        y + f64::from(v[1] * vector_s),
-                    ),
-                ],
+                vector((x, y), a.velocity_mps, vector_s),
                 colour.stroke_width(1),
             )))?;
         }
@@ -216,15 +221,8 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
     for t in &last.targets {
         let colour = if t.dangerous(limits) { RED } else { CYAN };
         let (x, y) = rel(t.position_m);
-        let v = t.velocity_mps;
         chart.draw_series(std::iter::once(PathElement::new(
-            vec![
-                (x, y),
-                (
-                    x + f64::from(v[0] * vector_s),
-                    y + f64::from(v[1] * vector_s),
-                ),
-            ],
+            vector((x, y), t.velocity_mps, vector_s),
             colour.stroke_width(2),
         )))?;
         chart.draw_series(std::iter::once(Circle::new(
