@@ -145,6 +145,9 @@ fn stationary(reports: &[ScanReport], radius_m: f32) -> Stationary {
             None => out.untracked += 1,
             Some(t) if t.age_scans < SETTLED_SCANS => out.unsettled += 1,
             Some(t) => {
+                if t.speed_mps >= KNOT_MPS && std::env::var_os(ECHO_HISTORY).is_some() {
+                    print_echo_history(reports, *p, t.track, t.speed_mps, 3.0 * radius_m);
+                }
                 out.speeds_kn.push(t.speed_mps / KNOT_MPS);
                 if t.speed_mps < KNOT_MPS {
                     out.slow += 1;
@@ -157,6 +160,76 @@ fn stationary(reports: &[ScanReport], radius_m: f32) -> Stationary {
     out.speeds_kn.sort_by(f32::total_cmp);
     out.scatter_m.sort_by(f32::total_cmp);
     out
+}
+
+/// Set (to anything) to print, for every stationary echo whose track shows 1 kn or more,
+/// the echo's scans: the plots near it (`*`: started a track) and the tracks near it with
+/// their status, age, hits (last scan rightmost), position from the echo, velocity and the
+/// plot each took. How the echoes over 1 kn in docs/radar.md were followed.
+const ECHO_HISTORY: &str = "TRACKER_ECHO_HISTORY";
+
+/// Prints the scans of the echo at `echo` (m, local frame), within `within_m` of it.
+fn print_echo_history(
+    reports: &[ScanReport],
+    echo: [f32; 2],
+    track: u16,
+    speed_mps: f32,
+    within_m: f32,
+) {
+    let from = |q: [f32; 2]| [q[0] - echo[0], q[1] - echo[1]];
+    let near = |q: [f32; 2]| from(q)[0].hypot(from(q)[1]) < within_m;
+    println!(
+        "echo at ({:.1}, {:.1}) m: track {track} shows {:.2} kn",
+        echo[0],
+        echo[1],
+        speed_mps / KNOT_MPS
+    );
+    for r in reports {
+        let plots: Vec<String> = (0..r.plots_m.len())
+            .filter(|&i| near(r.plots_m[i]))
+            .map(|i| {
+                let d = from(r.plots_m[i]);
+                let started = u16::try_from(i).is_ok_and(|i| r.association.initiate.contains(&i));
+                format!(
+                    "p{i} ({:.1}, {:.1}){}",
+                    d[0],
+                    d[1],
+                    if started { "*" } else { "" }
+                )
+            })
+            .collect();
+        let tracks: Vec<String> = r
+            .tracks
+            .iter()
+            .filter(|k| near(k.position_m))
+            .map(|k| {
+                let took = r
+                    .association
+                    .assignments
+                    .iter()
+                    .find(|a| a.track == k.track)
+                    .and_then(|a| a.plot);
+                let d = from(k.position_m);
+                format!(
+                    "T{} {:?} age {} hits {:b} at ({:.1}, {:.1}) v ({:.2}, {:.2}) took {took:?}",
+                    k.track,
+                    k.status,
+                    k.age_scans,
+                    k.hit_history & 0x3ff,
+                    d[0],
+                    d[1],
+                    k.velocity_mps[0],
+                    k.velocity_mps[1]
+                )
+            })
+            .collect();
+        println!(
+            "  scan {}: {} | {}",
+            r.scan,
+            plots.join(" "),
+            tracks.join("; ")
+        );
+    }
 }
 
 /// The value at quantile `q` of sorted `v`, NaN for none.
@@ -222,13 +295,14 @@ fn every_capture_is_tracked_to_its_end() {
         // What was achieved, as bounds that fail when it goes back (docs/radar.md): the 4G
         // harbour's stationary echoes all with a settled track under 1 kn but one at most,
         // none over; the Garmin's (moored, swinging, no heading: its yaw measured from the
-        // picture) no more than 2 over 1 kn, at least 9 under, their plots' scatter about
-        // their mean under half what it was with the fixed heading alone (10.7 m median).
+        // picture) no more than 1 over 1 kn, at least 10 under, their plots' scatter about
+        // their mean under half what it was with the fixed heading alone (10.7 m median); the
+        // HALO harbour's none over 1 kn, at least 9 under.
         if name.starts_with("radar_pi-4g") {
             assert!(s.fast == 0 && s.slow + 1 >= s.echoes, "{name}: {s:?}");
         }
         if name.starts_with("radar_pi-garmin") {
-            assert!(s.fast <= 2 && s.slow >= 9, "{name}: {s:?}");
+            assert!(s.fast <= 1 && s.slow >= 10, "{name}: {s:?}");
             assert!(quantile(&s.scatter_m, 0.5) < 5.3, "{name}: {s:?}");
             assert!(
                 radar.yaw_measured + 3 >= report.scans,
@@ -236,6 +310,9 @@ fn every_capture_is_tracked_to_its_end() {
                 radar.yaw_measured,
                 report.scans
             );
+        }
+        if name.starts_with("radar_pi-halo-velocitytrack") {
+            assert!(s.fast == 0 && s.slow >= 9, "{name}: {s:?}");
         }
         assert!(report.scans >= 4, "{name}: {} scans", report.scans);
         // Heading: from the spokes, the capture's NMEA or the fixed heading; the 4G's first
