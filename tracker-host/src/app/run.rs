@@ -95,6 +95,11 @@ impl Run {
         before(scan.radar.time_s);
         let own = self.own_ship.own_ship(&scan)?;
         self.plots.own_ship_estimate(&own);
+        // A radar's plots are as accurate as its range scale, which a live radar tells with
+        // its first spoke and the operator changes.
+        if let Some(sigma_m) = self.plots.plot_sigma_m() {
+            self.session.set_plot_sigma_m(sigma_m)?;
+        }
         let mut report = self.session.scan(&scan.radar, &own)?;
         report.echoes = scan.echoes.clone();
         let mut heard = self.plots.take_ais();

@@ -126,7 +126,8 @@ pub enum Command {
         #[arg(long, value_name = "DEG", requires = "radar")]
         heading_deg: Option<f64>,
         /// With --radar: the plots' accuracy, m (one axis), for the filters and gates; by
-        /// default 0.25 % of a capture's range scale, 2 to 40 m (40 m live).
+        /// default 0.25 % of the range scale in use, 2 to 40 m (live: 40 m until the first
+        /// rotation).
         #[arg(long, value_name = "M", requires = "radar")]
         plot_sigma_m: Option<f32>,
         /// How the run is shown, own ship, outputs.

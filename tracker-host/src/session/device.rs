@@ -185,6 +185,20 @@ impl DeviceLink {
         Ok(device)
     }
 
+    /// Runs `config` from now on: tracks started from now are made with it, tracks already
+    /// held keep the filter they were made with; a device that resets is configured with it.
+    ///
+    /// # Errors
+    /// The link failed or the device refused the configuration (the one before stays).
+    pub fn reconfigure(&mut self, config: TrackerConfig) -> anyhow::Result<()> {
+        let before = std::mem::replace(&mut self.config, config);
+        let done = self.configure();
+        if done.is_err() {
+            self.config = before;
+        }
+        done
+    }
+
     fn configure(&mut self) -> anyhow::Result<()> {
         expect_ack(
             self.client.request(&HostToDevice::Configure(self.config))?,

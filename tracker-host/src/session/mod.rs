@@ -55,6 +55,10 @@ pub struct SessionConfig {
     pub association: Association,
     /// CPA/TCPA alarm limits.
     pub alarms: AlarmLimits,
+    /// The filter kind `tracker` was made from by [`SessionConfig::tracking_plots_of`], so
+    /// that a new plot accuracy can remake it ([`Session::set_plot_sigma_m`]); `None` for a
+    /// configuration made by hand, which is kept as it is.
+    pub filter_kind: Option<FilterKind>,
 }
 
 impl SessionConfig {
@@ -81,6 +85,7 @@ impl SessionConfig {
             refined_gate_d2: CHI2_2DOF_99,
             association: Association::default(),
             alarms: AlarmLimits::default(),
+            filter_kind: Some(filter),
         }
     }
 }
@@ -237,6 +242,37 @@ impl Session {
     /// The configuration.
     pub fn config(&self) -> &SessionConfig {
         &self.config
+    }
+
+    /// Tracks plots of `plot_sigma_m` (m, one axis) from now on: the device's filter and
+    /// gates remade for them ([`SessionConfig::tracking_plots_of`]) for the tracks it starts
+    /// from now (those it holds keep theirs), and an event saying so. A radar's plots are as
+    /// accurate as its range scale: a live radar's scale is known from its first spoke, and
+    /// the operator changes it. Returns whether anything changed: not for the accuracy
+    /// already in use (within 1 %), nor for a configuration made by hand
+    /// ([`SessionConfig::filter_kind`] `None`).
+    ///
+    /// # Errors
+    /// `plot_sigma_m` is not finite and positive; the link failed or the device refused the
+    /// configuration (the one before stays).
+    pub fn set_plot_sigma_m(&mut self, plot_sigma_m: f32) -> anyhow::Result<bool> {
+        if !(plot_sigma_m.is_finite() && plot_sigma_m > 0.0) {
+            bail!("plot accuracy {plot_sigma_m} m is not a positive distance");
+        }
+        let Some(kind) = self.config.filter_kind else {
+            return Ok(false);
+        };
+        let now = self.config.tracker.plot_sigma_m;
+        if (plot_sigma_m - now).abs() <= 0.01 * now {
+            return Ok(false);
+        }
+        let tracker = SessionConfig::tracking_plots_of(kind, plot_sigma_m).tracker;
+        self.device.reconfigure(tracker)?;
+        self.config.tracker = tracker;
+        self.events.push(format!(
+            "plots' accuracy now {plot_sigma_m:.1} m (was {now:.1} m): tracks started from now are filtered and gated for it"
+        ));
+        Ok(true)
     }
 
     /// Tracks one scan seen from `own`.

@@ -87,4 +87,11 @@ pub trait PlotSource {
     fn radar_counts(&self) -> Option<radar::RadarCounts> {
         None
     }
+
+    /// The accuracy of the plots of the scan just given, m (one axis), when the source
+    /// knows it and it may change as the run goes on (a radar's, with its range scale);
+    /// `None` for a source whose plots are as accurate as the session was told at the start.
+    fn plot_sigma_m(&self) -> Option<f32> {
+        None
+    }
 }

@@ -54,7 +54,8 @@ pub struct RadarOptions {
     /// ([`super::radar_yaw::PictureYaw`]); on by default.
     pub picture_yaw: bool,
     /// The plots' accuracy, m (one axis), for the tracker's filters and gates; by default
-    /// [`plot_sigma_m`] of a capture's first range, 40 m live.
+    /// [`plot_sigma_m`] of the range scale in use (a capture's first range at the start; a
+    /// live radar's from its first rotation, 40 m before it; anew when the scale changes).
     pub plot_sigma_m: Option<f32>,
 }
 
@@ -205,6 +206,10 @@ pub struct RadarPlotSource {
     reported_fixed_rad: Option<f32>,
     /// The true heading the radar sent with its last spoke, rad, if it sent one.
     radar_heading_rad: Option<f32>,
+    /// The range scale of the rotation being gathered, m (its last spoke's range).
+    range_m: Option<f32>,
+    /// The range scale of the scan last given, m.
+    scan_range_m: Option<f32>,
 }
 
 /// The cached heading is worked out again after this long without a new sentence, s.
@@ -293,6 +298,8 @@ impl RadarPlotSource {
             yaw: PictureYaw::new(),
             fixed_heading_seen: false,
             reported_fixed_rad: None,
+            range_m: None,
+            scan_range_m: None,
         })
     }
 
@@ -444,11 +451,15 @@ impl RadarPlotSource {
                 Event::Extended(p) => current.extended.push(p),
                 Event::Wrap { time_ms, .. } => wrapped = Some(time_ms as f64 / 1000.0),
             });
+            let range_m = Some(spoke.range_m);
             if let Some(t) = wrapped {
                 // The wrap is reported before the spoke after it is processed: blobs closed
-                // by that spoke belong to the rotation that just ended.
+                // by that spoke belong to the rotation that just ended, the spoke to the next.
+                self.scan_range_m = self.range_m.or(range_m);
+                self.range_m = range_m;
                 return Ok(Some(t));
             }
+            self.range_m = range_m;
         }
     }
 
@@ -592,26 +603,29 @@ pub fn plot_sigma_m(range_m: f32) -> f32 {
     (PLOT_SIGMA_OF_RANGE * range_m).clamp(MIN_PLOT_SIGMA_M, crate::session::PLOT_SIGMA_M)
 }
 
-/// The plots' accuracy as a fraction of the range scale: 0.25 %, a quarter of the IMO
-/// performance standard's bound (MSC.192(79) 5.34: 50 m or 1 % of range), which is what a
-/// radar must at worst achieve, not what it does.
+/// The plots' accuracy as a fraction of the range scale: 0.25 %, a quarter of the range
+/// term (1 % of range) of the IMO performance standard's accuracy, which is what a radar must
+/// at worst achieve, not what it does (the standard's bound is the greater of that term and
+/// a fixed distance of tens of metres, far above any plot's scatter on short scales).
 ///
 /// Measured on the real captures (`tests/radar_tracking.rs`: the plots of stationary point
 /// echoes about their own mean position, every whole scan), the median distance from the
-/// mean is 1.7 m on the 195 m scale (4G), 1.2 m on 796 m (HALO), 3.2 m on 3.2 km (3G),
-/// 4.2 m on 4.2 km (Garmin, its yaw measured from the picture), 43 m on 25 km (HALO, 2–3
-/// scans): a σ of 1.4, 1.0, 2.7, 3.6 and 36 m (a median distance of 1.18 σ for Gaussian
-/// plots), against 2, 2, 4, 10.5 and 40 m here, so still above the scatter on every scale.
-/// With 1 % (8 m on the HALO's 796 m) a one-plot track's gate in a harbour spans tens of
-/// metres of other echoes and confirmed tracks of tens of knots were started between them;
-/// from 4.4 m up they are back (docs/radar.md has the sweep).
+/// mean is 1.7 m on the 195 m scale (4G), 1.2 m on 796 m (HALO), 3.2 m on the 3G (a first
+/// range of 1.6 km, plots to 3.2 km), 4.2 m on the Garmin (4.2 km, plots to 1.3 km; its yaw
+/// measured from the picture), 43 m on 25 km (HALO, 2–3 scans): a σ of 1.4, 1.0, 2.7, 3.6
+/// and 36 m (a median distance of 1.18 σ for Gaussian plots), against 2, 2, 4, 10.4 and
+/// 40 m here, so still above the scatter on every scale. With 1 % (8 m on the HALO's 796 m)
+/// a one-plot track's gate in a harbour spanned tens of metres of other echoes and
+/// confirmed tracks of tens of knots were started between them; from 4.4 m up they are
+/// back. Chosen on those same captures (docs/radar.md has the sweep).
 pub const PLOT_SIGMA_OF_RANGE: f32 = 0.0025;
 
-/// The smallest plot accuracy [`plot_sigma_m`] gives, m (the IMO's 1 % of range on the
-/// 200 m scale; the quarter of it on 800 m). It was 5 m while a plot was a CFAR blob (a fragment of an echo's edge,
-/// which wandered over the echo); a plot is now the whole echo's centroid, and on the
-/// 195 m scale its scatter is 1.7 m (median distance from its mean). A 5 m σ makes the
-/// refined gate (about 16 m) take in the neighbouring boats of a pontoon, 8 m apart.
+/// The smallest plot accuracy [`plot_sigma_m`] gives, m (1 % of range on the 200 m scale,
+/// [`PLOT_SIGMA_OF_RANGE`] of it on 800 m). It was 5 m while a plot was a CFAR blob (a
+/// fragment of an echo's edge, which wandered over the echo); a plot is now the whole echo's
+/// centroid, and on the 195 m scale its scatter is 1.7 m (median distance from its mean). A
+/// 5 m σ makes the refined gate (about 16 m) take in the neighbouring boats of a pontoon,
+/// 8 m apart.
 pub const MIN_PLOT_SIGMA_M: f32 = 2.0;
 
 /// `plot` (measured `dt_s` before the scan, range m and true bearing rad from own ship
@@ -642,6 +656,7 @@ impl PlotSource for RadarPlotSource {
             None => {
                 // The capture ended mid-rotation: what closed is the last, partial scan.
                 self.finished = true;
+                self.scan_range_m = self.range_m;
                 if let Some((_, x)) = &mut self.extractor {
                     let current = &mut self.current;
                     x.flush(|e| match e {
@@ -690,6 +705,14 @@ impl PlotSource for RadarPlotSource {
 
     fn ais_counts(&self) -> Option<crate::ais::AisCounts> {
         (self.ais.counts().sentences > 0).then(|| self.ais.counts())
+    }
+
+    /// The `--plot-sigma-m` given, else [`plot_sigma_m`] of the range scale in use (a live
+    /// radar's is known from its first spoke on, and the operator changes it).
+    fn plot_sigma_m(&self) -> Option<f32> {
+        self.options
+            .plot_sigma_m
+            .or(self.scan_range_m.map(plot_sigma_m))
     }
 }
 
