@@ -169,8 +169,8 @@ fn stationary(reports: &[ScanReport], radius_m: f32) -> Stationary {
 /// plot each took. How the echoes over 1 kn in docs/radar.md were followed.
 const ECHO_HISTORY: &str = "TRACKER_ECHO_HISTORY";
 
-/// The hit history's last ten scans (bit 0 the last), as printed.
-const LAST_TEN_SCANS: u16 = (1 << 10) - 1;
+/// The hit history's scans a track reports (bit 0 the last), as printed.
+const HIT_HISTORY_MASK: u16 = (1 << tracker_core::track::KEEP_N) - 1;
 
 /// Prints the scans around `at` (m, local frame: the echo's plot of the last whole scan),
 /// within `within_m` of it; `track_id` is the track read there, showing `speed_mps`.
@@ -226,7 +226,7 @@ fn print_echo_history(
                     k.track,
                     k.status,
                     k.age_scans,
-                    k.hit_history & LAST_TEN_SCANS,
+                    k.hit_history & HIT_HISTORY_MASK,
                     d[0],
                     d[1],
                     k.velocity_mps[0],

@@ -13,7 +13,7 @@ use crate::origin::Origin;
 use crate::radar::RadarSpec;
 use crate::session::{Session, SessionConfig, PLOT_SIGMA_M};
 use crate::source::plots_file::PlotsFileSource;
-use crate::source::radar::{plot_sigma_m, CaptureSurvey, RadarOptions, RadarPlotSource};
+use crate::source::radar::{CaptureSurvey, RadarOptions, RadarPlotSource};
 use crate::source::truth_file::TruthFile;
 use crate::source::PlotSource;
 
@@ -70,8 +70,7 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             };
             let origin = o.own_ship.origin.or(survey.first_fix).unwrap_or_default();
             let sigma_m = radar
-                .plot_sigma_m
-                .or(survey.first_range_m.map(plot_sigma_m))
+                .plot_sigma_on(survey.first_range_m)
                 .unwrap_or(PLOT_SIGMA_M);
             (
                 Box::new(RadarPlotSource::open(radar, origin)?),

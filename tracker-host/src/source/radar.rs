@@ -60,6 +60,12 @@ pub struct RadarOptions {
 }
 
 impl RadarOptions {
+    /// The plots' accuracy, m, on a range scale of `range_m` (`None`: not known yet): the
+    /// one given ([`RadarOptions::plot_sigma_m`]), else [`plot_sigma_m`] of the scale.
+    pub fn plot_sigma_on(&self, range_m: Option<f32>) -> Option<f32> {
+        self.plot_sigma_m.or(range_m.map(plot_sigma_m))
+    }
+
     /// The defaults per brand for `spec`.
     pub fn new(spec: RadarSpec) -> Self {
         RadarOptions {
@@ -710,9 +716,7 @@ impl PlotSource for RadarPlotSource {
     /// The `--plot-sigma-m` given, else [`plot_sigma_m`] of the range scale in use (a live
     /// radar's is known from its first spoke on, and the operator changes it).
     fn plot_sigma_m(&self) -> Option<f32> {
-        self.options
-            .plot_sigma_m
-            .or(self.scan_range_m.map(plot_sigma_m))
+        self.options.plot_sigma_on(self.scan_range_m)
     }
 }
 
