@@ -3,8 +3,8 @@
 //! when the scorer matched the track to that ship or that ship is the one nearest the track
 //! (two ships in one resolution cell share a track, and the scorer keeps to the one it
 //! matched first), *wrong* otherwise; a ship with a
-//! confirmed track and an AIS target held but no pair is *missed* that scan (shown twice:
-//! its radar target and its AIS triangle). The time to pair is from the scan its track was
+//! confirmed track drawn apart (neither paired nor shown as an AIS target) and an AIS
+//! target held is *shown twice* that scan: its radar target and its AIS triangle. The time to pair is from the scan its track was
 //! first matched to the scan it was first paired correctly.
 
 use std::collections::BTreeMap;
@@ -30,8 +30,9 @@ pub struct PairingScores {
     /// Ship-scans with a matched track merged into other ships' AIS symbols and no AIS
     /// target of its own: the ship not shown at all.
     pub ships_hidden: u64,
-    /// Ship-scans with a matched track shown as a radar target and an AIS target shown
-    /// apart (not paired with a radar target): the ship shown twice.
+    /// Ship-scans with a matched track drawn as a radar target of its own (neither paired
+    /// nor shown as an AIS target) while the ship's AIS target is held (drawn, by itself
+    /// or on another track): the ship shown twice.
     pub ships_unpaired: u64,
     /// … of those, later than [`PAIRING_ALLOWANCE_SCANS`] after the track was matched.
     pub ships_unpaired_late: u64,
@@ -127,7 +128,11 @@ impl PairingScorer {
             }
         }
         for (track, ship) in matched {
-            let paired = pairs.iter().any(|(_, m)| m == ship);
+            // Shown twice: the ship's AIS target is drawn, and so is a track that follows
+            // it, as a radar target of its own (neither paired nor merged: a paired track is
+            // drawn as its AIS target, and if that is another ship's the pair is counted
+            // wrong), whether or not the ship's AIS target stands on another track.
+            let paired = pairs.iter().any(|(t, _)| t == track);
             if ais.contains(ship) && !paired && !merged_tracks.contains_key(track) {
                 self.scores.ships_unpaired += 1;
                 let since = self
@@ -216,8 +221,12 @@ mod tests {
         p.scan(12, &matched, &matched, &[(2, 300)], &[], &[100, 200, 300]);
         let s = p.scores(2.5);
         assert_eq!((s.pairs_correct, s.pairs_wrong), (4, 2));
-        assert_eq!(s.ships_unpaired, 7);
-        assert_eq!(s.ships_unpaired_late, 4);
+        // Shown twice: both at scan 0, then ship 100 at scans 11 and 12 (track 1 apart from
+        // its AIS target); a paired track is drawn as its AIS target, so ship 200 is not
+        // shown twice at scans 3, 11 and 12 (its track stands as another ship's: wrong or
+        // right by the rules above, but one symbol).
+        assert_eq!(s.ships_unpaired, 4);
+        assert_eq!(s.ships_unpaired_late, 2);
         assert_eq!(
             (
                 s.ships_with_track_and_ais,
@@ -259,5 +268,19 @@ mod tests {
         assert_eq!(s.ships_unpaired, 1);
         assert_eq!((s.ships_associated, s.ships_paired), (1, 0));
         assert_eq!(s.time_to_associate_p95_s, None);
+    }
+
+    #[test]
+    fn a_second_track_on_a_paired_ship_shows_it_twice() {
+        let mut p = PairingScorer::default();
+        // Tracks 1 and 2 both follow ship 100; track 1 is paired with its AIS target, track
+        // 2 is drawn apart: the ship is shown twice.
+        let matched: BTreeMap<u16, u32> = [(1, 100), (2, 100)].into();
+        p.scan(0, &matched, &matched, &[(1, 100)], &[], &[100]);
+        let s = p.scores(2.5);
+        assert_eq!((s.pairs_correct, s.ships_unpaired), (1, 1));
+        // Shown as the AIS target as well (merged): once.
+        p.scan(1, &matched, &matched, &[(1, 100)], &[(2, 100)], &[100]);
+        assert_eq!(p.scores(2.5).ships_unpaired, 1);
     }
 }
