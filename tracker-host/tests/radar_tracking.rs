@@ -246,7 +246,6 @@ fn print_echo_history(
     }
 }
 
-/// The value at quantile `q` of sorted `v`, NaN for none.
 /// A target shown at this speed or more is counted as fast: in the harbour captures
 /// nothing but the odd boat under way moves, so most such targets are false, m/s (5 kn).
 const FAST_MPS: f32 = 5.0 * KNOT_MPS;
@@ -257,6 +256,7 @@ const FAST_MPS: f32 = 5.0 * KNOT_MPS;
 fn fast_targets(reports: &[ScanReport]) -> (usize, usize, usize) {
     let mut tracks = std::collections::BTreeSet::new();
     let (mut scans, mut alarmed) = (0, 0);
+    let limits = AlarmLimits::default();
     for r in reports {
         for t in &r.targets {
             let speed = if t.true_motion_known {
@@ -267,7 +267,7 @@ fn fast_targets(reports: &[ScanReport]) -> (usize, usize, usize) {
             if speed >= FAST_MPS {
                 tracks.insert(t.track);
                 scans += 1;
-                if t.dangerous(&AlarmLimits::default()) {
+                if t.dangerous(&limits) {
                     alarmed += 1;
                 }
             }
@@ -276,6 +276,7 @@ fn fast_targets(reports: &[ScanReport]) -> (usize, usize, usize) {
     (tracks.len(), scans, alarmed)
 }
 
+/// The value at quantile `q` of sorted `v`, NaN for none.
 fn quantile(v: &[f32], q: f64) -> f32 {
     if v.is_empty() {
         return f32::NAN;

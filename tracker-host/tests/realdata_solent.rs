@@ -10,9 +10,8 @@
 //! AIS target on another ship (4.4 % and 1.2 %: the same 437 and 53 scans as before the longer
 //! hold of long pairs, of fewer scans shown as AIS), and at most 0.1 % of ship-scans hidden (a
 //! ship with no AIS target held whose radar target is shown as another's AIS target: 42 and
-//! 3); at most 4 % of the ship-scans with a track and AIS shown twice (a track drawn apart while the
-//! ship's AIS target is held: 1.2 % and 2.8 %); at
-//! least 95 % of the ships with a track and AIS associated (paired, or shown as their AIS
+//! 3); at most 4 % of the ship-scans with a track and AIS shown twice (a track drawn apart
+//! while the ship's AIS target is held: 1.2 % and 2.8 %); at least 95 % of the ships with a track and AIS associated (paired, or shown as their AIS
 //! target) within 45 s of their track (measured 32 s and 12 s), and 90 % paired at some time.
 //! (Measured on #18's initiation rules; before them 18 / 3 hidden, 1.0 % / 2.2 % shown twice,
 //! 22 s / 10 s.)

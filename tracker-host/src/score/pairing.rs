@@ -2,9 +2,9 @@
 //! MMSIs (real traffic, `demo --ais-truth`): each scan, each pair (track, MMSI) is *correct*
 //! when the scorer matched the track to that ship or that ship is the one nearest the track
 //! (two ships in one resolution cell share a track, and the scorer keeps to the one it
-//! matched first), *wrong* otherwise; a ship with a
-//! confirmed track drawn apart (neither paired nor shown as an AIS target) and an AIS
-//! target held is *shown twice* that scan: its radar target and its AIS triangle. The time to pair is from the scan its track was
+//! matched first), *wrong* otherwise; a ship with a confirmed track drawn apart (neither
+//! paired nor shown as an AIS target) and an AIS target held is *shown twice* that scan:
+//! its radar target and its AIS triangle. The time to pair is from the scan its track was
 //! first matched to the scan it was first paired correctly.
 
 use std::collections::BTreeMap;
@@ -128,10 +128,7 @@ impl PairingScorer {
             }
         }
         for (track, ship) in matched {
-            // Shown twice: the ship's AIS target is drawn, and so is a track that follows
-            // it, as a radar target of its own (neither paired nor merged: a paired track is
-            // drawn as its AIS target, and if that is another ship's the pair is counted
-            // wrong), whether or not the ship's AIS target stands on another track.
+            // A paired track is drawn as its AIS target (another ship's: counted wrong above).
             let paired = pairs.iter().any(|(t, _)| t == track);
             if ais.contains(ship) && !paired && !merged_tracks.contains_key(track) {
                 self.scores.ships_unpaired += 1;
