@@ -26,6 +26,30 @@
 //! most scans, and a tentative track needed plots on 3 of its last 4 scans (and went at 8
 //! scans old): hit, miss, hit, miss, hit never confirmed, and the target waited for two
 //! plots in a row.
+//!
+//! ## The track score
+//!
+//! Three plots in a row prove little where plots are dense: in a harbour of a hundred echoes
+//! within 800 m, a new track's wide gate holds a dozen of them, and three echoes that happen
+//! to line up make a confirmed track of tens of knots (docs/radar.md). So a tentative track
+//! also keeps a score, the log-likelihood ratio of "a target" against "extraneous plots"
+//! over its plots (the track score of Blackman & Popoli, *Design and Analysis of Modern
+//! Tracking Systems*, 1999, ch. 6, after Sittler's sequential test, 1964). A plot adds
+//!
+//! ΔL = ln(P_D / (2π √|S|)) − d²/2 − ln λ,
+//!
+//! the target's Gaussian density at the plot (innovation covariance S, Mahalanobis d²)
+//! against the density λ of extraneous plots near the track: false plots, and the plots of
+//! targets no firm track holds. λ is measured each scan around the track, on the plots of its
+//! rough gate that neither it nor a confirmed or coasting track took: their number over the
+//! gate's area, or over the circle through the farthest when the gate's list was full (a
+//! nearest-neighbour density estimate), and at least [`SCORE_MIN_EXTRANEOUS_PER_M2`]. A scan
+//! without a plot adds ln(1 − P_D). The track is confirmed once it has [`CONFIRM_M`] plots
+//! *and* a score of [`CONFIRM_SCORE`]. In open water (no extraneous plot near) the third
+//! plot always confirms, as before and as in Stone Soup; in a dense harbour a one-plot
+//! track's second plot is little or no evidence (its wide gate holds extraneous plots, so
+//! taking one is no sign of a target), and a track confirms once the plots its tight gates
+//! take say a target and not chance.
 
 use heapless::Vec;
 
@@ -65,6 +89,20 @@ pub const CONFIRM_SPEED_FACTOR: f32 = 1.5;
 pub const LOST_AFTER_COASTS: u8 = 6;
 /// Scans of hit history a track reports ([`crate::icd::TrackState::hit_history`]).
 pub const KEEP_N: u32 = 10;
+
+/// The probability that a target gives a plot on a scan, as the track score takes it
+/// (the simulator's P_d; [`score`](self#the-track-score)).
+pub const SCORE_DETECTION_PROBABILITY: f32 = 0.9;
+/// The least density of extraneous plots (false plots and the plots of targets no firm
+/// track holds) the track score assumes near a track, per m² (one in 100 km²): where no
+/// such plot is near, this density, not none ([`score`](self#the-track-score)).
+pub const SCORE_MIN_EXTRANEOUS_PER_M2: f32 = 1e-8;
+/// What a scan without a plot adds to a tentative track's score: ln(1 − P_D) = −ln 10, for
+/// [`SCORE_DETECTION_PROBABILITY`] ([`score`](self#the-track-score)).
+pub const SCORE_MISS: f32 = -core::f32::consts::LN_10;
+/// A tentative track is confirmed only once its score is at least this: Wald's upper
+/// threshold ln((1 − β)/α) with α = β = 0.1, ln 9 ([`score`](self#the-track-score)).
+pub const CONFIRM_SCORE: f32 = 2.197_225;
 
 /// The filter a track runs, in `f32` (the MCU's number): one variant per
 /// [`FilterKind`], each holding that filter's state, and a second one for α-β with a gain
@@ -266,7 +304,12 @@ pub struct Track {
     time_ms: u64,
     /// The plots inside this scan's rough gate.
     gated: Vec<u16, MAX_PLOTS_PER_GATE>,
+    /// The area the gated plots were found in, m²: the rough gate's, or the circle through
+    /// the farthest of them when the list is full (for the extraneous plots' density).
+    gated_area_m2: f32,
     innovation_cov: [f32; 3],
+    /// The track score while tentative ([the track score](self#the-track-score)).
+    score: f32,
 }
 
 impl Track {
@@ -306,6 +349,12 @@ impl Track {
     /// True when the last scan closed gave it a plot.
     pub fn hit_last_scan(&self) -> bool {
         self.hits & 1 == 1
+    }
+
+    /// The track score, the log-likelihood ratio of its plots being a target's
+    /// ([the track score](self#the-track-score)); kept while tentative.
+    pub fn score(&self) -> f32 {
+        self.score
     }
 
     fn hits_in_last(&self, n: u32) -> u32 {
@@ -571,6 +620,11 @@ impl TrackTable {
                 }
                 _ => (0..plots.len()).for_each(&mut consider),
             }
+            t.gated_area_m2 = core::f32::consts::PI
+                * match best.0.last() {
+                    Some(&(d2, _)) if best.0.is_full() => d2,
+                    _ => r2,
+                };
             t.gated = take_up_to(best.0.iter().map(|&(_, i)| i));
         }
     }
@@ -627,6 +681,18 @@ impl TrackTable {
             return Err(ErrorCode::InvalidValue);
         }
         let mut report = ApplyReport::default();
+        // The plots firm tracks took: not extraneous to a tentative track's score.
+        let mut firm_taken = PlotSet::default();
+        for (&slot, &p) in self.order.iter().zip(plot_of.iter()) {
+            if p < COAST
+                && self
+                    .slots
+                    .get(usize::from(slot))
+                    .is_some_and(|t| t.status.is_firm())
+            {
+                firm_taken.insert(p);
+            }
+        }
         let mut failed = 0u64;
         let all_predicted = self.all_predicted;
         let max_speed_mps = self.config.max_speed_mps;
@@ -645,6 +711,23 @@ impl TrackTable {
             let assigned = plot(p).and_then(|z| Measurement::new(z).ok());
             t.hits <<= 1;
             t.age_scans = t.age_scans.saturating_add(1);
+            if t.status == TrackStatus::Tentative {
+                t.score += match plot(p) {
+                    Some(z) if assigned.is_some() => {
+                        let others = t
+                            .gated
+                            .iter()
+                            .filter(|&&i| i != p && !firm_taken.contains(i))
+                            .count();
+                        let density = max(
+                            others as f32 / max(t.gated_area_m2, 1.0),
+                            SCORE_MIN_EXTRANEOUS_PER_M2,
+                        );
+                        plot_score(t.filter.prediction(), t.innovation_cov, z, density)
+                    }
+                    _ => SCORE_MISS,
+                };
+            }
             match assigned {
                 Some(z) if in_place => {
                     t.filter.update_in_place(z);
@@ -770,7 +853,9 @@ impl TrackTable {
                 coasts: 0,
                 time_ms,
                 gated: Vec::new(),
+                gated_area_m2: 0.0,
                 innovation_cov: [0.0; 3],
+                score: 0.0,
             };
             self.slots
                 .push(fresh)
@@ -788,7 +873,9 @@ impl TrackTable {
         t.coasts = 0;
         t.time_ms = time_ms;
         t.gated.clear();
+        t.gated_area_m2 = 0.0;
         t.innovation_cov = [0.0; 3];
+        t.score = 0.0;
         t.filter.start(z);
         if self.open_ms.is_some() {
             // Inside an open scan, apply closes it with the others; its interval is set at
@@ -898,6 +985,46 @@ impl Nearest {
     }
 }
 
+/// A plot's addition to a tentative track's score, ln(P_D / (2π √|S|)) − d²/2 − ln λ
+/// ([the track score](self#the-track-score)): `predicted` the track's predicted position,
+/// `s` its innovation covariance `[s_xx, s_xy, s_yy]` (m²), `z` the plot, `extraneous_per_m2`
+/// the density λ of extraneous plots near the track (per m², positive). A covariance that is
+/// not positive definite, or anything not a number, adds nothing.
+fn plot_score(predicted: EastNorth, s: [f32; 3], z: EastNorth, extraneous_per_m2: f32) -> f32 {
+    let det = s[0] * s[2] - s[1] * s[1];
+    if !(det > 0.0 && s[0] > 0.0) {
+        return 0.0;
+    }
+    let (dx, dy) = (z[0] - predicted[0], z[1] - predicted[1]);
+    let d2 = (s[2] * dx * dx - 2.0 * s[1] * dx * dy + s[0] * dy * dy) / det;
+    let density_ratio = SCORE_DETECTION_PROBABILITY
+        / (2.0 * core::f32::consts::PI * libm::sqrtf(det) * extraneous_per_m2);
+    let score = libm::logf(density_ratio) - 0.5 * d2;
+    if score.is_finite() {
+        score
+    } else {
+        0.0
+    }
+}
+
+/// A set of a scan's plot numbers (those past the device's 256 a scan are never in it).
+#[derive(Clone, Copy, Debug, Default)]
+struct PlotSet([u32; 8]);
+
+impl PlotSet {
+    fn insert(&mut self, plot: u16) {
+        if let Some(w) = self.0.get_mut(usize::from(plot / 32)) {
+            *w |= 1 << (plot % 32);
+        }
+    }
+
+    fn contains(&self, plot: u16) -> bool {
+        self.0
+            .get(usize::from(plot / 32))
+            .is_some_and(|w| (w >> (plot % 32)) & 1 == 1)
+    }
+}
+
 /// The life-cycle rule: the track's next status, or `None` when a tentative track can no
 /// longer be confirmed and goes. A tentative track is confirmed only at a speed a target
 /// can have: at most [`CONFIRM_SPEED_FACTOR`] times `max_speed_mps`.
@@ -907,8 +1034,8 @@ fn next_status(t: &Track, max_speed_mps: f32) -> Option<TrackStatus> {
             if t.coasts >= TENTATIVE_LOST_AFTER_COASTS {
                 return None;
             }
-            // Every plot since it started: never two misses in a row, so it is confirmed or
-            // gone by 2·CONFIRM_M − 1 scans old, well inside the history's KEEP_N bits.
+            // Every plot since it started (never two misses in a row: at least
+            // CONFIRM_M in the history's KEEP_N bits once it is 2·CONFIRM_M − 1 scans old).
             let hits = t.hits_in_last(u32::from(t.age_scans).min(KEEP_N));
             let plausible = || {
                 let [vx, vy] = t.filter.estimate().velocity_mps;
@@ -916,7 +1043,7 @@ fn next_status(t: &Track, max_speed_mps: f32) -> Option<TrackStatus> {
                 // `<=` with NaN is false: no confirmation on a speed that is not a number.
                 vx * vx + vy * vy <= limit * limit
             };
-            if hits >= CONFIRM_M && plausible() {
+            if hits >= CONFIRM_M && t.score >= CONFIRM_SCORE && plausible() {
                 TrackStatus::Confirmed
             } else {
                 TrackStatus::Tentative
@@ -1126,6 +1253,127 @@ mod tests {
         assert_eq!(t.track(0).unwrap().status, TrackStatus::Tentative);
         scan(&mut t, 7500, &[]);
         assert!(t.is_empty());
+    }
+
+    /// A table for a harbour radar's plots (σ 2 m).
+    fn harbour_table() -> TrackTable {
+        let mut t = TrackTable::new();
+        t.configure(TrackerConfig {
+            filter: FilterConfig::tracking(FilterKind::KalmanCv, 2.0, 20.0),
+            plot_sigma_m: 2.0,
+            ..TrackerConfig::DEFAULT
+        })
+        .unwrap();
+        t
+    }
+
+    /// One scan as the host's two-stage association leaves it: each track, in table order,
+    /// takes the nearest gated plot no track before it took, and every plot no track took
+    /// starts a track.
+    fn scan_starting_leftovers(t: &mut TrackTable, time_ms: u64, plots: &[EastNorth]) {
+        t.predict(time_ms);
+        t.gate(plots, 2.5);
+        let mut taken = std::vec::Vec::new();
+        let assignments: std::vec::Vec<Assignment> = (0..t.len())
+            .map(|i| {
+                let g = t.gated(i).unwrap();
+                let plot = g.plots.iter().copied().find(|p| !taken.contains(p));
+                taken.extend(plot);
+                Assignment {
+                    track: g.track,
+                    plot,
+                }
+            })
+            .collect();
+        let leftovers: std::vec::Vec<u16> = (0..plots.len() as u16)
+            .filter(|p| !taken.contains(p))
+            .collect();
+        t.apply(time_ms, plots, &assignments, &leftovers).unwrap();
+    }
+
+    /// Seven echoes 10 to 25 m from the origin, somewhere else on each scan `k`.
+    fn echoes_around(k: u64) -> std::vec::Vec<EastNorth> {
+        (0..7u64)
+            .map(|i| {
+                let a = i as f32 * 0.9 + k as f32 * 2.3;
+                let r = 10.0 + 15.0 * ((i * 7 + k * 3) % 5) as f32 / 4.0;
+                [r * libm::cosf(a), r * libm::sinf(a)]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_plots_score_is_the_targets_density_over_the_extraneous_one() {
+        // S = 4 I (|S| = 16), d² = 2, λ = 10⁻³ m⁻²: ln(0.9 / (2π · 4 · 10⁻³)) − 1.
+        let dx = 2.0 * core::f32::consts::SQRT_2;
+        let score = plot_score([10.0, 20.0], [4.0, 0.0, 4.0], [10.0 + dx, 20.0], 1e-3);
+        assert!((score - 2.578_3).abs() < 1e-3, "{score}");
+        // Nearer is more; a denser picture is less.
+        assert!(plot_score([0.0; 2], [4.0, 0.0, 4.0], [0.0; 2], 1e-3) > score);
+        assert!(plot_score([10.0, 20.0], [4.0, 0.0, 4.0], [10.0 + dx, 20.0], 1e-2) < score);
+        // A covariance that is not positive definite, or NaN, adds nothing.
+        assert_eq!(plot_score([0.0; 2], [4.0, 4.0, 4.0], [1.0, 0.0], 1e-3), 0.0);
+        assert_eq!(
+            plot_score([0.0; 2], [f32::NAN, 0.0, 4.0], [1.0, 0.0], 1e-3),
+            0.0
+        );
+    }
+
+    #[test]
+    fn a_miss_scores_the_chance_of_no_plot() {
+        let ln = libm::logf(1.0 - SCORE_DETECTION_PROBABILITY);
+        assert!((SCORE_MISS - ln).abs() < 1e-6, "{ln}");
+        assert!((CONFIRM_SCORE - libm::logf(9.0)).abs() < 1e-6);
+    }
+
+    #[test]
+    fn among_dense_plots_three_plots_do_not_confirm_a_track() {
+        let mut t = harbour_table();
+        scan_starting_leftovers(&mut t, 0, &[[0.0, 0.0]]);
+        let mut confirmed_at = None;
+        for k in 1..12u64 {
+            let mut plots = vec![[0.0, 0.0]];
+            plots.extend(echoes_around(k));
+            scan_starting_leftovers(&mut t, k * 2500, &plots);
+            let track = t.tracks().find(|t| t.id == 1).unwrap();
+            if k == 2 {
+                assert_eq!(track.status, TrackStatus::Tentative, "three plots");
+                assert!(track.score() < CONFIRM_SCORE, "{}", track.score());
+            }
+            if track.status == TrackStatus::Confirmed && confirmed_at.is_none() {
+                confirmed_at = Some(k);
+            }
+        }
+        // Its plots fall where its tight gate says, scan after scan: confirmed in the end.
+        let k = confirmed_at.expect("confirmed within 12 scans");
+        assert!((4..12).contains(&k), "confirmed on plot {}", k + 1);
+        // In open water the same target is confirmed on its third plot.
+        let mut t = harbour_table();
+        for k in 0..3u64 {
+            scan_starting_leftovers(&mut t, k * 2500, &[[0.0, 0.0]]);
+        }
+        assert_eq!(t.track(0).unwrap().status, TrackStatus::Confirmed);
+    }
+
+    #[test]
+    fn plots_firm_tracks_take_are_not_extraneous() {
+        // Seven moored boats, each confirmed in time however near the others...
+        let boats = echoes_around(0);
+        let mut t = harbour_table();
+        for k in 0..12u64 {
+            scan_starting_leftovers(&mut t, k * 2500, &boats);
+        }
+        assert_eq!(t.len(), 7);
+        assert!(t.tracks().all(|t| t.status == TrackStatus::Confirmed));
+        // ... and a boat that comes among them is confirmed on its third plot: their plots
+        // are theirs, not extraneous to its track.
+        let mut plots = boats.clone();
+        plots.push([0.0, 0.0]);
+        for k in 12..15u64 {
+            scan_starting_leftovers(&mut t, k * 2500, &plots);
+        }
+        let new = t.track(7).unwrap();
+        assert_eq!(new.status, TrackStatus::Confirmed, "score {}", new.score());
     }
 
     #[test]

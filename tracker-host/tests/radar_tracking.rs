@@ -11,7 +11,8 @@
 //!   measured from the picture) and the HALO VelocityTrack harbour, at the values reached on
 //!   these same captures (guards against going back, not a validation).
 //! - Per capture, the targets shown at 5 kn or more (tracks, target-scans, those with the
-//!   CPA/TCPA alarm): in the harbours nearly all false (docs/radar.md), printed, not asserted.
+//!   CPA/TCPA alarm): in the harbours nearly all false (docs/radar.md); printed, and bounded
+//!   in the two dense harbours (4G, HALO VelocityTrack).
 //! - The HALO capture's AIS ships under way against the plots, per range band, with the
 //!   checks of time alignment, turning direction and systematic offsets.
 //! - The sizes of the echoes the extractor closes, by the detections they hold: what the
@@ -341,14 +342,23 @@ fn every_capture_is_tracked_to_its_end() {
             );
         }
         // What was achieved, as bounds that fail when it goes back (docs/radar.md): the 4G
-        // harbour's stationary echoes all with a settled track under 1 kn but one at most,
-        // none over; the Garmin's (moored, swinging, no heading: its yaw measured from the
+        // harbour's stationary echoes all with a settled track under 1 kn but two at most,
+        // at most two over (none before the track score: two in clusters of echoes 6–8 m
+        // apart, whose tracks are confirmed later and then trade plots, docs/radar.md); the
+        // Garmin's (moored, swinging, no heading: its yaw measured from the
         // picture) no more than 1 over 1 kn, at least 10 under, their plots' scatter about
         // their mean under half what it was with the fixed heading alone (10.7 m median); the
         // HALO harbour's none over 1 kn, at least 9 under. The plot σ (0.25 % of the range)
         // was chosen on these captures: the bounds guard what was reached, no more.
         if name.starts_with("radar_pi-4g") {
-            assert!(s.fast == 0 && s.slow + 1 >= s.echoes, "{name}: {s:?}");
+            assert!(s.fast <= 2 && s.slow + 2 >= s.echoes, "{name}: {s:?}");
+        }
+        // The targets shown at 5 kn or more in the two dense harbours, nearly all false:
+        // since the track score (a tentative track confirmed only once its plots are more
+        // likely a target's than chance's among the plots around it), 18 and 12
+        // target-scans; 305 and 184 before.
+        if name.starts_with("radar_pi-4g") || name.starts_with("radar_pi-halo-velocitytrack") {
+            assert!(fast.1 <= 40, "{name}: fast targets {fast:?}");
         }
         if name.starts_with("radar_pi-garmin") {
             assert!(s.fast <= 1 && s.slow >= 10, "{name}: {s:?}");
