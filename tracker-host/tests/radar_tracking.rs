@@ -251,12 +251,13 @@ fn print_echo_history(
 /// nothing but the odd boat under way moves, so most such targets are false, m/s (5 kn).
 const FAST_MPS: f32 = 5.0 * KNOT_MPS;
 
-/// Targets shown at [`FAST_MPS`] or more (their true speed, or the relative one where own
-/// ship's motion is unknown): distinct tracks, target-scans, and those with the CPA/TCPA
-/// alarm raised.
-fn fast_targets(reports: &[ScanReport]) -> (usize, usize, usize) {
+/// Targets shown with their motion ([`TargetData::trend_known`]) at [`FAST_MPS`] or more
+/// (their true speed, or the relative one where own ship's motion is unknown): distinct
+/// tracks, target-scans, and those with the CPA/TCPA alarm raised; and the target-scans of
+/// confirmed targets at that speed whose motion is not shown yet.
+fn fast_targets(reports: &[ScanReport]) -> ((usize, usize, usize), usize) {
     let mut tracks = std::collections::BTreeSet::new();
-    let (mut scans, mut alarmed) = (0, 0);
+    let (mut scans, mut alarmed, mut unshown) = (0, 0, 0);
     let limits = AlarmLimits::default();
     for r in reports {
         for t in &r.targets {
@@ -265,16 +266,21 @@ fn fast_targets(reports: &[ScanReport]) -> (usize, usize, usize) {
             } else {
                 t.rel_speed_mps
             };
-            if speed >= FAST_MPS {
-                tracks.insert(t.track);
-                scans += 1;
-                if t.dangerous(&limits) {
-                    alarmed += 1;
-                }
+            if speed < FAST_MPS {
+                continue;
+            }
+            if !t.trend_known {
+                unshown += 1;
+                continue;
+            }
+            tracks.insert(t.track);
+            scans += 1;
+            if t.dangerous(&limits) {
+                alarmed += 1;
             }
         }
     }
-    (tracks.len(), scans, alarmed)
+    ((tracks.len(), scans, alarmed), unshown)
 }
 
 /// The value at quantile `q` of sorted `v`, NaN for none.
@@ -296,7 +302,7 @@ fn every_capture_is_tracked_to_its_end() {
         ("radar_pi-halo-velocitytrack-away.pcap.gz", None),
     ];
     println!(
-        "| capture | scans | period s | range m | point plots/scan | extended/scan | targets shown | stationary echoes (radius m) | settled tracks < 1 kn | ≥ 1 kn | tracks not settled | untracked | settled speeds, median / max kn | echo scatter, median / 95 % m (plot σ m) | tracks shown ≥ 5 kn (target-scans, with CPA alarm) |"
+        "| capture | scans | period s | range m | point plots/scan | extended/scan | targets shown | stationary echoes (radius m) | settled tracks < 1 kn | ≥ 1 kn | tracks not settled | untracked | settled speeds, median / max kn | echo scatter, median / 95 % m (plot σ m) | tracks shown ≥ 5 kn (target-scans, with CPA alarm) + target-scans ≥ 5 kn without their motion shown yet |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (name, heading) in captures {
@@ -315,9 +321,9 @@ fn every_capture_is_tracked_to_its_end() {
         let sigma = plot_sigma_m(t.first_range_m);
         let radius = STATIONARY_RADIUS_M.max(0.01 * t.first_range_m);
         let s = stationary(&t.reports, radius);
-        let fast = fast_targets(&t.reports);
+        let (fast, fast_unshown) = fast_targets(&t.reports);
         println!(
-            "| {name} | {} | {period:.2} | {range:.0} | {:.1} | {:.1} | {} | {} ({radius:.0}) | {} | {} | {} | {} | {:.2} / {:.2} | {:.2} / {:.2} ({sigma:.1}) | {} ({}, {}) |",
+            "| {name} | {} | {period:.2} | {range:.0} | {:.1} | {:.1} | {} | {} ({radius:.0}) | {} | {} | {} | {} | {:.2} / {:.2} | {:.2} / {:.2} ({sigma:.1}) | {} ({}, {}) + {fast_unshown} |",
             report.scans,
             radar.plots_per_scan(),
             radar.extended_per_scan(),

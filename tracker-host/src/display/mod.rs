@@ -403,7 +403,11 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
                 } else {
                     Color::Green
                 };
-                ctx.draw(&CanvasLine::new(x, y, x + to(v[0]), y + to(v[1]), colour));
+                // No vector before the motion's trend is known (IEC 62388: a target in
+                // acquisition has none).
+                if t.trend_known {
+                    ctx.draw(&CanvasLine::new(x, y, x + to(v[0]), y + to(v[1]), colour));
+                }
                 ctx.draw(&Circle::new(x, y, scale / 60.0, colour));
             }
             // AIS targets (those of associated ships too, with the AIS symbol): a triangle
@@ -489,15 +493,23 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
         } else {
             Style::default()
         };
+        // The motion is `---` until its trend is known.
+        let motion = |v: f32, places: usize| {
+            if t.trend_known {
+                format!("{v:.places$}")
+            } else {
+                "---".to_string()
+            }
+        };
         Row::new(vec![
             t.label(),
             status_name(t.status).to_string(),
             format!("{:.2}", t.range_m / METRES_PER_NM),
             format!("{:.1}", t.bearing_rad.to_degrees()),
-            format!("{:.1}", t.course_rad.to_degrees()),
-            format!("{:.1}", t.speed_mps / MPS_PER_KNOT),
-            format!("{:.2}", t.cpa_m / METRES_PER_NM),
-            format!("{:.1}", t.tcpa_s / 60.0),
+            motion(t.course_rad.to_degrees(), 1),
+            motion(t.speed_mps / MPS_PER_KNOT, 1),
+            motion(t.cpa_m / METRES_PER_NM, 2),
+            motion(t.tcpa_s / 60.0, 1),
             ais_column(view, t.track),
         ])
         .style(style)
@@ -1000,11 +1012,17 @@ pub(crate) mod tests {
             tcpa_s: 1e9,
         };
         let mut view = step(&mut d);
-        for _ in 0..10 {
+        // 40 m plots: a target's motion is shown (and alarms) from its 14th plot on.
+        for _ in 0..16 {
             view = step(&mut d);
             state.observe(&view);
         }
-        if view.targets.iter().any(|t| t.tcpa_s >= 0.0) {
+        assert!(view.targets.iter().any(|t| t.trend_known));
+        if view
+            .targets
+            .iter()
+            .any(|t| t.trend_known && t.tcpa_s >= 0.0)
+        {
             let text = screen(&state, &view);
             assert!(text.contains("CPA/TCPA ALARM"), "{text}");
         }

@@ -181,8 +181,9 @@ impl TargetsOut {
         self.counts
     }
 
-    /// One scan's sentences: ends first, then tracked and acquiring targets; targets still
-    /// waiting for a number are not sent.
+    /// One scan's sentences: ends first, then tracked and acquiring targets (a confirmed
+    /// target whose motion's trend is not known yet is sent as acquiring, `Q`, as IEC 62388
+    /// draws it); targets still waiting for a number are not sent.
     pub fn scan_sentences(&mut self, report: &ScanReport) -> Vec<String> {
         let time_s = report.time_s;
         let mut out = Vec::new();
@@ -202,7 +203,7 @@ impl TargetsOut {
                 let t = PlotterTarget {
                     number,
                     name,
-                    status,
+                    status: plotter_status(status, d),
                     data: *d,
                 };
                 out.push(ttm(&t, time_s));
@@ -226,6 +227,17 @@ impl ScanSink for TargetsOut {
         let sentences = self.scan_sentences(report);
         self.out.send(&sentences);
         Ok(())
+    }
+}
+
+/// The status letter a target of `group` (`T` tracked, `Q` acquiring, `L` lost) is sent
+/// with: a tracked target whose motion's trend is not known yet is still acquiring (`Q`),
+/// as IEC 62388 draws it, without a vector.
+fn plotter_status(group: char, d: &TargetData) -> char {
+    if group == 'T' && !d.trend_known {
+        'Q'
+    } else {
+        group
     }
 }
 
@@ -337,6 +349,34 @@ mod tests {
         let lon_min: f64 = f[4][3..].parse().unwrap();
         assert!((lon_min - (60.0 - 3000.0 / (1852.0 * 50f64.to_radians().cos()))).abs() < 1e-3);
         assert_eq!((f[6], f[7], f[8]), ("TGT07", "000000.00", "T"));
+    }
+
+    #[test]
+    fn a_target_is_acquiring_until_its_trend_is_known() {
+        let d = crate::session::target::example();
+        assert_eq!(plotter_status('T', &d), 'T');
+        let young = TargetData {
+            trend_known: false,
+            ..d
+        };
+        assert_eq!(plotter_status('T', &young), 'Q');
+        assert_eq!(plotter_status('L', &young), 'L');
+        let s = ttm(
+            &PlotterTarget {
+                status: plotter_status('T', &young),
+                ..plotter(young)
+            },
+            0.0,
+        );
+        let parsed = match nmea::parse_str(s.trim()).unwrap() {
+            nmea::ParseResult::TTM(d) => d,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            parsed.target_status,
+            Some(nmea::sentences::TtmStatus::Query),
+            "{s}"
+        );
     }
 
     #[test]

@@ -221,10 +221,13 @@ fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Re
     for t in &last.targets {
         let colour = if t.dangerous(limits) { RED } else { CYAN };
         let (x, y) = rel(t.position_m);
-        chart.draw_series(std::iter::once(PathElement::new(
-            vector((x, y), t.velocity_mps, vector_s),
-            colour.stroke_width(2),
-        )))?;
+        // No vector before the motion's trend is known, as on the display.
+        if t.trend_known {
+            chart.draw_series(std::iter::once(PathElement::new(
+                vector((x, y), t.velocity_mps, vector_s),
+                colour.stroke_width(2),
+            )))?;
+        }
         chart.draw_series(std::iter::once(Circle::new(
             (x, y),
             7,

@@ -17,12 +17,14 @@
 //! | [`associate`] | refined gate (Mahalanobis, χ²) and GNN (Kuhn–Munkres) |
 //! | [`target`] | range, bearing, course, speed, CPA, TCPA, alarms |
 //! | [`numbers`] | the target numbers (01–99) the navigator and plotters know targets by |
+//! | [`trend`] | when a target's motion is known well enough to show and to alarm on |
 
 pub mod ais;
 pub mod associate;
 pub mod device;
 pub mod numbers;
 pub mod target;
+pub mod trend;
 
 use std::time::{Duration, Instant};
 
@@ -39,6 +41,7 @@ use associate::{Associated, Association, CHI2_2DOF_99};
 use device::DeviceLink;
 use numbers::TargetNumbers;
 use target::{AlarmLimits, TargetData};
+use trend::TrendModel;
 
 /// A plot's position error at mid range under the IMO sensor model, m: the tracking
 /// filters' measurement noise.
@@ -216,6 +219,9 @@ pub struct Session {
     /// them when it applies it, so they take no plot (a plot given to one would start
     /// nothing and be lost with it).
     lost: std::collections::BTreeSet<u16>,
+    /// How well the targets' motion is known, for the last scan interval and the plots'
+    /// accuracy ([`trend`]).
+    trend: Option<TrendModel>,
 }
 
 impl Session {
@@ -236,6 +242,7 @@ impl Session {
             warned_slow: false,
             firm: Default::default(),
             lost: Default::default(),
+            trend: None,
         })
     }
 
@@ -273,6 +280,23 @@ impl Session {
             "plots' accuracy now {plot_sigma_m:.1} m (was {now:.1} m): tracks started from now are filtered and gated for it"
         ));
         Ok(true)
+    }
+
+    /// The trend model for the scan interval `interval_s` (the last one's when `None`) and
+    /// the plots' accuracy now, remade when either changed by more than 1 %.
+    fn update_trend(&mut self, interval_s: Option<f64>) {
+        let sigma = self.config.tracker.plot_sigma_m;
+        let Some(scan_s) = interval_s.or(self.trend.map(|m| m.scan_s())) else {
+            return;
+        };
+        let close = |a: f64, b: f64| (a - b).abs() <= 0.01 * b;
+        if self
+            .trend
+            .is_some_and(|m| close(m.scan_s(), scan_s) && close(m.plot_sigma_m(), f64::from(sigma)))
+        {
+            return;
+        }
+        self.trend = TrendModel::new(sigma, scan_s, self.config.tracker.max_speed_mps);
     }
 
     /// Tracks one scan seen from `own`.
@@ -323,6 +347,9 @@ impl Session {
             let gates = &live;
             associate::associate(mode, gates, &plots_m, gate, |t| firm.contains(&t))
         });
+        let interval_s = self
+            .last_time_ms
+            .map(|last| (time_ms - last) as f64 / 1000.0);
         self.last_time_ms = Some(time_ms);
         let stats = self.device.client().stats();
         if stats.late_answers > 0 && !self.warned_slow {
@@ -371,7 +398,10 @@ impl Session {
         };
         self.firm = firm_tracks(&tracks);
         self.lost = lost_tracks(&tracks);
-        let numbered = self.numbers.scan(own, &tracks, &self.config.alarms);
+        self.update_trend(interval_s);
+        let numbered = self
+            .numbers
+            .scan(own, &tracks, &self.config.alarms, self.trend.as_ref());
         let host_time = started.elapsed();
         self.host_times.push(host_time);
         Ok(ScanReport {

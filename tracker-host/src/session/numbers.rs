@@ -15,6 +15,7 @@ use std::collections::{BTreeMap, VecDeque};
 use tracker_core::icd::{TrackState, TrackStatus};
 
 use super::target::{AlarmLimits, TargetData};
+use super::trend::TrendModel;
 use crate::own_ship::OwnShip;
 
 /// The highest target number (two digits; 00 is not used).
@@ -77,8 +78,15 @@ impl TargetNumbers {
         self.last.remove(&track);
     }
 
-    /// Numbers the device's `tracks` seen from `own`.
-    pub fn scan(&mut self, own: &OwnShip, tracks: &[TrackState], limits: &AlarmLimits) -> Numbered {
+    /// Numbers the device's `tracks` seen from `own`; a confirmed or coasting target's
+    /// motion is shown once `trend` knows it ([`super::trend`]; all of it without a model).
+    pub fn scan(
+        &mut self,
+        own: &OwnShip,
+        tracks: &[TrackState],
+        limits: &AlarmLimits,
+        trend: Option<&TrendModel>,
+    ) -> Numbered {
         let shown = |t: &TrackState| match t.status {
             TrackStatus::Confirmed | TrackStatus::Coasting => true,
             TrackStatus::Tentative => (t.hit_history & 0x3ff).count_ones() >= ACQUIRING_FROM_HITS,
@@ -87,7 +95,10 @@ impl TargetNumbers {
         let mut live: Vec<TargetData> = tracks
             .iter()
             .filter(|t| shown(t))
-            .map(|t| TargetData::new(own, t))
+            .map(|t| TargetData {
+                trend_known: t.status.is_firm() && trend.is_none_or(|m| m.known(t)),
+                ..TargetData::new(own, t)
+            })
             .collect();
         let mut out = Numbered::default();
         // Ends: their numbers go back after this scan's numbers are given, to the back of the
@@ -158,7 +169,7 @@ mod tests {
         let a = track(10, TrackStatus::Confirmed, 0b111, 5000.0);
         let b = track(11, TrackStatus::Confirmed, 0b111, 6000.0);
         let clutter = track(12, TrackStatus::Tentative, 0b1, 7000.0);
-        let s = n.scan(&own, &[a, b, clutter], &limits);
+        let s = n.scan(&own, &[a, b, clutter], &limits, None);
         assert_eq!(
             s.tracked.iter().map(|t| t.number).collect::<Vec<_>>(),
             [Some(1), Some(2)]
@@ -166,19 +177,19 @@ mod tests {
         assert!(s.acquiring.is_empty(), "one plot is not shown");
         let c = track(13, TrackStatus::Tentative, 0b11, 8000.0);
         let d = track(14, TrackStatus::Tentative, 0b11, 9000.0);
-        let s = n.scan(&own, &[a, b, c, d], &limits);
+        let s = n.scan(&own, &[a, b, c, d], &limits, None);
         assert_eq!(s.acquiring[0].number, Some(3));
         assert_eq!(s.acquiring[1].number, None, "every number in use");
         assert_eq!(n.waited, 1);
         // b ends: its number is sent with the end, and free only from the next scan.
-        let s = n.scan(&own, &[a, c, d], &limits);
+        let s = n.scan(&own, &[a, c, d], &limits, None);
         assert_eq!(s.ended.len(), 1);
         assert_eq!((s.ended[0].track, s.ended[0].number), (11, Some(2)));
         assert_eq!(
             s.acquiring.iter().find(|t| t.track == 14).unwrap().number,
             None
         );
-        let s = n.scan(&own, &[a, c, d], &limits);
+        let s = n.scan(&own, &[a, c, d], &limits, None);
         assert_eq!(
             s.acquiring.iter().find(|t| t.track == 14).unwrap().number,
             Some(2)

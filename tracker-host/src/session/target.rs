@@ -41,6 +41,10 @@ pub struct TargetData {
     /// True course and speed are known (own ship's motion is): without, only the relative
     /// ones mean anything.
     pub true_motion_known: bool,
+    /// The target's motion is known well enough to show: its vector, course and speed, CPA
+    /// and TCPA, and the CPA/TCPA alarm ([`super::trend`]). Taken as known by
+    /// [`TargetData::new`]; the session's numbering sets it for each scan's targets.
+    pub trend_known: bool,
 }
 
 impl TargetData {
@@ -75,6 +79,7 @@ impl TargetData {
             position_m: t.position_m,
             velocity_mps: t.velocity_mps,
             true_motion_known: own.quality.motion_known,
+            trend_known: true,
         }
     }
 
@@ -83,9 +88,13 @@ impl TargetData {
         self.number.map_or("--".to_string(), |n| format!("{n:02}"))
     }
 
-    /// True when the target will pass closer than `cpa_limit_m` within `tcpa_limit_s`.
+    /// True when the target will pass closer than `cpa_limit_m` within `tcpa_limit_s`, its
+    /// motion being known ([`TargetData::trend_known`]).
     pub fn dangerous(&self, limits: &AlarmLimits) -> bool {
-        self.cpa_m < limits.cpa_m && self.tcpa_s >= 0.0 && self.tcpa_s < limits.tcpa_s
+        self.trend_known
+            && self.cpa_m < limits.cpa_m
+            && self.tcpa_s >= 0.0
+            && self.tcpa_s < limits.tcpa_s
     }
 }
 
@@ -109,35 +118,41 @@ impl Default for AlarmLimits {
 }
 
 /// The target table as text, one line per target, in navigator's units (NM, kn, degrees
-/// true, minutes).
+/// true, minutes); the motion of a target whose trend is not known yet is `---`.
 pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
     let deg = |r: f32| r.to_degrees();
     let mut s = String::from(
         " TGT STATUS     RNG NM  BRG °T  CRS °T   SPD kn  CPA NM  TCPA min  RCRS °T  RSPD kn  AGE\n",
     );
     for t in targets {
-        // Without own ship's motion the true course and speed are unknown: shown as ---.
-        let (course, speed) = if t.true_motion_known {
-            (
-                format!("{:>7.1}", deg(t.course_rad)),
-                format!("{:>8.1}", t.speed_mps / MPS_PER_KNOT),
-            )
-        } else {
-            (format!("{:>7}", "---"), format!("{:>8}", "---"))
+        // A column is `---` when what it shows is not known: the motion before the trend
+        // is, the true course and speed without own ship's motion.
+        let known = |ok: bool, width: usize, v: f32, places: usize| {
+            if ok {
+                format!("{v:>width$.places$}")
+            } else {
+                format!("{:>width$}", "---")
+            }
         };
-        s +=
-            &format!(
-            "{:>4} {:<9} {:>7.2} {:>7.1} {course} {speed} {:>7.2} {:>9.1} {:>8.1} {:>8.1} {:>4}{}\n",
+        let (trend, truth) = (t.trend_known, t.trend_known && t.true_motion_known);
+        s += &format!(
+            "{:>4} {:<9} {:>7.2} {:>7.1} {} {} {} {} {} {} {:>4}{}\n",
             t.label(),
             status_name(t.status),
             t.range_m / METRES_PER_NM,
             deg(t.bearing_rad),
-            t.cpa_m / METRES_PER_NM,
-            t.tcpa_s / 60.0,
-            deg(t.rel_course_rad),
-            t.rel_speed_mps / MPS_PER_KNOT,
+            known(truth, 7, deg(t.course_rad), 1),
+            known(truth, 8, t.speed_mps / MPS_PER_KNOT, 1),
+            known(trend, 7, t.cpa_m / METRES_PER_NM, 2),
+            known(trend, 9, t.tcpa_s / 60.0, 1),
+            known(trend, 8, deg(t.rel_course_rad), 1),
+            known(trend, 8, t.rel_speed_mps / MPS_PER_KNOT, 1),
             t.age_scans,
-            if t.dangerous(limits) { "  ALARM CPA/TCPA" } else { "" },
+            if t.dangerous(limits) {
+                "  ALARM CPA/TCPA"
+            } else {
+                ""
+            },
         );
     }
     s
@@ -194,5 +209,18 @@ mod tests {
         let text = table(&[d], &AlarmLimits::default());
         assert!(text.contains("ALARM"), "{text}");
         assert!(text.contains("  -- tracked"), "{text}");
+        // Before its trend is known the same target shows no motion and does not alarm.
+        let young = TargetData {
+            trend_known: false,
+            ..d
+        };
+        assert!(!young.dangerous(&AlarmLimits::default()));
+        let text = table(&[young], &AlarmLimits::default());
+        assert!(!text.contains("ALARM"), "{text}");
+        assert_eq!(
+            text.lines().nth(1).unwrap().matches("---").count(),
+            6,
+            "{text}"
+        );
     }
 }
