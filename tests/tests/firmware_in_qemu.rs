@@ -203,8 +203,8 @@ fn filter_costs_are_within_budget() {
     );
     assert!(growth_of(&rows, "scan-40-targets-200-plots-read-from-frames") <= 95_000.0);
     // The growth rows: with the gate bucketed, a plot costs about 120 instructions whatever
-    // the tracks, not one gate test per track (measured 17,720 / 36,426 at 16 tracks,
-    // 50,570 / 74,074 at 64; 17,150 / 35,660 and 48,468 / 71,794 before the track score,
+    // the tracks, not one gate test per track (measured 17,712 / 36,426 at 16 tracks,
+    // 50,560 / 74,074 at 64; 17,138 / 35,846 and 48,292 / 71,808 before the track score,
     // which costs about 35 instructions a track a scan).
     let growth = |name: &str| {
         rows.iter()
@@ -216,7 +216,7 @@ fn filter_costs_are_within_budget() {
     assert!(growth("scan-64-tracks-50-plots") <= 52_500.0);
     assert!(growth("scan-64-tracks-250-plots") <= 76_500.0);
     // The device's scan with 64 g-h tracks, which the table runs in their fixed-scan form
-    // (measured 46,142 / 47,050, 43,798 / 44,700 before the track score; the general
+    // (measured 46,132 / 47,054, 43,872 / 44,774 before the track score; the general
     // filters cost about 4,200 more a scan, so these bounds fail if the table stops using
     // it).
     assert!(growth("scan-64-tracks-64-plots-alpha-beta") <= 47_800.0);

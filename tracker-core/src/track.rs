@@ -45,7 +45,8 @@
 //! gate's area, or over the circle through the farthest when the gate's list was full (a
 //! nearest-neighbour density estimate), and at least [`SCORE_MIN_EXTRANEOUS_PER_M2`]. A scan
 //! without a plot adds ln(1 − P_D). The track is confirmed once it has [`CONFIRM_M`] plots
-//! *and* a score of [`CONFIRM_SCORE`]. In open water (no extraneous plot near) the third
+//! *and* a score of [`CONFIRM_SCORE`], and dropped if not confirmed by
+//! [`TENTATIVE_MAX_AGE_SCANS`]. In open water (no extraneous plot near) the third
 //! plot always confirms, as before and as in Stone Soup; in a dense harbour a one-plot
 //! track's second plot is little or no evidence (its wide gate holds extraneous plots, so
 //! taking one is no sign of a target), and a track confirms once the plots its tight gates
@@ -72,6 +73,7 @@ use crate::icd::{
     Assignment, ErrorCode, GatedPlots, TrackState, TrackStatus, TrackerConfig, MAX_PLOTS_PER_GATE,
 };
 use crate::spatial::EastIndex;
+use crate::tracker::MAX_PLOTS_PER_SCAN;
 
 /// Tracks the table holds.
 pub const MAX_TRACKS: usize = 64;
@@ -80,6 +82,12 @@ pub const MAX_TRACKS: usize = 64;
 pub const CONFIRM_M: u32 = 3;
 /// A tentative track is dropped after this many scans in a row without a plot.
 pub const TENTATIVE_LOST_AFTER_COASTS: u8 = 2;
+/// A tentative track not confirmed by this age (scans, its first included) is dropped: in
+/// a dense picture one that keeps finding plots but never a score
+/// ([the track score](self#the-track-score)) would otherwise hold its slot for ever (50 s
+/// at a 2.5 s scan; without the score every tentative track was confirmed or gone by its
+/// 5th scan).
+pub const TENTATIVE_MAX_AGE_SCANS: u16 = 2 * KEEP_N as u16;
 /// A tentative track is confirmed only while its speed is at most this many times the
 /// fastest target's ([`TrackerConfig::max_speed_mps`]): three clutter plots in a new
 /// track's wide gates can make a track at 50 m/s.
@@ -351,8 +359,8 @@ impl Track {
         self.hits & 1 == 1
     }
 
-    /// The track score, the log-likelihood ratio of its plots being a target's
-    /// ([the track score](self#the-track-score)); kept while tentative.
+    /// The track score, the log-likelihood ratio of its plots being a target's (natural
+    /// log, no unit; [the track score](self#the-track-score)); kept while tentative.
     pub fn score(&self) -> f32 {
         self.score
     }
@@ -1007,9 +1015,12 @@ fn plot_score(predicted: EastNorth, s: [f32; 3], z: EastNorth, extraneous_per_m2
     }
 }
 
-/// A set of a scan's plot numbers (those past the device's 256 a scan are never in it).
+/// A set of a scan's plot numbers (those past the device's [`MAX_PLOTS_PER_SCAN`] are never
+/// in it).
 #[derive(Clone, Copy, Debug, Default)]
-struct PlotSet([u32; 8]);
+struct PlotSet([u32; MAX_PLOTS_PER_SCAN / 32]);
+
+const _: () = assert!(MAX_PLOTS_PER_SCAN.is_multiple_of(32));
 
 impl PlotSet {
     fn insert(&mut self, plot: u16) {
@@ -1031,7 +1042,7 @@ impl PlotSet {
 fn next_status(t: &Track, max_speed_mps: f32) -> Option<TrackStatus> {
     Some(match t.status {
         TrackStatus::Tentative => {
-            if t.coasts >= TENTATIVE_LOST_AFTER_COASTS {
+            if t.coasts >= TENTATIVE_LOST_AFTER_COASTS || t.age_scans > TENTATIVE_MAX_AGE_SCANS {
                 return None;
             }
             // Every plot since it started (never two misses in a row: at least
@@ -1353,6 +1364,33 @@ mod tests {
             scan_starting_leftovers(&mut t, k * 2500, &[[0.0, 0.0]]);
         }
         assert_eq!(t.track(0).unwrap().status, TrackStatus::Confirmed);
+    }
+
+    #[test]
+    fn a_tentative_track_that_never_scores_is_dropped_in_time() {
+        // A plot every scan, but 30 m one side of the last and then the other, among seven
+        // echoes: never a miss, never a score.
+        let mut t = harbour_table();
+        scan_starting_leftovers(&mut t, 0, &[[0.0, 0.0]]);
+        for k in 1..=u64::from(TENTATIVE_MAX_AGE_SCANS) {
+            let mut plots = vec![[if k % 2 == 0 { 0.0 } else { 30.0 }, 0.0]];
+            plots.extend(echoes_around(k).iter().map(|p| [p[0] + 15.0, p[1]]));
+            t.predict(k * 2500);
+            t.gate(&plots, 2.5);
+            let assign = [Assignment {
+                track: 1,
+                plot: Some(0),
+            }];
+            t.apply(k * 2500, &plots, &assign, &[]).unwrap();
+            let first = t.tracks().find(|t| t.id == 1);
+            if k < u64::from(TENTATIVE_MAX_AGE_SCANS) {
+                let first = first.expect("alive");
+                assert_eq!(first.status, TrackStatus::Tentative);
+                assert!(first.hit_last_scan());
+            } else {
+                assert!(first.is_none(), "dropped at {} scans old", k + 1);
+            }
+        }
     }
 
     #[test]

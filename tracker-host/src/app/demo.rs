@@ -21,6 +21,7 @@ use super::{own_ship_source, sinks, today, Outputs, OwnShipOptions};
 use crate::link::Client;
 use crate::nmea::InSpec;
 use crate::own_ship::recording::RecordedTrack;
+use crate::session::target::AlarmLimits;
 use crate::session::{Session, SessionConfig};
 use crate::source::simulator::{OwnShipTruth, SimulatorOptions, SimulatorSource};
 
@@ -39,6 +40,8 @@ pub struct DemoOptions {
     pub filter: FilterKind,
     /// How plots are associated and which start tracks.
     pub association: Association,
+    /// The CPA/TCPA alarm limits.
+    pub alarms: AlarmLimits,
     /// Where own ship comes from (by default the simulation's truth).
     pub own_ship: OwnShipOptions,
     /// Where results go.
@@ -70,6 +73,7 @@ impl DemoOptions {
             duration_from_recording: false,
             filter,
             association: Association::default(),
+            alarms: AlarmLimits::default(),
             own_ship: OwnShipOptions::default(),
             outputs: Outputs::default(),
             video: false,
@@ -118,6 +122,7 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
     let own = own_ship_source(&own_ship, origin)?;
     let config = SessionConfig {
         association: o.association,
+        alarms: o.alarms,
         ..SessionConfig::tracking(o.filter)
     };
     let session = Session::start(client, config)?;

@@ -40,6 +40,8 @@ pub struct TrackOptions {
     pub filter: FilterKind,
     /// How plots are associated and which start tracks.
     pub association: crate::session::associate::Association,
+    /// The CPA/TCPA alarm limits.
+    pub alarms: crate::session::target::AlarmLimits,
     /// Where own ship comes from (by default the plot source's: a plots file's own-ship
     /// columns, a capture's NMEA).
     pub own_ship: OwnShipOptions,
@@ -82,6 +84,7 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     let own_ship = own_ship_source(&o.own_ship, origin)?;
     let config = SessionConfig {
         association: o.association,
+        alarms: o.alarms,
         ..SessionConfig::tracking_plots_of(o.filter, sigma_m)
     };
     let session = Session::start(client, config)?;

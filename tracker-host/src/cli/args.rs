@@ -5,12 +5,14 @@ use std::path::PathBuf;
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
 use tracker_core::filter::FilterKind;
+use tracker_core::geo::METRES_PER_NM;
 
 use crate::app::{Outputs, OwnShipOptions};
 use crate::nmea::{InSpec, OutSpec};
 use crate::origin::Origin;
 use crate::own_ship::sentences::Quantity;
 use crate::own_ship::NmeaOptions;
+use crate::session::target::AlarmLimits;
 
 /// `--filter NAME`: one of [`FilterKind::ALL`], by name.
 pub fn filter_parser() -> impl TypedValueParser<Value = FilterKind> {
@@ -97,6 +99,14 @@ pub struct RunArgs {
     /// vector). The table and `TTM` keep the radar number and the AIS name either way.
     #[arg(long, value_enum, default_value_t = AssociatedSymbolArg::Ais)]
     pub associated_symbol: AssociatedSymbolArg,
+    /// The CPA/TCPA alarm's CPA limit, nautical miles: a target (radar or activated AIS)
+    /// whose CPA is below it within the TCPA limit alarms (a bridge's open-water setting is
+    /// 1 NM; in a harbour or a traffic separation scheme far less).
+    #[arg(long, value_name = "NM", default_value_t = 1.0, value_parser = positive)]
+    pub cpa_nm: f64,
+    /// The CPA/TCPA alarm's TCPA limit, minutes.
+    #[arg(long, value_name = "MIN", default_value_t = 12.0, value_parser = positive)]
+    pub tcpa_min: f64,
     /// Send every target to a chart plotter as NMEA 0183 `TTM` and `TLL` sentences each
     /// scan: `udp:HOST:PORT` or `tcp:PORT` (a server plotters connect to).
     #[arg(long, value_name = "udp:HOST:PORT|tcp:PORT")]
@@ -142,6 +152,14 @@ pub struct RunArgs {
     /// Write the end-of-run summary to this file as one JSON object.
     #[arg(long, value_name = "PATH")]
     pub summary_json: Option<PathBuf>,
+}
+
+/// A positive, finite number.
+fn positive(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
+        _ => Err(format!("`{s}`: expected a positive number")),
+    }
 }
 
 /// `QUANTITY=TALKER,TALKER…`.
@@ -190,6 +208,14 @@ impl RunArgs {
             (Some(s), _) => s.0,
             (None, Some(InSpec::File(_)) | None) => None,
             (None, Some(_)) => Some(1.0),
+        }
+    }
+
+    /// The CPA/TCPA alarm limits these arguments set.
+    pub fn alarms(&self) -> AlarmLimits {
+        AlarmLimits {
+            cpa_m: (self.cpa_nm * f64::from(METRES_PER_NM)) as f32,
+            tcpa_s: (self.tcpa_min * 60.0) as f32,
         }
     }
 

@@ -353,6 +353,7 @@ where
                 duration_from_recording: duration.is_none(),
                 filter: run.filter,
                 association: run.association.into(),
+                alarms: run.alarms(),
                 own_ship: run.own_ship(),
                 outputs: run.outputs(record_truth.clone()),
                 video: *video,
@@ -395,6 +396,7 @@ where
                 input,
                 filter: run.filter,
                 association: run.association.into(),
+                alarms: run.alarms(),
                 own_ship: run.own_ship(),
                 outputs: run.outputs(None),
             };

@@ -294,13 +294,15 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
         ]),
         Line::raw(own_ship_line(&view.own)),
         Line::raw(format!(
-            "{} NM  {} vectors {} min{}",
+            "{} NM  {} vectors {} min  CPA/TCPA alarm {:.2} NM / {:.0} min{}",
             RANGE_SCALES_NM[state.range_scale],
             match state.vectors {
                 VectorMode::Relative => "relative",
                 VectorMode::True => "true",
             },
             VECTOR_MINUTES[state.vector_length],
+            state.limits.cpa_m / METRES_PER_NM,
+            state.limits.tcpa_s / 60.0,
             if state.paused { "  PAUSED" } else { "" },
         )),
     ];

@@ -36,7 +36,10 @@ pub struct PlotterTarget<'a> {
 /// `TTM` for one target: number, distance (NM) and true bearing, speed (kn) and course,
 /// `T` (true) or `R` (relative: own ship's motion unknown), CPA (NM), TCPA (minutes,
 /// negative once passed), units N, name, status, no reference target, UTC, A (automatic
-/// acquisition). Bearings and courses are 0.0–359.9.
+/// acquisition). Bearings and courses are 0.0–359.9. A target still acquiring (`Q`) has no
+/// motion yet: its speed, course, CPA and TCPA are null fields (IEC 61162-1: a field whose
+/// value is not available is sent empty), so a plotter draws no vector the radar display
+/// does not.
 pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     let d = &t.data;
     let (speed, course, reference) = if d.true_motion_known {
@@ -44,15 +47,22 @@ pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     } else {
         (d.rel_speed_mps, d.rel_course_rad, 'R')
     };
+    let motion = if t.status == 'Q' {
+        format!(",,{reference},,")
+    } else {
+        format!(
+            "{:.1},{},{reference},{:.3},{:.2}",
+            f64::from(speed) / f64::from(MPS_PER_KNOT),
+            angle_360(degrees(course), 1),
+            f64::from(d.cpa_m) / f64::from(METRES_PER_NM),
+            f64::from(d.tcpa_s) / 60.0,
+        )
+    };
     let number = t.number;
     sentence(&format!(
-        "RATTM,{number:02},{:.3},{},T,{:.1},{},{reference},{:.3},{:.2},N,{},{},,{},A",
+        "RATTM,{number:02},{:.3},{},T,{motion},N,{},{},,{},A",
         f64::from(d.range_m) / f64::from(METRES_PER_NM),
         angle_360(degrees(d.bearing_rad), 1),
-        f64::from(speed) / f64::from(MPS_PER_KNOT),
-        angle_360(degrees(course), 1),
-        f64::from(d.cpa_m) / f64::from(METRES_PER_NM),
-        f64::from(d.tcpa_s) / 60.0,
         name_field(t),
         t.status,
         utc(time_s)
@@ -376,6 +386,22 @@ mod tests {
             parsed.target_status,
             Some(nmea::sentences::TtmStatus::Query),
             "{s}"
+        );
+        // Its position is sent, its motion is not known yet.
+        assert!(parsed.target_distance.is_some());
+        assert_eq!(
+            (
+                parsed.target_speed,
+                parsed.target_course.is_some(),
+                parsed.distance_of_cpa,
+                parsed.time_to_cpa
+            ),
+            (None, false, None, None),
+            "{s}"
+        );
+        assert_eq!(
+            s.split(',').count(),
+            ttm(&plotter(d), 0.0).split(',').count()
         );
     }
 

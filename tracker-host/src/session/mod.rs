@@ -43,6 +43,9 @@ use numbers::TargetNumbers;
 use target::{AlarmLimits, TargetData};
 use trend::TrendModel;
 
+/// Scan intervals the trend's interval is the median of ([`Session`]).
+const TREND_INTERVALS: usize = 5;
+
 /// A plot's position error at mid range under the IMO sensor model, m: the tracking
 /// filters' measurement noise.
 pub const PLOT_SIGMA_M: f32 = 40.0;
@@ -219,9 +222,12 @@ pub struct Session {
     /// them when it applies it, so they take no plot (a plot given to one would start
     /// nothing and be lost with it).
     lost: std::collections::BTreeSet<u16>,
-    /// How well the targets' motion is known, for the last scan interval and the plots'
+    /// How well the targets' motion is known, for the scan interval and the plots'
     /// accuracy ([`trend`]).
     trend: Option<TrendModel>,
+    /// The last few scan intervals, s: the trend's interval is their median, so that a
+    /// scan lost or late does not make it (and the minute it counts) twice as long.
+    intervals: std::collections::VecDeque<f64>,
 }
 
 impl Session {
@@ -243,6 +249,7 @@ impl Session {
             firm: Default::default(),
             lost: Default::default(),
             trend: None,
+            intervals: Default::default(),
         })
     }
 
@@ -282,11 +289,20 @@ impl Session {
         Ok(true)
     }
 
-    /// The trend model for the scan interval `interval_s` (the last one's when `None`) and
-    /// the plots' accuracy now, remade when either changed by more than 1 %.
+    /// The trend model for the median of the last [`TREND_INTERVALS`] scan intervals (with
+    /// `interval_s`, this scan's) and the plots' accuracy now, remade when either changed
+    /// by more than 1 %; a model that cannot be made leaves the last one.
     fn update_trend(&mut self, interval_s: Option<f64>) {
         let sigma = self.config.tracker.plot_sigma_m;
-        let Some(scan_s) = interval_s.or(self.trend.map(|m| m.scan_s())) else {
+        if let Some(dt) = interval_s.filter(|dt| dt.is_finite() && *dt > 0.0) {
+            if self.intervals.len() == TREND_INTERVALS {
+                self.intervals.pop_front();
+            }
+            self.intervals.push_back(dt);
+        }
+        let mut sorted: Vec<f64> = self.intervals.iter().copied().collect();
+        sorted.sort_by(f64::total_cmp);
+        let Some(&scan_s) = sorted.get(sorted.len() / 2) else {
             return;
         };
         let close = |a: f64, b: f64| (a - b).abs() <= 0.01 * b;
@@ -296,7 +312,9 @@ impl Session {
         {
             return;
         }
-        self.trend = TrendModel::new(sigma, scan_s, self.config.tracker.max_speed_mps);
+        if let Some(m) = TrendModel::new(sigma, scan_s, self.config.tracker.max_speed_mps) {
+            self.trend = Some(m);
+        }
     }
 
     /// Tracks one scan seen from `own`.

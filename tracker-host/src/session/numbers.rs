@@ -79,7 +79,9 @@ impl TargetNumbers {
     }
 
     /// Numbers the device's `tracks` seen from `own`; a confirmed or coasting target's
-    /// motion is shown once `trend` knows it ([`super::trend`]; all of it without a model).
+    /// motion is shown once `trend` knows it, and from then on ([`super::trend`]; without a
+    /// model, every firm target's: an alarm is better given than withheld when it cannot be
+    /// judged).
     pub fn scan(
         &mut self,
         own: &OwnShip,
@@ -96,7 +98,10 @@ impl TargetNumbers {
             .iter()
             .filter(|t| shown(t))
             .map(|t| TargetData {
-                trend_known: t.status.is_firm() && trend.is_none_or(|m| m.known(t)),
+                // Once known, kept for the track's life ([`super::trend`]).
+                trend_known: t.status.is_firm()
+                    && (self.last.get(&t.track).is_some_and(|d| d.trend_known)
+                        || trend.is_none_or(|m| m.known(t))),
                 ..TargetData::new(own, t)
             })
             .collect();
@@ -159,6 +164,33 @@ mod tests {
             age_scans: 4,
             hit_history: hits,
         }
+    }
+
+    #[test]
+    fn a_targets_motion_once_shown_stays_shown() {
+        let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
+        let limits = AlarmLimits::default();
+        let model = TrendModel::new(40.0, 2.5, 20.0).unwrap();
+        let at = |age: u16, hits: u16| TrackState {
+            age_scans: age,
+            ..track(10, TrackStatus::Confirmed, hits, 5000.0)
+        };
+        let mut n = TargetNumbers::new(9);
+        let s = n.scan(&own, &[at(13, 0x3ff)], &limits, Some(&model));
+        assert!(!s.tracked[0].trend_known, "13 plots of 40 m: not yet");
+        let s = n.scan(&own, &[at(14, 0x3ff)], &limits, Some(&model));
+        assert!(s.tracked[0].trend_known, "the 14th");
+        // A miss widens the covariance past the limit again; the motion stays shown.
+        assert!(!model.known(&at(15, 0x3fe)));
+        let s = n.scan(&own, &[at(15, 0x3fe)], &limits, Some(&model));
+        assert!(s.tracked[0].trend_known);
+        // A tentative track's motion is not shown.
+        let young = TrackState {
+            track: 11,
+            ..track(11, TrackStatus::Tentative, 0b11, 6000.0)
+        };
+        let s = n.scan(&own, &[young], &limits, Some(&model));
+        assert!(!s.acquiring[0].trend_known);
     }
 
     #[test]

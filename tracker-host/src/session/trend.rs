@@ -16,18 +16,22 @@
 //! How well the velocity is known is worked out here, not read from the device: a CV Kalman
 //! filter's covariance depends on the plots' accuracy, the scan interval and which scans had
 //! a plot, not on the plots themselves, and the device reports each track's hits
-//! ([`TrackState::hit_history`]). It is the covariance of the product's CV Kalman
-//! configuration ([`FilterConfig::tracking`]): for the other filters, the accuracy a CV
-//! Kalman filter would have on the same plots.
+//! ([`TrackState::hit_history`]). So the core's own CV Kalman filter in the product's
+//! configuration ([`FilterConfig::tracking`]) is run here on the track's hits and misses;
+//! for the other filters this is the accuracy a CV Kalman filter would have on the same
+//! plots. Once known, a target's motion stays shown for the track's life (the session's
+//! numbering holds it): a miss widens the covariance a little, and a vector and alarm that
+//! came and went with every miss would be worse than one shown a scan early.
 
-use tracker_core::filter::{FilterConfig, FilterKind};
+use tracker_core::filter::kalman::cv::KalmanCv;
+use tracker_core::filter::{Filter, FilterConfig, FilterKind, Interval, Measurement};
 use tracker_core::icd::TrackState;
 use tracker_core::track::KEEP_N;
 
 /// A velocity within this factor of its steady-state standard deviation counts as known.
 pub const STEADY_FACTOR: f64 = 1.25;
 
-/// The trend is shown this long after the track started whatever its accuracy (IMO
+/// The trend is shown this long after the track's first plot whatever its accuracy (IMO
 /// MSC.192(79) 5.25.4.1), s.
 pub const TREND_WITHIN_S: f64 = 60.0;
 
@@ -35,57 +39,48 @@ pub const TREND_WITHIN_S: f64 = 60.0;
 /// makes is in its steady state (40 m plots every 2.5 s: within 0.1 % after 40).
 const MAX_SCANS: u32 = 200;
 
-/// The velocity accuracy of a CV Kalman filter on a given picture: plots' accuracy, scan
-/// interval, process noise and the velocity variance a track starts with.
+/// The velocity accuracy of the product's CV Kalman filter on a given picture: the plots'
+/// accuracy, the scan interval, the filter's process noise and a new track's velocity
+/// variance ([`FilterConfig::tracking`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TrendModel {
     /// Plot accuracy, m (one axis).
     plot_sigma_m: f64,
-    /// Scan interval, s.
-    scan_s: f64,
-    /// Continuous white-noise acceleration spectral density, m²/s³.
-    q: f64,
-    /// A new track's velocity variance, m²/s² (one axis).
-    p0_velocity: f64,
+    /// Scan interval.
+    scan: Interval<f64>,
+    /// The filter, as a track's starts.
+    filter: KalmanCv<f64>,
     /// The steady-state velocity standard deviation, m/s (one axis).
     steady_sigma_mps: f64,
 }
 
-/// One axis of a CV filter's covariance: `[p_xx, p_xv, p_vv]` (m², m²/s, m²/s²).
-type Cov = [f64; 3];
-
 impl TrendModel {
     /// The model for plots of `plot_sigma_m` (m, one axis) every `scan_s` (s), targets up to
-    /// `max_speed_mps`, with the product's CV Kalman configuration for them; `None` when
-    /// either is not a positive number.
+    /// `max_speed_mps` (m/s, a new track's velocity σ); `None` when any of them is not a
+    /// positive number (or the interval is outside the filters' range).
     pub fn new(plot_sigma_m: f32, scan_s: f64, max_speed_mps: f32) -> Option<Self> {
+        let positive = |v: f32| v.is_finite() && v > 0.0;
+        if !(positive(plot_sigma_m) && positive(max_speed_mps)) {
+            return None;
+        }
         let FilterConfig::KalmanCv(k) =
             FilterConfig::tracking(FilterKind::KalmanCv, plot_sigma_m, max_speed_mps)
         else {
             return None;
         };
-        let ok = |v: f64| v.is_finite() && v > 0.0;
-        if !(ok(f64::from(plot_sigma_m)) && ok(scan_s) && ok(k.q) && ok(k.p0_derivative)) {
-            return None;
-        }
         let mut m = TrendModel {
             plot_sigma_m: f64::from(plot_sigma_m),
-            scan_s,
-            q: k.q,
-            p0_velocity: k.p0_derivative,
+            scan: Interval::new(scan_s).ok()?,
+            filter: k.build_cv::<f64>().ok()?,
             steady_sigma_mps: 0.0,
         };
-        let mut p = m.start();
-        for _ in 1..MAX_SCANS {
-            p = m.update(m.predict(p));
-        }
-        m.steady_sigma_mps = p[2].sqrt();
+        m.steady_sigma_mps = m.run(|_| true, MAX_SCANS);
         Some(m)
     }
 
     /// The scan interval the model is for, s.
     pub fn scan_s(&self) -> f64 {
-        self.scan_s
+        self.scan.seconds()
     }
 
     /// The plot accuracy the model is for, m.
@@ -103,46 +98,40 @@ impl TrendModel {
     /// older than the history are taken as hits (the track was kept through them).
     pub fn velocity_sigma_mps(&self, hit_history: u16, age_scans: u16) -> f64 {
         let age = u32::from(age_scans.max(1)).min(MAX_SCANS);
-        let mut p = self.start();
-        for scan in 1..age {
-            // `back` scans before the last: its hit bit, while the history holds it.
-            let back = age - 1 - scan;
-            let hit = back >= KEEP_N || (hit_history >> back) & 1 == 1;
-            p = self.predict(p);
-            if hit {
-                p = self.update(p);
-            }
-        }
-        p[2].sqrt()
+        // `scan` scans after the first: `back` = age − 1 − scan scans before the last.
+        self.run(
+            |scan| {
+                let back = age - 1 - scan;
+                back >= KEEP_N || (hit_history >> back) & 1 == 1
+            },
+            age,
+        )
     }
 
-    /// True when the motion of `track` is known well enough to show ([the module](self)).
+    /// True when the motion of `track` is known well enough to show ([the module](self)):
+    /// near its steady state, or a minute after its first plot.
     pub fn known(&self, track: &TrackState) -> bool {
-        f64::from(track.age_scans) * self.scan_s >= TREND_WITHIN_S
+        f64::from(track.age_scans.saturating_sub(1)) * self.scan_s() >= TREND_WITHIN_S
             || self.velocity_sigma_mps(track.hit_history, track.age_scans)
                 <= STEADY_FACTOR * self.steady_sigma_mps
     }
 
-    /// The covariance after a track's first plot.
-    fn start(&self) -> Cov {
-        [self.plot_sigma_m * self.plot_sigma_m, 0.0, self.p0_velocity]
-    }
-
-    /// One scan's prediction (constant velocity, continuous white-noise acceleration).
-    fn predict(&self, [a, b, c]: Cov) -> Cov {
-        let (t, q) = (self.scan_s, self.q);
-        [
-            a + 2.0 * t * b + t * t * c + q * t * t * t / 3.0,
-            b + t * c + q * t * t / 2.0,
-            c + q * t,
-        ]
-    }
-
-    /// An update with a plot.
-    fn update(&self, [a, b, c]: Cov) -> Cov {
-        let s = a + self.plot_sigma_m * self.plot_sigma_m;
-        let (ka, kb) = (a / s, b / s);
-        [a - ka * a, b - ka * b, c - kb * b]
+    /// The velocity σ (m/s, one axis) after `scans` scans of the filter from a first plot,
+    /// scan `k` (1 to `scans` − 1) with a plot when `hit(k)`. The covariance depends on the
+    /// hits alone, so every plot is put at the origin.
+    fn run(&self, hit: impl Fn(u32) -> bool, scans: u32) -> f64 {
+        let mut f = self.filter;
+        let origin = Measurement::new([0.0; 2]).ok();
+        if let Some(z) = origin {
+            f.start(z);
+        }
+        for k in 1..scans {
+            f.predict(self.scan);
+            if let (true, Some(z)) = (hit(k), origin) {
+                f.update(z);
+            }
+        }
+        f.covariance().vv.sqrt()
     }
 }
 
@@ -201,12 +190,12 @@ mod tests {
             Some(4)
         );
         // 40 m plots every 2.5 s: from the 14th plot (about 33 s); with no plot in its last
-        // ten scans, at a minute.
+        // ten scans, a minute after its first plot (the 25th scan).
         let open = TrendModel::new(40.0, 2.5, 20.0).unwrap();
         let n = (3..30u16).find(|&n| open.known(&track(0x3ff, n))).unwrap();
         assert_eq!(n, 14);
-        assert!(!open.known(&track(0, 23)));
-        assert!(open.known(&track(0, 24)), "60 s at 2.5 s a scan");
+        assert!(!open.known(&track(0, 24)));
+        assert!(open.known(&track(0, 25)), "60 s at 2.5 s a scan");
     }
 
     #[test]
@@ -214,5 +203,6 @@ mod tests {
         assert!(TrendModel::new(f32::NAN, 2.5, 20.0).is_none());
         assert!(TrendModel::new(10.0, 0.0, 20.0).is_none());
         assert!(TrendModel::new(-1.0, 2.5, 20.0).is_none());
+        assert!(TrendModel::new(10.0, 2.5, 0.0).is_none());
     }
 }
