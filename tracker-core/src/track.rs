@@ -1083,27 +1083,41 @@ mod tests {
         t
     }
 
-    /// One scan of a single target at `z` (or none), with the table assigning the nearest
-    /// gated plot.
-    fn scan(t: &mut TrackTable, time_ms: u64, plots: &[EastNorth]) -> ApplyReport {
+    /// One scan, each track in table order taking the nearest gated plot no track before it
+    /// took; the plots in no gate start tracks (every plot no track took, with
+    /// `every_leftover`, as the host's two-stage association does).
+    fn scan_with(
+        t: &mut TrackTable,
+        time_ms: u64,
+        plots: &[EastNorth],
+        every_leftover: bool,
+    ) -> ApplyReport {
         t.predict(time_ms);
         t.gate(plots, 2.5);
-        let mut used = std::vec::Vec::new();
+        let mut taken = std::vec::Vec::new();
         let assignments: std::vec::Vec<Assignment> = (0..t.len())
             .map(|i| {
                 let g = t.gated(i).unwrap();
-                let plot = g.plots.iter().copied().find(|p| !used.contains(p));
-                used.extend(plot);
+                let plot = g.plots.iter().copied().find(|p| !taken.contains(p));
+                taken.extend(plot);
                 Assignment {
                     track: g.track,
                     plot,
                 }
             })
             .collect();
-        let in_no_gate: std::vec::Vec<u16> = (0..plots.len() as u16)
-            .filter(|p| !(0..t.len()).any(|i| t.gated(i).unwrap().plots.contains(p)))
+        let starts: std::vec::Vec<u16> = (0..plots.len() as u16)
+            .filter(|p| match every_leftover {
+                true => !taken.contains(p),
+                false => !(0..t.len()).any(|i| t.gated(i).unwrap().plots.contains(p)),
+            })
             .collect();
-        t.apply(time_ms, plots, &assignments, &in_no_gate).unwrap()
+        t.apply(time_ms, plots, &assignments, &starts).unwrap()
+    }
+
+    /// One scan of a single target at `z` (or none): plots in no gate start tracks.
+    fn scan(t: &mut TrackTable, time_ms: u64, plots: &[EastNorth]) -> ApplyReport {
+        scan_with(t, time_ms, plots, false)
     }
 
     #[test]
@@ -1278,28 +1292,10 @@ mod tests {
         t
     }
 
-    /// One scan as the host's two-stage association leaves it: each track, in table order,
-    /// takes the nearest gated plot no track before it took, and every plot no track took
+    /// One scan as the host's two-stage association leaves it: every plot no track took
     /// starts a track.
     fn scan_starting_leftovers(t: &mut TrackTable, time_ms: u64, plots: &[EastNorth]) {
-        t.predict(time_ms);
-        t.gate(plots, 2.5);
-        let mut taken = std::vec::Vec::new();
-        let assignments: std::vec::Vec<Assignment> = (0..t.len())
-            .map(|i| {
-                let g = t.gated(i).unwrap();
-                let plot = g.plots.iter().copied().find(|p| !taken.contains(p));
-                taken.extend(plot);
-                Assignment {
-                    track: g.track,
-                    plot,
-                }
-            })
-            .collect();
-        let leftovers: std::vec::Vec<u16> = (0..plots.len() as u16)
-            .filter(|p| !taken.contains(p))
-            .collect();
-        t.apply(time_ms, plots, &assignments, &leftovers).unwrap();
+        scan_with(t, time_ms, plots, true);
     }
 
     /// Seven echoes 10 to 25 m from the origin, somewhere else on each scan `k`.
