@@ -36,10 +36,11 @@ pub struct PlotterTarget<'a> {
 /// `TTM` for one target: number, distance (NM) and true bearing, speed (kn) and course,
 /// `T` (true) or `R` (relative: own ship's motion unknown), CPA (NM), TCPA (minutes,
 /// negative once passed), units N, name, status, no reference target, UTC, A (automatic
-/// acquisition). Bearings and courses are 0.0–359.9. A target still acquiring (`Q`) has no
-/// motion yet: its speed, course, CPA and TCPA are null fields (IEC 61162-1: a field whose
-/// value is not available is sent empty), so a plotter draws no vector the radar display
-/// does not.
+/// acquisition). Bearings and courses are 0.0–359.9. A target whose motion is not known
+/// ([`TargetData::trend_known`]: one acquiring, `Q`, or an acquisition that failed, `L`) has
+/// its speed, course, CPA and TCPA as null fields (IEC 61162-1: a field whose value is not
+/// available is sent empty), so a plotter is given no vector the radar display does not
+/// show.
 pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     let d = &t.data;
     let (speed, course, reference) = if d.true_motion_known {
@@ -47,7 +48,7 @@ pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     } else {
         (d.rel_speed_mps, d.rel_course_rad, 'R')
     };
-    let motion = if t.status == 'Q' {
+    let motion = if t.status == 'Q' || !d.trend_known {
         format!(",,{reference},,")
     } else {
         format!(
@@ -371,6 +372,15 @@ mod tests {
         };
         assert_eq!(plotter_status('T', &young), 'Q');
         assert_eq!(plotter_status('L', &young), 'L');
+        // An acquisition that failed ends without the motion it never had.
+        let lost = ttm(
+            &PlotterTarget {
+                status: 'L',
+                ..plotter(young)
+            },
+            0.0,
+        );
+        assert!(lost.contains(",T,,,T,,,N,"), "{lost}");
         let s = ttm(
             &PlotterTarget {
                 status: plotter_status('T', &young),

@@ -122,6 +122,8 @@ impl TargetNumbers {
             if let Some(mut d) = data {
                 d.number = self.held(track);
                 d.status = TrackStatus::Lost;
+                // Its motion as it was shown: a failed acquisition's never was.
+                d.trend_known = self.last.get(&track).is_some_and(|l| l.trend_known);
                 out.ended.push(d);
             }
             ending.push(track);
@@ -189,8 +191,12 @@ mod tests {
             track: 11,
             ..track(11, TrackStatus::Tentative, 0b11, 6000.0)
         };
-        let s = n.scan(&own, &[young], &limits, Some(&model));
+        let s = n.scan(&own, &[at(16, 0x3fd), young], &limits, Some(&model));
         assert!(!s.acquiring[0].trend_known);
+        // Both end: each as it was shown, the one with its motion, the other without.
+        let s = n.scan(&own, &[], &limits, Some(&model));
+        let ended = |id: u16| s.ended.iter().find(|d| d.track == id).unwrap().trend_known;
+        assert!(ended(10) && !ended(11));
     }
 
     #[test]
