@@ -229,6 +229,20 @@ pub struct ScanOutput {
     pub truth: Vec<Truth, MAX_TARGETS>,
 }
 
+impl ScanOutput {
+    /// No scan yet: what [`Default`] gives, as a constant, so that a static can hold one
+    /// without building it on the stack (the firmware's benchmark).
+    pub const EMPTY: ScanOutput = ScanOutput {
+        scan: 0,
+        time_ms: 0,
+        own_position_m: [0.0, 0.0],
+        own_velocity_mps: [0.0, 0.0],
+        plots: Vec::new(),
+        plot_source: Vec::new(),
+        truth: Vec::new(),
+    };
+}
+
 /// A running scenario.
 #[derive(Clone, Debug)]
 pub struct Scenario {

@@ -107,8 +107,10 @@ fn filter_row<S: Scalar, F: Filter<S>>(
     row(name, S::NAME, per_scan, core::mem::size_of::<F>());
 }
 
-/// Tracks in the fixed-scan g-h rows: a full track table.
-const FIXED_SCAN_TRACKS: usize = tracker_core::track::MAX_TRACKS;
+/// Tracks in the fixed-scan g-h rows (their figures are per track): 64, the table's size
+/// when they were first measured. The filters live on the bench's stack, which a whole
+/// table's worth would deepen past what the firmware leaves (docs/firmware.md).
+const FIXED_SCAN_TRACKS: usize = 64;
 
 /// Scans the fixed-scan g-h rows time.
 const FIXED_SCAN_SCANS: u32 = 20;
@@ -419,16 +421,21 @@ fn pack_plots<'b>(
     tracker_core::icd::PlotBatch::pack(head, &local, packed)
 }
 
-/// The scan benches' storage, once. Its own frame: the values pass through the stack on
-/// their way to .bss, and that space is free again before the benches run.
+/// The scan benches' storage, once, in the RAM above the board's 64 KiB (`memory.x`:
+/// `.host_side`): the simulated host's scenario and buffers are the thesis's PC's, not the
+/// board's, so the board's RAM holds what the firmware holds and the stack. Written here
+/// before anything reads it (the section is neither loaded nor zeroed); the scan bench's
+/// storage from a constant, not built on the stack.
 #[inline(never)]
 fn scan_storage() -> Option<(
     &'static mut ScanBench,
     &'static mut tracker_core::sim::Scenario,
 )> {
+    use core::mem::MaybeUninit;
+    use core::sync::atomic::{AtomicBool, Ordering};
     use tracker_core::sim::{ScanOutput, Scenario, ScenarioConfig};
-    let bench = cortex_m::singleton!(: ScanBench = ScanBench {
-        out: ScanOutput::default(),
+    const EMPTY: ScanBench = ScanBench {
+        out: ScanOutput::EMPTY,
         gated: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
         taken: [false; tracker_core::tracker::MAX_PLOTS_PER_SCAN],
         initiate: heapless::Vec::new(),
@@ -436,8 +443,23 @@ fn scan_storage() -> Option<(
         positions: heapless::Vec::new(),
         assign_buf: [0; tracker_core::icd::MAX_ASSIGNMENT_BYTES],
         time_base_ms: 0,
-    })?;
-    let sim = cortex_m::singleton!(: Scenario = Scenario::new(ScenarioConfig::open_sea(1, 1)))?;
+    };
+    static TAKEN: AtomicBool = AtomicBool::new(false);
+    #[link_section = ".host_side"]
+    static mut BENCH: MaybeUninit<ScanBench> = MaybeUninit::uninit();
+    #[link_section = ".host_side"]
+    static mut SIM: MaybeUninit<Scenario> = MaybeUninit::uninit();
+    if TAKEN.swap(true, Ordering::AcqRel) {
+        return None;
+    }
+    // SAFETY: TAKEN hands out the one reference to each, once; each is written whole before
+    // the reference is made.
+    let (bench, sim) = unsafe {
+        (
+            (*core::ptr::addr_of_mut!(BENCH)).write(EMPTY),
+            (*core::ptr::addr_of_mut!(SIM)).write(Scenario::new(ScenarioConfig::open_sea(1, 1))),
+        )
+    };
     Some((bench, sim))
 }
 
