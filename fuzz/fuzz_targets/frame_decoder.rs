@@ -33,7 +33,7 @@ fn read_records(payload: &[u8]) {
                 prev,
                 |t| GateReference {
                     moved_on: base(t).map(|b| b.moved_on(2.5)),
-                    cholesky_tenths: base(t).map(|_| [i32::MAX, i32::MIN, 5]),
+                    cholesky_cm: base(t).map(|_| [i32::MAX, i32::MIN, 5]),
                 },
                 |i| (i < 200).then_some([i32::from(i), -i32::from(i)]),
             ) {

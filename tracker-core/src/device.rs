@@ -602,7 +602,7 @@ mod tests {
                                 .iter()
                                 .find(|s| with_base && s.track == t)
                                 .map(|s| s.moved_on(dt)),
-                            cholesky_tenths: self
+                            cholesky_cm: self
                                 .factors
                                 .iter()
                                 .find(|f| with_base && f.0 == t)
@@ -612,7 +612,7 @@ mod tests {
                     )
                     .unwrap();
                     prev = gate.track;
-                    factors.push((gate.track, gate.cholesky_tenths));
+                    factors.push((gate.track, gate.cholesky_cm));
                     out.push(gate);
                 }
             }

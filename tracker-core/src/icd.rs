@@ -38,7 +38,10 @@ pub mod varint;
 /// into byte strings of [`records`]); gates only for tracks with plots in them, and gates
 /// and states coded against the scan's plots and the host's last report (the base); a
 /// report in parts says which part is the last; track states from a track's second hit.
-pub const PROTOCOL_VERSION: u16 = 5;
+///
+/// 6: a gate's Cholesky factor in whole centimetres (was tenths of a metre), so that the
+/// link's rounding no longer decides a plot on the refined gate's edge ([`fixed`]).
+pub const PROTOCOL_VERSION: u16 = 6;
 
 /// Largest decoded frame: header + body + CRC, before COBS.
 pub const MAX_FRAME_BYTES: usize = 1024;

@@ -16,7 +16,7 @@ use heapless::Vec;
 
 use crate::filter::Measurement;
 use crate::geo::EastNorth;
-use crate::icd::fixed::cholesky_tenths;
+use crate::icd::fixed::cholesky_cm;
 use crate::icd::records::{self, GateOnGrid, GateReference, StateOnGrid};
 use crate::icd::varint::Writer;
 use crate::icd::{
@@ -52,7 +52,7 @@ struct SlotBase {
     track: u16,
     has_factor: bool,
     velocity_hundredths: [i16; 2],
-    cholesky_tenths: [i16; 3],
+    cholesky_cm: [i16; 3],
     position_tenths: [i32; 2],
 }
 
@@ -64,7 +64,7 @@ impl SlotBase {
             return NO_BASE;
         };
         let l = factor.map(|f| f.map(i16::try_from));
-        let (has_factor, cholesky_tenths) = match l {
+        let (has_factor, cholesky_cm) = match l {
             Some([Ok(a), Ok(b), Ok(c)]) => (true, [a, b, c]),
             _ => (false, [0; 3]),
         };
@@ -72,7 +72,7 @@ impl SlotBase {
             track: state.track,
             has_factor,
             velocity_hundredths: [ve, vn],
-            cholesky_tenths,
+            cholesky_cm,
             position_tenths: state.position_tenths,
         }
     }
@@ -90,9 +90,8 @@ impl SlotBase {
     }
 
     /// The factor of the gate sent at the base scan, if one was.
-    fn cholesky_tenths(&self) -> Option<[i32; 3]> {
-        self.has_factor
-            .then_some(self.cholesky_tenths.map(i32::from))
+    fn cholesky_cm(&self) -> Option<[i32; 3]> {
+        self.has_factor.then_some(self.cholesky_cm.map(i32::from))
     }
 }
 
@@ -100,7 +99,7 @@ const NO_BASE: SlotBase = SlotBase {
     track: 0,
     has_factor: false,
     velocity_hundredths: [0; 2],
-    cholesky_tenths: [0; 3],
+    cholesky_cm: [0; 3],
     position_tenths: [0; 2],
 };
 
@@ -330,7 +329,7 @@ impl Tracker {
                 // Before this scan's gating, a track still holds the last scan's gate: sent
                 // if it had plots in it.
                 let sent = !t.gated_plots().is_empty();
-                let factor = sent.then(|| cholesky_tenths(t.innovation_cov_m2()));
+                let factor = sent.then(|| cholesky_cm(t.innovation_cov_m2()));
                 SlotBase::of(&StateOnGrid::of(&t.state()), factor)
             } else {
                 NO_BASE
@@ -384,7 +383,7 @@ impl Tracker {
                 .slot_base(slot, t.id)
                 .map_or(GateReference::default(), |b| GateReference {
                     moved_on: Some(b.state().moved_on(dt_s)),
-                    cholesky_tenths: b.cholesky_tenths(),
+                    cholesky_cm: b.cholesky_cm(),
                 });
             let first_plot = self
                 .plots

@@ -365,9 +365,11 @@ fn every_capture_is_tracked_to_its_end() {
         // track confirmed only once its plots are more likely a target's than chance's
         // among the plots around it) and the trend (a target's motion shown once its
         // velocity is known); 18 and 12 with the score alone, 220 and 119 with the trend
-        // alone, 12 and 6 with both: the bounds fail without either.
+        // alone, 12 and 6 with both: the bounds fail without either. The 4G's 12 became
+        // none with protocol 6 (its gates are a few metres, and their Cholesky factor went
+        // in tenths of a metre): its bound fails with the factor in tenths too.
         if name.starts_with("radar_pi-4g") {
-            assert!(fast.1 <= 15, "{name}: fast targets {fast:?}");
+            assert!(fast.1 <= 6, "{name}: fast targets {fast:?}");
         }
         if name.starts_with("radar_pi-halo-velocitytrack") {
             assert!(fast.1 <= 8, "{name}: fast targets {fast:?}");

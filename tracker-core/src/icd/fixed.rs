@@ -9,9 +9,14 @@
 //! very same numbers whichever link runs the device.
 //!
 //! An innovation covariance S (2 × 2, symmetric, positive definite) travels as its Cholesky
-//! factor L (S = L·Lᵀ, L lower triangular), whose entries are lengths: rounding L to tenths
-//! of a metre keeps the decoded S positive semi-definite whatever the rounding, and its
-//! error is a fixed length (at most 0.05 m in each factor) however elongated the gate.
+//! factor L (S = L·Lᵀ, L lower triangular), whose entries are lengths: rounding L keeps the
+//! decoded S positive semi-definite whatever the rounding, and its error is a fixed length
+//! however elongated the gate. L goes in whole centimetres (at most 0.005 m off in each
+//! factor), finer than a position: the host's refined gate is d² = νᵀS⁻¹ν against 9.21, and
+//! with L in tenths (protocol 5) a 45 m factor was off by up to 0.1 %, d² by up to about
+//! ±0.02, which decided plots at the gate's edge (docs/stonesoup.md: open-sea seed 3's plot at
+//! d² 9.2125). In centimetres ±0.002; a tracked target's factors (40–80 m) still take two
+//! bytes each.
 //!
 //! The record lists ([`super::records`]) carry these integers; the types the two sides
 //! compute with stay plain `f32` arrays.
@@ -22,8 +27,13 @@ pub const LENGTH_RESOLUTION_M: f32 = 0.1;
 /// Resolution of a speed on the wire, m/s.
 pub const SPEED_RESOLUTION_MPS: f32 = 0.01;
 
-/// Steps of a length per metre, and of a speed per metre a second.
+/// Resolution of an innovation covariance's Cholesky factor on the wire, m.
+pub const CHOLESKY_RESOLUTION_M: f32 = 0.01;
+
+/// Steps of a length per metre, of a Cholesky factor per metre, and of a speed per metre a
+/// second.
 const LENGTH_STEPS_PER_M: f32 = 10.0;
+const CHOLESKY_STEPS_PER_M: f32 = 100.0;
 const SPEED_STEPS_PER_MPS: f32 = 100.0;
 
 /// `x · steps_per_unit` rounded to the nearest whole number (halves away from zero);
@@ -66,29 +76,26 @@ pub fn position_on_grid(p_m: [f32; 2]) -> [f32; 2] {
     [on_length_grid(p_m[0]), on_length_grid(p_m[1])]
 }
 
-/// S = [s_xx, s_xy, s_yy] (m²) as its Cholesky factor [l11, l21, l22] (m), in tenths.
+/// S = [s_xx, s_xy, s_yy] (m²) as its Cholesky factor [l11, l21, l22] (m), in whole
+/// centimetres.
 /// A matrix that is not positive definite gives a zero on the diagonal, which decodes to a
 /// singular S that the receiver refuses (it is not rounded into a valid-looking one).
-pub fn cholesky_tenths(s: [f32; 3]) -> [i32; 3] {
+pub fn cholesky_cm(s: [f32; 3]) -> [i32; 3] {
     let l11 = libm::sqrtf(s[0]);
     let l21 = if l11 > 0.0 { s[1] / l11 } else { 0.0 };
     let l22 = libm::sqrtf(s[2] - l21 * l21);
-    [
-        length_to_tenths(l11),
-        length_to_tenths(l21),
-        length_to_tenths(l22),
-    ]
+    [l11, l21, l22].map(|l| to_steps(l, CHOLESKY_STEPS_PER_M))
 }
 
-/// S = L·Lᵀ (m²) from the Cholesky factor [l11, l21, l22] in tenths.
+/// S = L·Lᵀ (m²) from the Cholesky factor [l11, l21, l22] in whole centimetres.
 pub fn covariance_from_cholesky(l: [i32; 3]) -> [f32; 3] {
-    let [l11, l21, l22] = l.map(length_from_tenths);
+    let [l11, l21, l22] = l.map(|n| from_steps(n, CHOLESKY_STEPS_PER_M));
     [l11 * l11, l11 * l21, l21 * l21 + l22 * l22]
 }
 
 /// `s` (m²) as the far side of the link will see it.
 pub fn covariance_on_grid(s_m2: [f32; 3]) -> [f32; 3] {
-    covariance_from_cholesky(cholesky_tenths(s_m2))
+    covariance_from_cholesky(cholesky_cm(s_m2))
 }
 
 #[cfg(test)]
@@ -125,6 +132,29 @@ mod tests {
         }
         let det = back[0] * back[2] - back[1] * back[1];
         assert!(det > 0.0);
+    }
+
+    #[test]
+    fn a_plot_on_the_gates_edge_stays_on_it_across_the_link() {
+        // Tracked targets' innovation covariances (factors of 40–50 m, tilted), and plots
+        // all round at d² = 9.21 exactly: after the link's rounding of the factor, d² is
+        // within 0.003 of 9.21 (with the factor in tenths, protocol 5, it was off by up to
+        // 0.011 and 0.015 on these two).
+        for s in [[2031.7f32, 311.3, 1947.9], [1791.3, -95.2, 2602.6]] {
+            let [sxx, sxy, syy] = s.map(f64::from);
+            let l11 = sxx.sqrt();
+            let l21 = sxy / l11;
+            let l22 = (syy - l21 * l21).sqrt();
+            let [rxx, rxy, ryy] = covariance_on_grid(s).map(f64::from);
+            let det = rxx * ryy - rxy * rxy;
+            for k in 0..360 {
+                let th = f64::from(k).to_radians();
+                let (u, v) = (9.21f64.sqrt() * th.cos(), 9.21f64.sqrt() * th.sin());
+                let (dx, dy) = (l11 * u, l21 * u + l22 * v);
+                let d2 = (ryy * dx * dx - 2.0 * rxy * dx * dy + rxx * dy * dy) / det;
+                assert!((d2 - 9.21).abs() < 0.003, "{s:?} at {k}°: d² {d2}");
+            }
+        }
     }
 
     #[test]

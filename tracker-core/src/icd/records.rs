@@ -2,9 +2,9 @@
 //! against.
 //!
 //! Every number here is an integer on the wire's grid ([`super::fixed`]: tenths of a metre,
-//! hundredths of a metre a second), and the two sides compute every reference from the
-//! same integers with the same `f32` operations, so a value decoded on the host is the
-//! value the device coded, bit for bit, on any link.
+//! a gate's Cholesky factor in centimetres, hundredths of a metre a second), and the two
+//! sides compute every reference from the same integers with the same `f32` operations, so
+//! a value decoded on the host is the value the device coded, bit for bit, on any link.
 //!
 //! What a record is coded against (all of it known to both sides when it is read):
 //!
@@ -28,7 +28,7 @@
 //!        track − previous record's track (i32; the first from 0)
 //!        plot indices (u32 each)
 //!        predicted east, north − reference (i32, tenths)
-//!        Cholesky l11, l21, l22 (− the base's) (i32, tenths)
+//!        Cholesky l11, l21, l22 (− the base's) (i32, centimetres)
 //! state: head u8 = status (0–3) | 0x04 hit on this scan | 0x08 whole
 //!        track − previous record's track (i32)
 //!        whole:   east, north (i32, tenths); v_east, v_north (i32, hundredths);
@@ -40,7 +40,7 @@
 use heapless::Vec;
 
 use super::fixed::{
-    cholesky_tenths, covariance_from_cholesky, length_from_tenths, length_to_tenths,
+    cholesky_cm, covariance_from_cholesky, length_from_tenths, length_to_tenths,
     speed_from_hundredths, speed_to_hundredths,
 };
 use super::varint::{Malformed, Reader, Writer};
@@ -296,8 +296,8 @@ pub struct GateOnGrid {
     pub plots: Vec<u16, MAX_PLOTS_PER_GATE>,
     /// Predicted position east, north, tenths of a metre.
     pub predicted_tenths: [i32; 2],
-    /// The innovation covariance's Cholesky factor `[l11, l21, l22]`, tenths of a metre.
-    pub cholesky_tenths: [i32; 3],
+    /// The innovation covariance's Cholesky factor `[l11, l21, l22]`, whole centimetres.
+    pub cholesky_cm: [i32; 3],
 }
 
 impl GateOnGrid {
@@ -312,7 +312,7 @@ impl GateOnGrid {
             track,
             plots,
             predicted_tenths: tenths(predicted_m),
-            cholesky_tenths: cholesky_tenths(innovation_cov_m2),
+            cholesky_cm: cholesky_cm(innovation_cov_m2),
         }
     }
 
@@ -321,7 +321,7 @@ impl GateOnGrid {
         GatedPlots {
             track: self.track,
             predicted_m: self.predicted_tenths.map(length_from_tenths),
-            innovation_cov_m2: covariance_from_cholesky(self.cholesky_tenths),
+            innovation_cov_m2: covariance_from_cholesky(self.cholesky_cm),
             plots: self.plots.clone(),
         }
     }
@@ -334,7 +334,7 @@ pub struct GateReference {
     /// the base.
     pub moved_on: Option<[i32; 2]>,
     /// The factor sent in the track's gate at the base scan, when one was.
-    pub cholesky_tenths: Option<[i32; 3]>,
+    pub cholesky_cm: Option<[i32; 3]>,
 }
 
 /// Writes one gate record after the one of track `prev` (0 for the first of a message).
@@ -355,7 +355,7 @@ pub fn write_gate(
         }
         None => first_plot_tenths,
     };
-    let l_from = match reference.cholesky_tenths {
+    let l_from = match reference.cholesky_cm {
         Some(l) => {
             head |= GATE_FACTOR_FROM_BASE;
             l
@@ -370,7 +370,7 @@ pub fn write_gate(
     for d in sub2(gate.predicted_tenths, from) {
         w.i32(d);
     }
-    for (l, b) in gate.cholesky_tenths.iter().zip(l_from) {
+    for (l, b) in gate.cholesky_cm.iter().zip(l_from) {
         w.i32(l.wrapping_sub(b));
     }
 }
@@ -404,20 +404,20 @@ pub fn read_gate(
         plot_tenths(*plots.first().ok_or(Malformed)?).ok_or(Malformed)?
     };
     let l_from = if head & GATE_FACTOR_FROM_BASE != 0 {
-        known.cholesky_tenths.ok_or(Malformed)?
+        known.cholesky_cm.ok_or(Malformed)?
     } else {
         [0; 3]
     };
     let predicted_tenths = add2([r.i32()?, r.i32()?], from);
-    let mut cholesky_tenths = [0; 3];
-    for (l, b) in cholesky_tenths.iter_mut().zip(l_from) {
+    let mut cholesky_cm = [0; 3];
+    for (l, b) in cholesky_cm.iter_mut().zip(l_from) {
         *l = r.i32()?.wrapping_add(b);
     }
     Ok(GateOnGrid {
         track,
         plots,
         predicted_tenths,
-        cholesky_tenths,
+        cholesky_cm,
     })
 }
 
@@ -557,18 +557,18 @@ mod tests {
             track: 300,
             plots: Vec::from_slice(&[1, 0]).unwrap(),
             predicted_tenths: [118_250, -40_400],
-            cholesky_tenths: [552, -13, 540],
+            cholesky_cm: [552, -13, 540],
         };
         let base = GateReference {
             moved_on: Some([118_251, -40_398]),
-            cholesky_tenths: Some([550, -13, 541]),
+            cholesky_cm: Some([550, -13, 541]),
         };
         for (sent, held) in [
             (GateReference::default(), GateReference::default()),
             (base, base),
             (
                 GateReference {
-                    cholesky_tenths: None,
+                    cholesky_cm: None,
                     ..base
                 },
                 base,

@@ -146,12 +146,12 @@ pub fn scan_bytes_coded(tracks: usize, plots: usize, coding: Coding) -> usize {
                     .take(plots.min(2))
                     .collect(),
                 predicted_tenths: [p[0] + 30, p[1] - 30],
-                cholesky_tenths: [600, 150, 707],
+                cholesky_cm: [6000, 1500, 7070],
             };
             let reference = match coding {
                 Coding::Base => GateReference {
                     moved_on: Some(p),
-                    cholesky_tenths: Some([650, 150, 657]),
+                    cholesky_cm: Some([6500, 1500, 6570]),
                 },
                 Coding::Whole => GateReference::default(),
             };
@@ -323,8 +323,8 @@ mod tests {
         assert!(scan_bytes(40, 100) > scan_bytes(16, 100));
         assert!(scan_bytes_coded(40, 100, Coding::Whole) > scan_bytes(40, 100));
         // Deterministic counts of this protocol version; a change to the wire shows here.
-        assert_eq!(scan_bytes(40, 200), 2_231);
-        assert_eq!(scan_bytes(MAX_TRACKS, MAX_PLOTS_PER_SCAN), 3_255);
+        assert_eq!(scan_bytes(40, 200), 2_311);
+        assert_eq!(scan_bytes(MAX_TRACKS, MAX_PLOTS_PER_SCAN), 3_399);
     }
 
     #[test]

@@ -459,7 +459,7 @@ fn decode_gates(
         let reference = |track: u16| match base {
             Some(_) => GateReference {
                 moved_on: held.states.get(&track).map(|s| s.moved_on(dt_s)),
-                cholesky_tenths: held.factors.get(&track).copied(),
+                cholesky_cm: held.factors.get(&track).copied(),
             },
             None => GateReference::default(),
         };
@@ -471,7 +471,7 @@ fn decode_gates(
                 InvalidReport(format!("scan {}: a gate record does not decode", part.scan))
             })?;
             prev = g.track;
-            factors.insert(g.track, g.cholesky_tenths);
+            factors.insert(g.track, g.cholesky_cm);
             gates.push(g.gated());
         }
     }
