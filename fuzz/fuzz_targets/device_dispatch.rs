@@ -15,7 +15,7 @@ fuzz_target!(|data: &[u8]| {
     let mut device = Box::new(Device::new(DeviceConfig {
         firmware: "fuzz",
         boot_id: 1,
-        max_tracks: 64,
+        max_tracks: MAX_TRACKS as u16,
         max_plots_per_scan: 256,
     }));
     let mut out = vec![0u8; MAX_ENCODED_FRAME_BYTES];

@@ -402,12 +402,13 @@ mod tests {
     use crate::icd::{
         AssignmentBatch, PlotBatch, TrackCommand, MAX_ASSIGNMENT_BYTES, MAX_PLOT_BYTES,
     };
+    use crate::track::MAX_TRACKS;
     use std::vec::Vec;
 
     const CONFIG: DeviceConfig = DeviceConfig {
         firmware: "test",
         boot_id: 42,
-        max_tracks: 64,
+        max_tracks: MAX_TRACKS as u16,
         max_plots_per_scan: 256,
     };
 
@@ -742,11 +743,12 @@ mod tests {
     #[test]
     fn a_report_of_many_tracks_comes_in_parts() {
         let mut dev = Device::new(CONFIG);
-        // Far out (four-byte coordinates) and old (two-byte age and hits): 64 whole records
-        // fill more than a part.
-        let plots: Vec<[f32; 2]> = (0..64).map(|i| [-100_000.0 * i as f32, 5.0e6]).collect();
-        let ids: Vec<u16> = (0..64).collect();
-        let updates: Vec<(u16, u16)> = (1..=64).zip(0..64).collect();
+        // A full table, far out (four-byte coordinates) and old (two-byte age and hits): its
+        // whole records fill more than a part.
+        let n = MAX_TRACKS as u16;
+        let plots: Vec<[f32; 2]> = (0..n).map(|i| [-100_000.0 * f32::from(i), 5.0e6]).collect();
+        let ids: Vec<u16> = (0..n).collect();
+        let updates: Vec<(u16, u16)> = (1..=n).zip(0..n).collect();
         for scan in 0..130u32 {
             exchange(&mut dev, &plots_request(10, scan, None, &plots));
             let (u, start): (&[(u16, u16)], &[u16]) = if scan == 0 {
@@ -768,7 +770,7 @@ mod tests {
                 }
             }
         }
-        assert_eq!(dev.tracker().table().len(), 64);
+        assert_eq!(dev.tracker().table().len(), MAX_TRACKS);
         let r = exchange(&mut dev, &request(40, &HostToDevice::GetTracks));
         assert!(r.len() >= 2);
         let r = exchange(

@@ -44,8 +44,11 @@ enum Phase {
 
 /// What the host holds of one slot's track, as far as coding against it needs: the
 /// position and velocity its last report carried, and the Cholesky factor of the gate sent
-/// for it at that scan. Kept small (24 bytes a slot): a velocity or factor too large for 16
-/// bits leaves the track without a base, and it is sent whole.
+/// for it at that scan. Kept small (24 bytes a slot): a velocity past ±327.67 m/s (16 bits of
+/// hundredths) leaves the track without a base, and its records are sent whole; a factor
+/// entry past ±327.67 m (16 bits of centimetres) leaves the base without its factor, and the
+/// next gate's factor alone is sent whole (the host holds every factor it was sent, so it
+/// reads either).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct SlotBase {
     /// The track the base is of (0: none).
@@ -579,6 +582,30 @@ mod tests {
     use super::*;
     use crate::icd::varint::Reader;
     use crate::icd::{Bytes, MAX_ASSIGNMENT_BYTES, MAX_PLOT_BYTES};
+
+    #[test]
+    fn a_base_past_sixteen_bits_is_dropped_not_wrapped() {
+        let state = |v| StateOnGrid {
+            track: 7,
+            status: TrackStatus::Confirmed,
+            position_tenths: [1_000_000, -2_000_000],
+            velocity_hundredths: v,
+            age_scans: 3,
+            hit_history: 0b111,
+        };
+        // A wide gate (a 400 m factor): the base keeps the state, not the factor.
+        let b = SlotBase::of(&state([1_200, -300]), Some([40_000, -120, 3_500]));
+        assert_eq!(b.track, 7);
+        assert_eq!(b.cholesky_cm(), None);
+        assert_eq!(b.state().position_tenths, [1_000_000, -2_000_000]);
+        assert_eq!(b.state().velocity_hundredths, [1_200, -300]);
+        // At the edge of 16 bits the factor is kept, and read back as it was.
+        let b = SlotBase::of(&state([1_200, -300]), Some([32_767, -32_768, 1]));
+        assert_eq!(b.cholesky_cm(), Some([32_767, -32_768, 1]));
+        // A velocity past 16 bits: no base at all.
+        let b = SlotBase::of(&state([40_000, 0]), Some([4_000, 0, 4_000]));
+        assert_eq!(b, NO_BASE);
+    }
 
     /// Takes a plots part (the test's buffers stay on the stack).
     fn plots(

@@ -71,7 +71,7 @@ impl Hostile {
                     protocol: PROTOCOL_VERSION,
                     firmware: "hostile",
                     max_frame_bytes: MAX_FRAME_BYTES as u16,
-                    max_tracks: 64,
+                    max_tracks: tracker_core::track::MAX_TRACKS as u16,
                     max_plots_per_scan: 256,
                     boot_id: 7,
                 }),

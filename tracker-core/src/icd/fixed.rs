@@ -15,26 +15,27 @@
 //! factor), finer than a position: the host's refined gate is d² = νᵀS⁻¹ν against 9.21, and
 //! with L in tenths (protocol 5) a 45 m factor was off by up to 0.1 %, d² by up to about
 //! ±0.02, which decided plots at the gate's edge (docs/stonesoup.md: open-sea seed 3's plot at
-//! d² 9.2125). In centimetres ±0.002; a tracked target's factors (40–80 m) still take two
+//! d² 9.2125). In centimetres within 0.003 (about 0.002 on tracked targets' gates); a tracked target's factors (40–80 m) still take two
 //! bytes each.
 //!
 //! The record lists ([`super::records`]) carry these integers; the types the two sides
 //! compute with stay plain `f32` arrays.
 
+/// Steps of a length per metre (tenths).
+const LENGTH_STEPS_PER_M: f32 = 10.0;
+/// Steps of a Cholesky factor per metre (centimetres).
+const CHOLESKY_STEPS_PER_M: f32 = 100.0;
+/// Steps of a speed per metre a second (hundredths).
+const SPEED_STEPS_PER_MPS: f32 = 100.0;
+
 /// Resolution of a length on the wire, m.
-pub const LENGTH_RESOLUTION_M: f32 = 0.1;
+pub const LENGTH_RESOLUTION_M: f32 = 1.0 / LENGTH_STEPS_PER_M;
 
 /// Resolution of a speed on the wire, m/s.
-pub const SPEED_RESOLUTION_MPS: f32 = 0.01;
+pub const SPEED_RESOLUTION_MPS: f32 = 1.0 / SPEED_STEPS_PER_MPS;
 
 /// Resolution of an innovation covariance's Cholesky factor on the wire, m.
-pub const CHOLESKY_RESOLUTION_M: f32 = 0.01;
-
-/// Steps of a length per metre, of a Cholesky factor per metre, and of a speed per metre a
-/// second.
-const LENGTH_STEPS_PER_M: f32 = 10.0;
-const CHOLESKY_STEPS_PER_M: f32 = 100.0;
-const SPEED_STEPS_PER_MPS: f32 = 100.0;
+pub const CHOLESKY_RESOLUTION_M: f32 = 1.0 / CHOLESKY_STEPS_PER_M;
 
 /// `x · steps_per_unit` rounded to the nearest whole number (halves away from zero);
 /// values past `i32`'s range saturate and NaN becomes 0 (Rust's float-to-int conversion).

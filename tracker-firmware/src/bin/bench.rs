@@ -108,8 +108,8 @@ fn filter_row<S: Scalar, F: Filter<S>>(
 }
 
 /// Tracks in the fixed-scan g-h rows (their figures are per track): 64, the table's size
-/// when they were first measured. The filters live on the bench's stack, which a whole
-/// table's worth would deepen past what the firmware leaves (docs/firmware.md).
+/// when they were first measured, kept so that the rows stay comparable with their history
+/// (a per-track figure hardly depends on the count: the scan's fixed cost is shared out).
 const FIXED_SCAN_TRACKS: usize = 64;
 
 /// Scans the fixed-scan g-h rows time.
@@ -185,8 +185,10 @@ struct ScanLoad {
     initiate_clutter: bool,
 }
 
-/// Storage of the scan benches, in .bss rather than on the stack (which the track table
-/// leaves small), shared by every row.
+/// Storage of the scan benches, in `.host_side` (memory.x: RAM above the board's 64 KiB,
+/// which QEMU has and the board has not) rather than on the stack, which the track table
+/// leaves small, or in the board's RAM, which holds only what the firmware holds; shared by
+/// every row.
 struct ScanBench {
     out: tracker_core::sim::ScanOutput,
     /// Per plot: in some gate; assigned to a track.
