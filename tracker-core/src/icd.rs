@@ -41,7 +41,17 @@ pub mod varint;
 ///
 /// 6: a gate's Cholesky factor in whole centimetres (was tenths of a metre), so that the
 /// link's rounding no longer decides a plot on the refined gate's edge ([`fixed`]).
-pub const PROTOCOL_VERSION: u16 = 6;
+///
+/// 7: an update may name [`HIDDEN_PLOT`]: the track coasts, its target hidden in a plot
+/// another track took, and the miss does not count towards its loss.
+pub const PROTOCOL_VERSION: u16 = 7;
+
+/// The plot index an update names for a firm track whose target is *hidden*: no plot of
+/// its own, but a plot inside its refined gate went to another firm track (two targets in
+/// one resolution cell give one plot). The track coasts; the miss counts towards its loss
+/// only after [`crate::track::HIDDEN_LOST_AFTER_COASTS`] scans in a row without a plot
+/// ([`crate::track`]'s life cycle). No scan has this many plots.
+pub const HIDDEN_PLOT: u16 = u16::MAX;
 
 /// Largest decoded frame: header + body + CRC, before COBS.
 pub const MAX_FRAME_BYTES: usize = 1024;
@@ -373,7 +383,8 @@ pub struct GatedBatch<'a> {
 pub struct Assignment {
     /// Track number.
     pub track: u16,
-    /// Index of the plot in the scan, or `None` to coast.
+    /// Index of the plot in the scan, or `None` to coast ([`HIDDEN_PLOT`]: to coast, the
+    /// target hidden in another track's plot).
     pub plot: Option<u16>,
 }
 

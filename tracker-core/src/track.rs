@@ -18,7 +18,10 @@
 //! without a plot: hit, miss, hit, miss, hit confirms on the fifth scan, as long as the
 //! track's speed is one a target can have ([`CONFIRM_SPEED_FACTOR`]). A confirmed track
 //! is *coasting* on a scan without a plot, and is reported *lost* once and removed after
-//! [`LOST_AFTER_COASTS`] scans in a row without one. Both rules count misses in a row, as
+//! [`LOST_AFTER_COASTS`] scans in a row without one; a scan on which the host says its
+//! target is *hidden* ([`crate::icd::HIDDEN_PLOT`]: no plot of its own, but one inside its
+//! gate went to another firm track, as when two ships share one resolution cell) does not
+//! count, up to [`HIDDEN_LOST_AFTER_COASTS`] scans in a row without a plot in all. Both rules count misses in a row, as
 //! Stone Soup's `MultiMeasurementInitiator(min_points=3)` with `UpdateTimeStepsDeleter(2)`
 //! for its holding tracks and `UpdateTimeStepsDeleter(6)` for its tracks do
 //! (docs/stonesoup.md). Until that comparison a confirmed track was lost on 5 hits of its
@@ -70,7 +73,8 @@ use crate::filter::{
 use crate::float::{max, min};
 use crate::geo::EastNorth;
 use crate::icd::{
-    Assignment, ErrorCode, GatedPlots, TrackState, TrackStatus, TrackerConfig, MAX_PLOTS_PER_GATE,
+    Assignment, ErrorCode, GatedPlots, TrackState, TrackStatus, TrackerConfig, HIDDEN_PLOT,
+    MAX_PLOTS_PER_GATE,
 };
 use crate::spatial::EastIndex;
 use crate::tracker::MAX_PLOTS_PER_SCAN;
@@ -101,8 +105,15 @@ pub const TENTATIVE_MAX_AGE_SCANS: u16 = 2 * KEEP_N as u16;
 /// track's wide gates can make a track at 50 m/s.
 pub const CONFIRM_SPEED_FACTOR: f32 = 1.5;
 /// A confirmed track is lost after this many scans in a row without a plot (15 s at a
-/// 2.5 s scan).
+/// 2.5 s scan), the scans its target was hidden in another track's plot not counted.
 pub const LOST_AFTER_COASTS: u8 = 6;
+/// A confirmed track whose target is hidden in another track's plot
+/// ([`crate::icd::HIDDEN_PLOT`]) is lost after this many scans in a row without a plot of
+/// its own, hidden or not (40 s at a 2.5 s scan; at most 16, the hit history's length):
+/// the hidden track coasts on at its own velocity to where its ship comes out of the
+/// neighbour's echo.
+pub const HIDDEN_LOST_AFTER_COASTS: u8 = 16;
+const _: () = assert!(HIDDEN_LOST_AFTER_COASTS as u32 <= u16::BITS);
 /// Scans of hit history a track reports ([`crate::icd::TrackState::hit_history`]).
 pub const KEEP_N: u32 = 10;
 
@@ -314,7 +325,9 @@ pub struct Track {
     hits: u16,
     /// Scans since the track started (the first included).
     age_scans: u16,
-    /// Consecutive scans without a plot.
+    /// Consecutive scans without a plot, those its target was hidden in another track's
+    /// plot not counted (the loss rule's count; the scans since the last plot are the hit
+    /// history's trailing zeros, [`Track::scans_since_plot`]: the slot stays 512 bytes).
     coasts: u8,
     /// Time of the last prediction or start, ms.
     time_ms: u64,
@@ -376,6 +389,13 @@ impl Track {
     fn hits_in_last(&self, n: u32) -> u32 {
         (self.hits & ((1u16 << n) - 1)).count_ones()
     }
+
+    /// Scans since the track's last plot (0 when it took one on the last scan), at most 16:
+    /// the hit history's trailing zeros.
+    fn scans_since_plot(&self) -> u8 {
+        // At most 16, so the cast is exact.
+        self.hits.trailing_zeros() as u8
+    }
 }
 
 /// A slot no assignment named yet, in `apply` (no plot index reaches it: a scan has at
@@ -384,6 +404,9 @@ const NO_PLOT: u16 = u16::MAX;
 
 /// A slot an assignment told to coast, in `apply`.
 const COAST: u16 = u16::MAX - 1;
+
+/// A slot an assignment told to coast with its target hidden ([`HIDDEN_PLOT`]), in `apply`.
+const HIDDEN: u16 = u16::MAX - 2;
 
 /// What a scan's `apply` did, for the counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -602,7 +625,7 @@ impl TrackTable {
             let Some(t) = self.slots.get_mut(usize::from(slot)) else {
                 continue;
             };
-            t.innovation_cov = t.filter.innovation_cov(plot_var, t.coasts);
+            t.innovation_cov = t.filter.innovation_cov(plot_var, t.scans_since_plot());
             let sigma = libm::sqrtf(max(t.innovation_cov[0], t.innovation_cov[2]));
             // max/min, not clamp: clamp panics on NaN or crossed bounds, and the firmware
             // must have no reachable panic.
@@ -684,12 +707,18 @@ impl TrackTable {
                 return Err(ErrorCode::InvalidValue);
             };
             from = at + 1;
-            if a.plot.is_some_and(|p| plot(p).is_none()) {
+            if a.plot
+                .is_some_and(|p| p != HIDDEN_PLOT && plot(p).is_none())
+            {
                 return Err(ErrorCode::InvalidValue);
             }
             if let Some(p) = plot_of.get_mut(at) {
                 if *p == NO_PLOT {
-                    *p = a.plot.unwrap_or(COAST);
+                    *p = match a.plot {
+                        Some(HIDDEN_PLOT) => HIDDEN,
+                        Some(p) => p,
+                        None => COAST,
+                    };
                 }
             }
         }
@@ -700,7 +729,7 @@ impl TrackTable {
         // The plots firm tracks took: not extraneous to a tentative track's score.
         let mut firm_taken = PlotSet::EMPTY;
         for (&slot, &p) in self.order.iter().zip(plot_of.iter()) {
-            if p < COAST
+            if p < HIDDEN
                 && self
                     .slots
                     .get(usize::from(slot))
@@ -761,7 +790,9 @@ impl TrackTable {
                     if !in_place {
                         t.filter.coast();
                     }
-                    t.coasts = t.coasts.saturating_add(1);
+                    if p != HIDDEN || !t.status.is_firm() {
+                        t.coasts = t.coasts.saturating_add(1);
+                    }
                     report.coasted += 1;
                 }
             }
@@ -1112,9 +1143,9 @@ fn next_status(t: &Track, max_speed_mps: f32) -> Option<TrackStatus> {
             }
         }
         TrackStatus::Confirmed | TrackStatus::Coasting => {
-            if t.coasts >= LOST_AFTER_COASTS {
+            if t.coasts >= LOST_AFTER_COASTS || t.scans_since_plot() >= HIDDEN_LOST_AFTER_COASTS {
                 TrackStatus::Lost
-            } else if t.coasts == 0 {
+            } else if t.hit_last_scan() {
                 TrackStatus::Confirmed
             } else {
                 TrackStatus::Coasting
@@ -1199,6 +1230,66 @@ mod tests {
         scan(&mut t, 19 * 2500, &[]);
         assert_eq!(t.track(0).unwrap().status, TrackStatus::Lost);
         scan(&mut t, 20 * 2500, &[]);
+        assert!(t.is_empty());
+    }
+
+    /// One scan in which the host says `track`'s target is hidden in another's plot.
+    fn hidden_scan(t: &mut TrackTable, time_ms: u64, track: u16) {
+        t.predict(time_ms);
+        t.gate(&[], 2.5);
+        let hidden = [Assignment {
+            track,
+            plot: Some(HIDDEN_PLOT),
+        }];
+        t.apply(time_ms, &[], &hidden, &[]).unwrap();
+    }
+
+    #[test]
+    fn a_hidden_target_coasts_longer_but_not_for_ever() {
+        let at = |k: u64| [1000.0 + 5.0 * 2.5 * k as f32, -300.0];
+        let status = |t: &TrackTable| t.track(0).unwrap().status;
+        let mut t = table();
+        for k in 0..3 {
+            scan(&mut t, k * 2500, &[at(k)]);
+        }
+        let id = t.track(0).unwrap().id;
+        // Hidden scans do not count towards the loss after 6 misses...
+        let mut k = 3;
+        for _ in 0..LOST_AFTER_COASTS + 4 {
+            hidden_scan(&mut t, k * 2500, id);
+            k += 1;
+            assert_eq!(status(&t), TrackStatus::Coasting, "scan {k}");
+        }
+        // ... a plot of its own ends the coast ...
+        scan(&mut t, k * 2500, &[at(k)]);
+        k += 1;
+        assert_eq!(status(&t), TrackStatus::Confirmed);
+        // ... and of hidden scans and misses mixed, the sixth miss loses it.
+        for _ in 0..LOST_AFTER_COASTS - 1 {
+            scan(&mut t, k * 2500, &[]);
+            hidden_scan(&mut t, (k + 1) * 2500, id);
+            k += 2;
+            assert_eq!(status(&t), TrackStatus::Coasting, "scan {k}");
+        }
+        scan(&mut t, k * 2500, &[]);
+        assert_eq!(status(&t), TrackStatus::Lost);
+        // Hidden in a row: lost after HIDDEN_LOST_AFTER_COASTS scans without a plot.
+        let mut t = table();
+        for k in 0..3 {
+            scan(&mut t, k * 2500, &[at(k)]);
+        }
+        let id = t.track(0).unwrap().id;
+        for k in 3..3 + u64::from(HIDDEN_LOST_AFTER_COASTS) {
+            assert_ne!(status(&t), TrackStatus::Lost, "scan {k}");
+            hidden_scan(&mut t, k * 2500, id);
+        }
+        assert_eq!(status(&t), TrackStatus::Lost);
+        // A tentative track is not helped: two misses, hidden or not, drop it.
+        let mut t = table();
+        scan(&mut t, 0, &[at(0)]);
+        let id = t.track(0).unwrap().id;
+        hidden_scan(&mut t, 2500, id);
+        hidden_scan(&mut t, 5000, id);
         assert!(t.is_empty());
     }
 

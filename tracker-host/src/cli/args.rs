@@ -44,6 +44,10 @@ pub enum AssociationArg {
     TwoStage,
     /// One stage; only plots in no rough gate start tracks.
     Joint,
+    /// Two-stage, and a firm track whose target is hidden in a plot another firm track
+    /// took (two ships in one resolution cell) coasts without the miss counting towards
+    /// its loss.
+    TwoStageUnresolved,
 }
 
 impl From<AssociationArg> for crate::session::associate::Association {
@@ -51,6 +55,7 @@ impl From<AssociationArg> for crate::session::associate::Association {
         match a {
             AssociationArg::TwoStage => Self::TwoStage,
             AssociationArg::Joint => Self::Joint,
+            AssociationArg::TwoStageUnresolved => Self::TwoStageUnresolved,
         }
     }
 }
@@ -82,7 +87,10 @@ pub struct RunArgs {
     /// How plots are associated and which start tracks: `two-stage` (firm tracks take
     /// their plots first, tentative ones from what is left; a plot no track took starts a
     /// track unless it is inside a firm track's refined gate) or `joint` (one assignment
-    /// over all tracks; only plots in no rough gate start tracks: the earlier rule).
+    /// over all tracks; only plots in no rough gate start tracks: the earlier rule) or
+    /// `two-stage-unresolved` (two-stage, and a firm track whose target is hidden in a plot
+    /// another firm track took coasts for up to 16 scans instead of 6: both ships of a
+    /// merge stay tracked).
     #[arg(long, value_enum, default_value_t = AssociationArg::TwoStage)]
     pub association: AssociationArg,
     /// Source seconds per real second, or `max` (the default; 1, real time, with a live

@@ -28,7 +28,7 @@ use std::collections::BTreeSet;
 use pathfinding::kuhn_munkres::kuhn_munkres_min;
 use pathfinding::matrix::Matrix;
 use tracker_core::geo::EastNorth;
-use tracker_core::icd::{Assignment, GatedPlots};
+use tracker_core::icd::{Assignment, GatedPlots, HIDDEN_PLOT};
 
 /// Chi-square, 2 degrees of freedom, 99 %: a true plot falls outside 1 % of the time.
 pub const CHI2_2DOF_99: f64 = 9.21;
@@ -47,6 +47,14 @@ pub enum Association {
     TwoStage,
     /// One assignment over all tracks; only plots in no rough gate start tracks.
     Joint,
+    /// As [`Association::TwoStage`], and a firm track left without a plot whose refined
+    /// gate held a plot another firm track took is taken as **unresolved** from that track
+    /// (two targets in one resolution cell give one plot): it coasts, and the scans so
+    /// coasted do not count towards its loss ([`HIDDEN_PLOT`], up to
+    /// [`tracker_core::track::HIDDEN_LOST_AFTER_COASTS`] scans). Not the default: it keeps
+    /// both ships of a merge tracked (docs/tracking.md), but the tracks it keeps coasting
+    /// are more often shown apart from their AIS targets (docs/ais.md).
+    TwoStageUnresolved,
 }
 
 /// The host's decision for one scan.
@@ -61,6 +69,9 @@ pub struct Associated {
     /// Plots no track took and not started either: inside a rough gate
     /// ([`Association::Joint`]; none with [`Association::TwoStage`]).
     pub withheld: usize,
+    /// Firm tracks coasted with their target hidden in a plot another firm track took
+    /// ([`HIDDEN_PLOT`]; [`Association::TwoStageUnresolved`] only).
+    pub hidden: usize,
 }
 
 /// Mahalanobis distance² of `z` from `predicted` under `s = [sxx, sxy, syy]`; `None` when S
@@ -94,7 +105,7 @@ pub fn associate(
             let all: Vec<&GatedPlots> = gates.iter().collect();
             gnn(&all, plots, threshold, &mut taken, &mut assigned, &mut out);
         }
-        Association::TwoStage => {
+        Association::TwoStage | Association::TwoStageUnresolved => {
             let (strong, weak): (Vec<&GatedPlots>, Vec<&GatedPlots>) =
                 gates.iter().partition(|g| firm(g.track));
             gnn(
@@ -106,6 +117,38 @@ pub fn associate(
                 &mut out,
             );
             gnn(&weak, plots, threshold, &mut taken, &mut assigned, &mut out);
+        }
+    }
+    // Unresolved: a firm track left without a plot whose refined gate held a plot another
+    // firm track took has its target taken as hidden in that plot (two ships in one
+    // resolution cell give one plot), and the miss does not count towards its loss
+    // ([`HIDDEN_PLOT`]): it coasts on at its own velocity to where its ship comes out,
+    // instead of being dropped after six scans and the ship acquired anew.
+    let firm_took: BTreeSet<u16> = assigned
+        .iter()
+        .filter(|(t, _)| firm(*t))
+        .filter_map(|(_, p)| *p)
+        .collect();
+    let unresolved = mode == Association::TwoStageUnresolved;
+    for (track, plot) in assigned.iter_mut().filter(|_| unresolved) {
+        if plot.is_some() || !firm(*track) {
+            continue;
+        }
+        let Some(g) = gates.iter().find(|g| g.track == *track) else {
+            continue;
+        };
+        let in_gate = |p: u16| {
+            plots
+                .get(usize::from(p))
+                .and_then(|z| mahalanobis2(*z, g.predicted_m, g.innovation_cov_m2))
+                .is_some_and(|d2| d2 <= threshold)
+        };
+        if g.plots
+            .iter()
+            .any(|&p| firm_took.contains(&p) && in_gate(p))
+        {
+            *plot = Some(HIDDEN_PLOT);
+            out.hidden += 1;
         }
     }
     // Assignments in the order of the gates, as the device listed them.
@@ -321,6 +364,37 @@ mod tests {
             "jointly the tentative track wins"
         );
         assert_eq!(a.assignments[1].plot, Some(0));
+    }
+
+    #[test]
+    fn a_firm_track_whose_plot_a_neighbour_took_is_unresolved_from_it() {
+        // Two firm tracks 60 m apart (σ 40 m) and one plot between them, nearer track 1:
+        // track 1 takes it; track 2, with the plot in its gate, is unresolved from track 1
+        // (hidden) with `TwoStageUnresolved`, and only coasts with `TwoStage`. Track 3,
+        // whose gate holds no plot taken by a firm track, and the tentative track 4 only
+        // coast.
+        let plots = [[20.0, 0.0], [900.0, 0.0]];
+        let gates = [
+            gate(1, [0.0, 0.0], 40.0, &[0]),
+            gate(2, [60.0, 0.0], 40.0, &[0]),
+            gate(3, [2000.0, 0.0], 40.0, &[1]),
+            gate(4, [50.0, 10.0], 40.0, &[0]),
+        ];
+        let firm = |t: u16| t != 4;
+        let plot_of = |a: &Associated| a.assignments.iter().map(|x| x.plot).collect::<Vec<_>>();
+        let a = associate(
+            Association::TwoStageUnresolved,
+            &gates,
+            &plots,
+            CHI2_2DOF_99,
+            firm,
+        );
+        assert_eq!(plot_of(&a), [Some(0), Some(HIDDEN_PLOT), None, None]);
+        assert_eq!(a.hidden, 1);
+        assert_eq!(a.initiate, [1], "a hidden target's plot is not free");
+        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, firm);
+        assert_eq!(plot_of(&a), [Some(0), None, None, None]);
+        assert_eq!(a.hidden, 0);
     }
 
     #[test]
