@@ -310,7 +310,10 @@ fn hidden_targets_coast_the_same_on_the_firmware() {
         assert_eq!(a.tracks, b.tracks, "scan {}", a.scan);
         hidden += a.association.hidden;
     }
-    assert!(hidden > 0, "no target was hidden: the test no longer tests it");
+    assert!(
+        hidden > 0,
+        "no target was hidden: the test no longer tests it"
+    );
 }
 
 /// The noisy-link guarantee against the firmware: at a 10⁻³ byte error rate both ways, the

@@ -408,6 +408,9 @@ const COAST: u16 = u16::MAX - 1;
 /// A slot an assignment told to coast with its target hidden ([`HIDDEN_PLOT`]), in `apply`.
 const HIDDEN: u16 = u16::MAX - 2;
 
+// No plot index reaches the markers above.
+const _: () = assert!(MAX_PLOTS_PER_SCAN < HIDDEN as usize);
+
 /// What a scan's `apply` did, for the counters.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]
@@ -685,7 +688,7 @@ impl TrackTable {
     /// before any change.
     ///
     /// # Errors
-    /// [`ErrorCode::OutOfSequence`] when no scan is open; [`ErrorCode::InvalidValue`] when an assignment names a track or plot that does not exist, or an initiation a plot that does not.
+    /// [`ErrorCode::OutOfSequence`] when no scan is open; [`ErrorCode::InvalidValue`] when an assignment names a track that does not exist or a plot that does not (other than [`HIDDEN_PLOT`]: the track coasts, its target hidden), or an initiation a plot that does not.
     pub fn apply(
         &mut self,
         time_ms: u64,
@@ -1291,6 +1294,84 @@ mod tests {
         hidden_scan(&mut t, 2500, id);
         hidden_scan(&mut t, 5000, id);
         assert!(t.is_empty());
+    }
+
+    #[test]
+    fn a_g_h_tracks_gate_grows_with_the_scans_since_its_plot_hidden_or_not() {
+        // A g-h filter knows no innovation covariance: its gate is twice the plot variance
+        // grown with the square of the scans since its last plot (hit history), whether
+        // those scans were misses or hidden.
+        use crate::filter::alpha_beta::AlphaBetaGains;
+        let ab = AlphaBetaGains::Fixed {
+            alpha: 0.5,
+            beta: 0.25 / 1.5,
+        };
+        let mut t = TrackTable::new();
+        t.configure(TrackerConfig {
+            filter: FilterConfig::AlphaBeta(ab),
+            ..TrackerConfig::DEFAULT
+        })
+        .unwrap();
+        let at = |k: u64| [1000.0 + 5.0 * 2.5 * k as f32, -300.0];
+        for k in 0..3 {
+            scan(&mut t, k * 2500, &[at(k)]);
+        }
+        let id = t.track(0).unwrap().id;
+        let var = 2.0 * TrackerConfig::DEFAULT.plot_sigma_m * TrackerConfig::DEFAULT.plot_sigma_m;
+        let gate_after = |t: &mut TrackTable, k: u64| {
+            t.predict(k * 2500);
+            t.gate(&[], 2.5);
+            t.gated(0).unwrap().innovation_cov_m2[0]
+        };
+        assert_eq!(gate_after(&mut t, 3), var);
+        t.apply(3 * 2500, &[], &[], &[]).unwrap();
+        assert_eq!(gate_after(&mut t, 4), var * 4.0, "one miss");
+        let hidden = [Assignment {
+            track: id,
+            plot: Some(HIDDEN_PLOT),
+        }];
+        t.apply(4 * 2500, &[], &hidden, &[]).unwrap();
+        assert_eq!(gate_after(&mut t, 5), var * 9.0, "a miss, then hidden");
+    }
+
+    #[test]
+    fn a_hidden_plot_for_no_track_is_refused_and_the_first_assignment_counts() {
+        let at = |k: u64| [1000.0 + 5.0 * 2.5 * k as f32, -300.0];
+        let mut t = table();
+        for k in 0..3 {
+            scan(&mut t, k * 2500, &[at(k)]);
+        }
+        let id = t.track(0).unwrap().id;
+        t.predict(3 * 2500);
+        let plots = [at(3)];
+        t.gate(&plots, 2.5);
+        let before = t.clone();
+        let unknown = [Assignment {
+            track: id + 1,
+            plot: Some(HIDDEN_PLOT),
+        }];
+        assert_eq!(
+            t.apply(3 * 2500, &plots, &unknown, &[]),
+            Err(ErrorCode::InvalidValue)
+        );
+        assert!(
+            t.tracks().eq(before.tracks()),
+            "refused whole, before any change"
+        );
+        // Named twice, hidden first: hidden; the plot named second is not taken.
+        let twice = [
+            Assignment {
+                track: id,
+                plot: Some(HIDDEN_PLOT),
+            },
+            Assignment {
+                track: id,
+                plot: Some(0),
+            },
+        ];
+        t.apply(3 * 2500, &plots, &twice, &[]).unwrap();
+        assert_eq!(t.track(0).unwrap().status, TrackStatus::Coasting);
+        assert_eq!(t.track(0).unwrap().coasts, 0, "a hidden scan is not a miss");
     }
 
     #[test]

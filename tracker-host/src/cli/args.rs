@@ -85,8 +85,8 @@ pub struct RunArgs {
     #[arg(long, value_parser = filter_parser(), default_value = "kalman-cv")]
     pub filter: FilterKind,
     /// How plots are associated and which start tracks: `two-stage` (firm tracks take
-    /// their plots first, tentative ones from what is left; a plot no track took starts a
-    /// track unless it is inside a firm track's refined gate) or `joint` (one assignment
+    /// their plots first, tentative ones from what is left; every plot no track took starts
+    /// a track) or `joint` (one assignment
     /// over all tracks; only plots in no rough gate start tracks: the earlier rule) or
     /// `two-stage-unresolved` (two-stage, and a firm track whose target is hidden in a plot
     /// another firm track took coasts for up to 16 scans instead of 6: both ships of a

