@@ -400,7 +400,29 @@ impl AisPicture {
             }
         }
         self.streaks = streaks;
-        report.merged = self.candidates(&costs);
+        // A young track's velocity (from its first plots, a few metres over 2.5 s) may be
+        // far off its ship's even with the widened gate: it is shown as an AIS target it
+        // fits on position alone until it has settled (never paired so), rather than apart
+        // beside the ship's own symbol. Measured on the Solent (docs/ais.md).
+        let mut display = costs.clone();
+        for x in targets.values() {
+            if f32::from(x.age_scans) >= gates.settled_scans
+                || self.pairs.contains_key(&x.track)
+                || costs.iter().any(|(_, t, _)| *t == x.track)
+            {
+                continue;
+            }
+            for a in ais.iter().filter(|a| !paired_mmsi.contains(&a.mmsi)) {
+                let d = gap(x.position_m, a.position_m);
+                let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
+                let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
+                if d <= gates.position_m {
+                    display.push((d * d / sp2.max(1.0), x.track, a.mmsi));
+                }
+            }
+        }
+        display.sort_by(|a, b| a.0.total_cmp(&b.0));
+        report.merged = self.candidates(&display);
         report.paired = self
             .pairs
             .iter()
@@ -512,5 +534,74 @@ mod tests {
             ..g
         };
         assert_eq!(fixed.scans_to_part_rivalled(1_000), fixed.scans_to_part);
+    }
+
+    use crate::own_ship::OwnShip;
+
+    /// One scan with one radar target `age_scans` old, 20 m east of an AIS target heard
+    /// that scan, whose velocity (8 m/s south) is far off the ship's (10 kn east).
+    fn scan_one(picture: &mut AisPicture, origin: Origin, scan: u32, age_scans: u16) -> ScanReport {
+        use crate::session::target::TargetData;
+        use tracker_core::icd::{TrackState, TrackStatus};
+        let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
+        let ship = [0.0, 1_000.0];
+        let (lat, lon) = origin.to_lat_lon(ship);
+        let heard = AisReport {
+            msg_type: 1,
+            mmsi: 235_000_001,
+            class: Some(crate::ais::StationClass::ClassA),
+            position_deg: Some((lat, lon)),
+            sog_kn: Some(10.0),
+            cog_deg: Some(90.0),
+            ..AisReport::default()
+        };
+        let track = TrackState {
+            track: 7,
+            status: TrackStatus::Confirmed,
+            position_m: [20.0, 1_000.0],
+            velocity_mps: [0.0, -8.0],
+            age_scans,
+            hit_history: 0b111,
+        };
+        let time_s = 1_000.0 + 2.5 * f64::from(scan);
+        let mut report = ScanReport {
+            scan,
+            time_s,
+            own,
+            plots: Vec::new(),
+            plots_m: Vec::new(),
+            tracks: vec![track],
+            targets: vec![TargetData::new(&own, &track)],
+            acquiring: Vec::new(),
+            ended: Vec::new(),
+            association: Default::default(),
+            host_time: Default::default(),
+            skipped: None,
+            ais: Vec::new(),
+            paired: Vec::new(),
+            merged: Vec::new(),
+            echoes: None,
+        };
+        picture.scan(&mut report, &[(time_s, heard)]);
+        report
+    }
+
+    #[test]
+    fn a_young_track_is_shown_as_the_ais_target_it_fits_on_position() {
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        let mut young = AisPicture::new(origin, PairingGates::default());
+        for scan in 0..4 {
+            let r = scan_one(&mut young, origin, scan, 3 + scan as u16);
+            let shown = [Candidate {
+                track: 7,
+                mmsi: 235_000_001,
+            }];
+            assert_eq!(r.merged, shown, "scan {scan}");
+            assert!(r.paired.is_empty(), "never paired on position alone");
+        }
+        // Settled, the same velocity is another ship's: shown apart.
+        let mut settled = AisPicture::new(origin, PairingGates::default());
+        let r = scan_one(&mut settled, origin, 0, 20);
+        assert!(r.merged.is_empty() && r.paired.is_empty(), "{r:?}");
     }
 }
