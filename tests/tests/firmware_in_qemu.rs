@@ -194,10 +194,10 @@ fn filter_costs_are_within_budget() {
         "{} B",
         stack.ram_bytes
     );
-    // The budget for the device's tracking work (measured 78,024 with a table of
+    // The budget for the device's tracking work (measured 77,996 with a table of
     // 72, which the bench's 160 clutter plots a scan keep full; 71,840 with 64, 70,724 before
     // the track score; 123,368 before slots that never move), and the same with the lists
-    // read from their frames (measured 96,792; 90,410 with 64).
+    // read from their frames (measured 96,800; 90,410 with 64).
     assert!(
         scan.instructions_per_call <= 80_000.0,
         "{}",
@@ -205,8 +205,8 @@ fn filter_costs_are_within_budget() {
     );
     assert!(growth_of(&rows, "scan-40-targets-200-plots-read-from-frames") <= 100_000.0);
     // The growth rows: with the gate bucketed, a plot costs about 120 instructions whatever
-    // the tracks, not one gate test per track (measured 17,714 / 36,216 at 16 tracks,
-    // 50,622 / 73,964 at 64 with the slot sets in 32-bit words; 17,712 / 36,426 and
+    // the tracks, not one gate test per track (measured 17,716 / 36,226 at 16 tracks,
+    // 50,626 / 73,948 at 64 with the slot sets in 32-bit words; 17,712 / 36,426 and
     // 50,560 / 74,074 with them in one u64; 17,138 / 35,846 and 48,292 / 71,808 before the
     // track score, which costs about 35 instructions a track a scan).
     let growth = |name: &str| {
@@ -219,7 +219,7 @@ fn filter_costs_are_within_budget() {
     assert!(growth("scan-64-tracks-50-plots") <= 52_500.0);
     assert!(growth("scan-64-tracks-250-plots") <= 76_500.0);
     // The device's scan with 64 g-h tracks, which the table runs in their fixed-scan form
-    // (measured 46,384 / 47,286; 45,796 / 46,706 in protocol 6; 46,132 / 47,054 before the
+    // (measured 46,380 / 47,298; 45,796 / 46,706 in protocol 6; 46,132 / 47,054 before the
     // slot sets in 32-bit words, 43,872 / 44,774 before the track score; the general
     // filters cost about 4,200 more a scan, so these bounds fail if the table stops using
     // it).

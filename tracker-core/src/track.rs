@@ -21,7 +21,8 @@
 //! [`LOST_AFTER_COASTS`] scans in a row without one; a scan on which the host says its
 //! target is *hidden* ([`crate::icd::HIDDEN_PLOT`]: no plot of its own, but one inside its
 //! gate went to another firm track, as when two ships share one resolution cell) does not
-//! count, up to [`HIDDEN_LOST_AFTER_COASTS`] scans in a row without a plot in all. Both rules count misses in a row, as
+//! count while it has missed at most [`HIDDEN_AFTER_MISSES`] scans of its own, up to
+//! [`HIDDEN_LOST_AFTER_COASTS`] scans in a row without a plot in all. Both rules count misses in a row, as
 //! Stone Soup's `MultiMeasurementInitiator(min_points=3)` with `UpdateTimeStepsDeleter(2)`
 //! for its holding tracks and `UpdateTimeStepsDeleter(6)` for its tracks do
 //! (docs/stonesoup.md). Until that comparison a confirmed track was lost on 5 hits of its
@@ -113,6 +114,13 @@ pub const LOST_AFTER_COASTS: u8 = 6;
 /// the hidden track coasts on at its own velocity to where its ship comes out of the
 /// neighbour's echo.
 pub const HIDDEN_LOST_AFTER_COASTS: u8 = 16;
+/// A scan on which a confirmed track's target is hidden does not count towards its loss
+/// only while the track has missed at most this many scans of its own since its last
+/// plot: one that has been losing its target for longer is dying, not hidden (with no
+/// such limit, open-sea seed 4's dying tracks were kept a scan or two longer while a
+/// neighbour's plot fell in their grown gates). Two allow for the misses of P_d 0.9 as a
+/// merge begins.
+pub const HIDDEN_AFTER_MISSES: u8 = 2;
 const _: () = assert!(HIDDEN_LOST_AFTER_COASTS as u32 <= u16::BITS);
 /// Scans of hit history a track reports ([`crate::icd::TrackState::hit_history`]).
 pub const KEEP_N: u32 = 10;
@@ -793,7 +801,9 @@ impl TrackTable {
                     if !in_place {
                         t.filter.coast();
                     }
-                    if p != HIDDEN || !t.status.is_firm() {
+                    let hidden =
+                        p == HIDDEN && t.status.is_firm() && t.coasts <= HIDDEN_AFTER_MISSES;
+                    if !hidden {
                         t.coasts = t.coasts.saturating_add(1);
                     }
                     report.coasted += 1;
@@ -1267,14 +1277,31 @@ mod tests {
         scan(&mut t, k * 2500, &[at(k)]);
         k += 1;
         assert_eq!(status(&t), TrackStatus::Confirmed);
-        // ... and of hidden scans and misses mixed, the sixth miss loses it.
-        for _ in 0..LOST_AFTER_COASTS - 1 {
-            scan(&mut t, k * 2500, &[]);
-            hidden_scan(&mut t, (k + 1) * 2500, id);
-            k += 2;
+        // ... after misses of its own up to HIDDEN_AFTER_MISSES, hidden scans still do not
+        // count ...
+        let miss = |t: &mut TrackTable, k: &mut u64, hidden: bool| {
+            if hidden {
+                hidden_scan(t, *k * 2500, id);
+            } else {
+                scan(t, *k * 2500, &[]);
+            }
+            *k += 1;
+        };
+        for _ in 0..HIDDEN_AFTER_MISSES {
+            miss(&mut t, &mut k, false);
+        }
+        for _ in 0..5 {
+            miss(&mut t, &mut k, true);
+        }
+        assert_eq!(t.track(0).unwrap().coasts, HIDDEN_AFTER_MISSES);
+        // ... but after one more miss they do: a track losing its target is dying, not
+        // hidden; the sixth scan counted loses it.
+        miss(&mut t, &mut k, false);
+        for _ in HIDDEN_AFTER_MISSES + 1..LOST_AFTER_COASTS - 1 {
+            miss(&mut t, &mut k, true);
             assert_eq!(status(&t), TrackStatus::Coasting, "scan {k}");
         }
-        scan(&mut t, k * 2500, &[]);
+        miss(&mut t, &mut k, true);
         assert_eq!(status(&t), TrackStatus::Lost);
         // Hidden in a row: lost after HIDDEN_LOST_AFTER_COASTS scans without a plot.
         let mut t = table();

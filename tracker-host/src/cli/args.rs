@@ -40,13 +40,13 @@ impl std::str::FromStr for Speedup {
 /// `--association`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum AssociationArg {
-    /// Firm tracks first, then tentative ones; plots outside firm refined gates start tracks.
+    /// Firm tracks first, then tentative ones; every plot no track took starts a track.
     TwoStage,
     /// One stage; only plots in no rough gate start tracks.
     Joint,
     /// Two-stage, and a firm track whose target is hidden in a plot another firm track
     /// took (two ships in one resolution cell) coasts without the miss counting towards
-    /// its loss.
+    /// its loss, for up to 16 scans.
     TwoStageUnresolved,
 }
 
