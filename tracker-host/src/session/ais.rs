@@ -285,28 +285,34 @@ impl AisPicture {
         let gates = self.gates;
         let by_mmsi: BTreeMap<u32, &crate::ais::AisTargetData> =
             ais.iter().map(|a| (a.mmsi, a)).collect();
+        // The distance between a radar target and an AIS target, m, and its cost in the
+        // position sigma (which grows with the AIS report's age).
+        let position = |x: &crate::session::target::TargetData, a: &crate::ais::AisTargetData| {
+            let d = gap(x.position_m, a.position_m);
+            let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
+            let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
+            (d, d * d / sp2.max(1.0))
+        };
         let within = |track: u16, mmsi: u32, factor: f32| -> Option<f32> {
             let x = targets.get(&track)?;
             let a = by_mmsi.get(&mmsi)?;
-            let d = gap(x.position_m, a.position_m);
+            let (d, position_cost) = position(x, a);
             let dv = gap(x.velocity_mps, a.velocity_mps);
-            let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
-            let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
             // A young track's velocity is known only roughly.
             let young = (gates.settled_scans / f32::from(x.age_scans.max(1))).max(1.0);
             let sv = gates.velocity_sigma_mps * young;
             let sv2 = sv * sv;
             (d <= gates.position_m * factor && dv <= gates.velocity_mps * young * factor)
-                .then_some(d * d / sp2.max(1.0) + dv * dv / sv2.max(1e-3))
+                .then_some(position_cost + dv * dv / sv2.max(1e-3))
         };
         // Every radar target against every AIS target within the gates (the AIS targets
         // nearer than the position gate, by a cheap bound, first).
+        let near = |x: &crate::session::target::TargetData, a: &crate::ais::AisTargetData| {
+            (a.range_m - x.range_m).abs() <= gates.position_m * gates.keep_factor
+        };
         let mut all = Vec::new();
         for x in targets.values() {
-            for a in ais
-                .iter()
-                .filter(|a| (a.range_m - x.range_m).abs() <= gates.position_m * gates.keep_factor)
-            {
+            for a in ais.iter().filter(|a| near(x, a)) {
                 if let Some(c) = within(x.track, a.mmsi, 1.0) {
                     all.push((c, x.track, a.mmsi));
                 }
@@ -412,12 +418,13 @@ impl AisPicture {
             {
                 continue;
             }
-            for a in ais.iter().filter(|a| !paired_mmsi.contains(&a.mmsi)) {
-                let d = gap(x.position_m, a.position_m);
-                let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
-                let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
+            for a in ais
+                .iter()
+                .filter(|a| near(x, a) && !paired_mmsi.contains(&a.mmsi))
+            {
+                let (d, cost) = position(x, a);
                 if d <= gates.position_m {
-                    display.push((d * d / sp2.max(1.0), x.track, a.mmsi));
+                    display.push((cost, x.track, a.mmsi));
                 }
             }
         }
