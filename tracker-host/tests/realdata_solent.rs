@@ -29,7 +29,14 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
     let path = realdata::file("ais/stonesoup-SolentAIS_20160112_130211.csv");
     println!("| own ship | scans | targets confirmed | false tracks | swaps | RMS m, m/s | pair-scans right / wrong / no ship | ships paired (within 15 s) | time to pair mean, 95 %, max s | ship-scans shown twice |");
     println!("|---|---|---|---|---|---|---|---|---|---|");
-    for own_mmsi in [234_586_000, 370_869_000] {
+    use tracker_host::source::ais_truth::{MAX_GAP_S, MOORED_GAP_S};
+    let runs = [
+        (234_586_000, MAX_GAP_S),
+        (370_869_000, MAX_GAP_S),
+        (234_586_000, MOORED_GAP_S),
+        (370_869_000, MOORED_GAP_S),
+    ];
+    for (own_mmsi, still_gap_s) in runs {
         let options = DemoOptions {
             ais_truth: Some(AisTruthOptions {
                 path: path.clone(),
@@ -37,6 +44,7 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
                 start_s: None,
                 duration_s: None,
                 seed: 1,
+                still_gap_s,
             }),
             ..DemoOptions::new(ScenarioKind::OpenSea, 0, 1, 0.0, FilterKind::KalmanCv)
         };
@@ -47,7 +55,12 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
         let p = s.pairing.clone().expect("pairing scored");
         let ais = report.ais.expect("AIS heard");
         println!(
-            "| {own_mmsi} | {} | {} of {} | {} | {} | {:.1}, {:.2} | {} / {} / {} | {} of {} ({}) | {:.0}, {}, {:.0} | {} ({} late) |",
+            "| {own_mmsi}{} | {} | {} of {} | {} | {} | {:.1}, {:.2} | {} / {} / {} | {} of {} ({}) | {:.0}, {}, {:.0} | {} ({} late) |",
+            if still_gap_s > MAX_GAP_S {
+                " (moored ships in)"
+            } else {
+                ""
+            },
             s.scans,
             s.targets_confirmed,
             s.targets_detected,
@@ -82,7 +95,26 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
             ais.pairing.paired,
             ais.pairing.parted,
         );
+        println!(
+            "|   | targets in the truth {}; AIS targets taken {}, lost {} |",
+            s.targets, ais.table.targets, ais.table.lost
+        );
         assert!(s.scans > 1000, "{own_mmsi}: {} scans", s.scans);
+        if still_gap_s > MAX_GAP_S {
+            // Moored ships (3-minute reports) kept in the truth and sent as moored: the
+            // radar sees some 37 more ships, and their AIS targets are held between
+            // reports, not lost and taken again at every one (955 and 779 lost without).
+            assert!(s.targets >= 80, "{own_mmsi}: {} targets", s.targets);
+            assert!(ais.table.lost <= 150, "{:?}", ais.table);
+            // What holds there too (docs/ais.md has the rest, which does not).
+            let pair_scans = p.pairs_correct + p.pairs_wrong;
+            assert!(p.pairs_wrong * 200 <= pair_scans, "{p:?}");
+            assert!(
+                p.ships_associated * 20 >= p.ships_with_track_and_ais * 19,
+                "{p:?}"
+            );
+            continue;
+        }
         assert_eq!(
             ais.sentences.decoded(),
             ais.sentences.sentences,

@@ -217,6 +217,8 @@ impl Run {
                 .kind()
                 .name()
                 .to_string(),
+            association: self.session.config().association.name().to_string(),
+            command: Vec::new(),
             scans: self.scans,
             targets_seen: self.targets_seen,
             scores: self.summary(),
@@ -279,6 +281,10 @@ impl Run {
     }
 }
 
+/// Events the text summary lists at most (a long run with AIS pairs hundreds); the JSON
+/// summary has them all.
+pub const EVENTS_IN_TEXT: usize = 20;
+
 /// The end of a run, for the operator and (`--summary-json`) for other tools: one JSON
 /// object with stable snake_case keys, units in the names. The scores' keys are present
 /// when the run had truth to score against.
@@ -288,6 +294,12 @@ pub struct RunReport {
     pub link: String,
     /// The filter every track ran.
     pub filter: String,
+    /// How plots were associated (`--association`).
+    pub association: String,
+    /// The command line that made the run (program name first), so that a summary says
+    /// which scenario, seed and options it scores; empty when the run was not started
+    /// from a command line.
+    pub command: Vec<String>,
     /// Scans tracked.
     pub scans: u64,
     /// Targets shown over the run (tracks that were confirmed), each counted once.
@@ -330,8 +342,8 @@ impl RunReport {
     /// The report as text.
     pub fn text(&self) -> String {
         let mut s = format!(
-            "== summary ({} link, filter {}) ==\n",
-            self.link, self.filter
+            "== summary ({} link, filter {}, association {}) ==\n",
+            self.link, self.filter, self.association
         );
         match &self.scores {
             Some(scores) => s += &scores.report(),
@@ -355,8 +367,14 @@ impl RunReport {
         if let Some(c) = &self.own_ship_nmea {
             s += &format!("own-ship NMEA: {c}\n");
         }
-        for e in &self.events {
+        for e in self.events.iter().take(EVENTS_IN_TEXT) {
             s += &format!("event: {e}\n");
+        }
+        if self.events.len() > EVENTS_IN_TEXT {
+            s += &format!(
+                "… and {} more events (every one in --summary-json's `events`)\n",
+                self.events.len() - EVENTS_IN_TEXT
+            );
         }
         s += &format!(
             "host time per scan (link included): mean {:.2} ms, max {:.2} ms\n",
@@ -378,5 +396,61 @@ impl RunReport {
     /// The report as one JSON object.
     pub fn json(&self) -> String {
         serde_json::to_string_pretty(self).unwrap_or_else(|e| format!("{{\"error\":\"{e}\"}}"))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::demo::{self, DemoOptions};
+    use crate::link::{Client, InprocTransport};
+    use tracker_core::filter::FilterKind;
+
+    /// A short demo's report: 4 targets, 30 s, no truth scored 3 minutes on.
+    fn report() -> RunReport {
+        let options = DemoOptions::new(
+            tracker_core::sim::ScenarioKind::OpenSea,
+            4,
+            1,
+            30.0,
+            FilterKind::KalmanCv,
+        );
+        let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+        run.run_to_end(None, |_| {}).unwrap();
+        run.report("inproc")
+    }
+
+    #[test]
+    fn the_text_summary_names_the_association_and_counts_the_events_it_leaves_out() {
+        let mut r = report();
+        r.events = (0..EVENTS_IN_TEXT + 5)
+            .map(|i| format!("happening {i}"))
+            .collect();
+        let text = r.text();
+        assert!(text.contains("association two-stage"), "{text}");
+        assert!(
+            text.contains(&format!("happening {}", EVENTS_IN_TEXT - 1)),
+            "{text}"
+        );
+        assert!(
+            !text.contains(&format!("happening {EVENTS_IN_TEXT}")),
+            "{text}"
+        );
+        assert!(text.contains("… and 5 more events"), "{text}");
+        // The JSON keeps every one.
+        let json: serde_json::Value = serde_json::from_str(&r.json()).unwrap();
+        assert_eq!(json["events"].as_array().unwrap().len(), EVENTS_IN_TEXT + 5);
+        assert_eq!(json["association"], "two-stage");
+    }
+
+    #[test]
+    fn cpa_errors_of_a_run_too_short_to_score_them_are_none_not_zero() {
+        let r = report();
+        let scores = r.scores.as_ref().expect("a demo is scored");
+        assert_eq!(scores.cpa_error_p95_m, None);
+        assert_eq!(scores.tcpa_error_p95_s, None);
+        assert!(r.text().contains("none scored"), "{}", r.text());
+        let json: serde_json::Value = serde_json::from_str(&r.json()).unwrap();
+        assert!(json["cpa_error_p95_m"].is_null());
     }
 }

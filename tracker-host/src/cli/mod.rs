@@ -100,6 +100,13 @@ pub enum Command {
         /// own ship's first report).
         #[arg(long, value_name = "S", requires = "ais_truth")]
         start: Option<f64>,
+        /// With --ais-truth: a vessel still at both ends of a silence (under 1 kn at both
+        /// reports and between them: moored) stays in the truth across silences up to this
+        /// long, s, and its reports are sent as moored (default and least 120, as any
+        /// vessel's: out between its reports). Moored class A ships report every 3 minutes
+        /// (ITU-R M.1371); 400 keeps them in, as a radar sees them.
+        #[arg(long, value_name = "S", requires = "ais_truth")]
+        moored_gap: Option<f64>,
         /// How the run is shown, own ship, outputs.
         #[command(flatten)]
         run: RunArgs,
@@ -309,6 +316,11 @@ where
     I: IntoIterator<Item = T>,
     T: Into<OsString> + Clone,
 {
+    let args: Vec<OsString> = args.into_iter().map(Into::into).collect();
+    let command: Vec<String> = args
+        .iter()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
     let cli = match Cli::try_parse_from(args) {
         Ok(c) => c,
         Err(e) => {
@@ -328,11 +340,17 @@ where
             ais_truth,
             own_mmsi,
             start,
+            moored_gap,
             run,
         } => {
             if let Some(d) = duration {
                 if !(d.is_finite() && *d > 0.0) {
                     anyhow::bail!("--duration {d}: must be a positive number of seconds");
+                }
+            }
+            if let Some(g) = moored_gap {
+                if !(g.is_finite() && *g >= 0.0) {
+                    anyhow::bail!("--moored-gap {g}: must be a number of seconds, 0 or more");
                 }
             }
             if *targets > tracker_core::sim::MAX_TARGETS {
@@ -364,11 +382,14 @@ where
                         start_s: *start,
                         duration_s: *duration,
                         seed: *seed,
+                        still_gap_s: moored_gap
+                            .unwrap_or(crate::source::ais_truth::MAX_GAP_S)
+                            .max(crate::source::ais_truth::MAX_GAP_S),
                     }
                 }),
             };
             let tracking = demo::start(cli.connect()?, &options)?;
-            track_to_end(&cli, tracking, run)
+            track_to_end(&cli, tracking, run, &command)
         }
         Command::Track {
             plots,
@@ -401,7 +422,7 @@ where
                 outputs: run.outputs(None),
             };
             let tracking = track::start(cli.connect()?, &options)?;
-            track_to_end(&cli, tracking, run)
+            track_to_end(&cli, tracking, run, &command)
         }
         Command::LinkCheck { frames, seed } => {
             let mut client = cli.connect()?;
@@ -533,7 +554,12 @@ fn exit(ok: bool) -> ExitCode {
 
 /// Runs a wired tracking run to its end: the radar display in a terminal, else the plain
 /// table (`--plain`) or progress lines; then the summary, and the JSON summary if asked.
-fn track_to_end(cli: &Cli, mut tracking: Run, args: &RunArgs) -> anyhow::Result<ExitCode> {
+fn track_to_end(
+    cli: &Cli,
+    mut tracking: Run,
+    args: &RunArgs,
+    command: &[String],
+) -> anyhow::Result<ExitCode> {
     let limits = tracking.session().config().alarms;
     let link = cli.resolve_link().to_string();
     let use_tui = !args.plain && std::io::IsTerminal::is_terminal(&std::io::stdout());
@@ -552,7 +578,8 @@ fn track_to_end(cli: &Cli, mut tracking: Run, args: &RunArgs) -> anyhow::Result<
         tracking.add_sink(Box::new(Plain::new(mode, limits)));
         tracking.run_to_end(args.speedup(), |_| {})?;
     }
-    let report = tracking.report(&link);
+    let mut report = tracking.report(&link);
+    report.command = command.to_vec();
     // A closed standard output (`| head`) is not a failure of the run.
     let _ = std::io::Write::write_all(
         &mut std::io::stdout(),

@@ -265,7 +265,7 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
         .constraints([
             Constraint::Length(5),
             Constraint::Min(5),
-            Constraint::Length(7),
+            Constraint::Length(alarm_box_rows(state, view)),
         ])
         .split(columns[1]);
     render_header(frame, right[0], state, view);
@@ -532,7 +532,7 @@ pub const AIS_COLUMN_WIDTH: u16 = 20;
 /// name; or, while a radar target is shown as AIS targets (its pair being confirmed, or
 /// ships it does not tell apart), the nearest one's name with a `?` and how many more
 /// (`+1`), the name cut short to fit.
-fn ais_column(view: &ScanReport, track: u16) -> String {
+pub(crate) fn ais_column(view: &ScanReport, track: u16) -> String {
     if let Some(p) = view.paired.iter().find(|p| p.track == track) {
         return fit(&p.label, "");
     }
@@ -574,44 +574,77 @@ fn fit(name: &str, suffix: &str) -> String {
     out
 }
 
-fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
-    let mut lines: Vec<Line> = Vec::new();
-    for note in view.skipped.iter().chain(&state.message) {
-        lines.push(Line::styled(
-            note.clone(),
-            Style::default().fg(Color::Yellow),
-        ));
-    }
-    for a in view.own.alarms() {
-        lines.push(Line::styled(
-            a,
-            Style::default().fg(Color::Red).add_modifier(Modifier::BOLD),
-        ));
-    }
-    for t in view.targets.iter().filter(|t| t.dangerous(&state.limits)) {
-        lines.push(Line::styled(
-            format!(
-                "CPA/TCPA ALARM: target {} CPA {:.2} NM in {:.1} min",
-                t.label(),
-                t.cpa_m / METRES_PER_NM,
-                t.tcpa_s / 60.0
-            ),
-            Style::default().fg(Color::Red).add_modifier(Modifier::BOLD),
-        ));
-    }
-    for a in view.ais.iter().filter(|a| {
-        a.active && ais_dangerous(a, &state.limits) && !view.paired.iter().any(|p| p.mmsi == a.mmsi)
-    }) {
-        lines.push(Line::styled(
-            format!(
-                "CPA/TCPA ALARM: AIS {} CPA {:.2} NM in {:.1} min",
-                a.label,
-                a.cpa_m / METRES_PER_NM,
-                a.tcpa_s / 60.0
-            ),
-            Style::default().fg(Color::Red).add_modifier(Modifier::BOLD),
-        ));
-    }
+/// The alarm box's key help, drawn under the alarms while there is room.
+const ALARM_HELP: [&str; 2] = [
+    "+/- range, v vectors, [/] vector length, ↑↓ select",
+    "a acquire, c cancel, C cancel all, e echoes, p pause, q quit",
+];
+
+/// The alarm box's height in rows (borders included): room for every line and the help,
+/// from 7 up to [`ALARM_BOX_MAX_ROWS`].
+fn alarm_box_rows(state: &DisplayState, view: &ScanReport) -> u16 {
+    let lines = alarm_lines(state, view).len().max(1) + ALARM_HELP.len() + 2;
+    u16::try_from(lines).map_or(ALARM_BOX_MAX_ROWS, |n| n.clamp(7, ALARM_BOX_MAX_ROWS))
+}
+
+/// The alarm box never takes more rows than this; what does not fit is counted on its last
+/// line.
+const ALARM_BOX_MAX_ROWS: u16 = 14;
+
+/// The alarm box's lines, the most urgent first: own ship's sensor alarms, then the CPA/TCPA
+/// alarms of radar and AIS targets together, the soonest closest approach first (IEC 62388
+/// has the operator see every alarm; the soonest is the one to act on), lost targets, the
+/// track table's capacity, then notes (skipped scans, refused commands).
+fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
+    let alarm = Style::default().fg(Color::Red).add_modifier(Modifier::BOLD);
+    let mut lines: Vec<Line> = view
+        .own
+        .alarms()
+        .into_iter()
+        .map(|a| Line::styled(a, alarm))
+        .collect();
+    let mut approaching: Vec<(f32, String)> = view
+        .targets
+        .iter()
+        .filter(|t| t.dangerous(&state.limits))
+        .map(|t| {
+            (
+                t.tcpa_s,
+                format!(
+                    "CPA/TCPA ALARM: target {} CPA {:.2} NM in {:.1} min",
+                    t.label(),
+                    t.cpa_m / METRES_PER_NM,
+                    t.tcpa_s / 60.0
+                ),
+            )
+        })
+        .collect();
+    approaching.extend(
+        view.ais
+            .iter()
+            .filter(|a| {
+                a.active
+                    && ais_dangerous(a, &state.limits)
+                    && !view.paired.iter().any(|p| p.mmsi == a.mmsi)
+            })
+            .map(|a| {
+                (
+                    a.tcpa_s,
+                    format!(
+                        "CPA/TCPA ALARM: AIS {} CPA {:.2} NM in {:.1} min",
+                        a.label,
+                        a.cpa_m / METRES_PER_NM,
+                        a.tcpa_s / 60.0
+                    ),
+                )
+            }),
+    );
+    approaching.sort_by(|a, b| a.0.total_cmp(&b.0));
+    lines.extend(
+        approaching
+            .into_iter()
+            .map(|(_, text)| Line::styled(text, alarm)),
+    );
     for id in &state.lost {
         lines.push(Line::styled(
             format!("LOST TARGET {id}"),
@@ -628,13 +661,35 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             Style::default().fg(Color::Yellow),
         ));
     }
+    for note in view.skipped.iter().chain(&state.message) {
+        lines.push(Line::styled(
+            note.clone(),
+            Style::default().fg(Color::Yellow),
+        ));
+    }
+    lines
+}
+
+fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
+    let mut lines = alarm_lines(state, view);
     if lines.is_empty() {
         lines.push(Line::raw("no alarms"));
     }
-    for help in [
-        "+/- range, v vectors, [/] vector length, ↑↓ select",
-        "a acquire, c cancel, C cancel all, e echoes, p pause, q quit",
-    ] {
+    // Inside the borders. Lines that do not fit are never dropped silently: the last row
+    // counts them.
+    let rows = usize::from(area.height.saturating_sub(2));
+    if lines.len() > rows && rows > 0 {
+        let more = lines.len() - (rows - 1);
+        lines.truncate(rows - 1);
+        lines.push(Line::styled(
+            format!("+{more} more (alarms and notes not shown)"),
+            Style::default().fg(Color::Red).add_modifier(Modifier::BOLD),
+        ));
+    }
+    for help in ALARM_HELP
+        .into_iter()
+        .take(rows.saturating_sub(lines.len()))
+    {
         lines.push(Line::styled(help, Style::default().fg(Color::DarkGray)));
     }
     frame.render_widget(
@@ -1028,6 +1083,64 @@ pub(crate) mod tests {
             let text = screen(&state, &view);
             assert!(text.contains("CPA/TCPA ALARM"), "{text}");
         }
+    }
+
+    #[test]
+    fn alarms_that_do_not_fit_are_counted_and_the_soonest_come_first() {
+        let mut d = demo();
+        let mut state = DisplayState::new("inproc".into());
+        // Every approaching target whose motion is known raises an alarm.
+        state.limits = AlarmLimits {
+            cpa_m: 1e9,
+            tcpa_s: 1e9,
+        };
+        let mut view = step(&mut d);
+        for _ in 0..20 {
+            view = step(&mut d);
+            state.observe(&view);
+        }
+        let dangerous: Vec<f32> = view
+            .targets
+            .iter()
+            .filter(|t| t.dangerous(&state.limits))
+            .map(|t| t.tcpa_s)
+            .collect();
+        let lines = alarm_lines(&state, &view);
+        // A box of 4 rows inside its borders, as on a short terminal.
+        let rows = 4;
+        assert!(
+            lines.len() > rows,
+            "the demo should raise more alarms ({}) than the box holds",
+            lines.len()
+        );
+        let mut terminal = Terminal::new(TestBackend::new(90, 6)).unwrap();
+        terminal
+            .draw(|f| render_alarms(f, f.area(), &state, &view))
+            .unwrap();
+        let buffer = terminal.backend().buffer();
+        let text: String = (0..buffer.area.height)
+            .map(|y| {
+                let row: String = (0..buffer.area.width)
+                    .map(|x| buffer[(x, y)].symbol())
+                    .collect();
+                row + "\n"
+            })
+            .collect();
+        let more = lines.len() - (rows - 1);
+        assert!(
+            text.contains(&format!("+{more} more (alarms and notes not shown)")),
+            "{text}"
+        );
+        // The soonest closest approach is the first alarm line.
+        let soonest = dangerous.iter().copied().fold(f32::INFINITY, f32::min);
+        let first = text
+            .lines()
+            .find(|l| l.contains("CPA/TCPA ALARM"))
+            .expect("an alarm line");
+        assert!(
+            first.contains(&format!("in {:.1} min", soonest / 60.0)),
+            "{first}"
+        );
     }
 
     #[test]

@@ -3,7 +3,7 @@
 
 use std::io::Write;
 
-use crate::session::target::{table, AlarmLimits};
+use crate::session::target::{table_with_ais, AlarmLimits};
 use crate::session::ScanReport;
 use crate::sink::ScanSink;
 use crate::source::SourceScan;
@@ -56,13 +56,38 @@ pub fn header(r: &ScanReport) -> String {
     s
 }
 
+impl Plain {
+    /// The target table; with AIS heard, its AIS column and the CPA/TCPA alarms of the AIS
+    /// targets no radar target is paired with (as on the radar display).
+    fn table(&self, r: &ScanReport) -> String {
+        if r.ais.is_empty() {
+            return table_with_ais(&r.targets, &self.limits, None);
+        }
+        let column = |track: u16| crate::display::ais_column(r, track);
+        let mut s = table_with_ais(&r.targets, &self.limits, Some(&column));
+        for a in r.ais.iter().filter(|a| {
+            a.active
+                && crate::display::ais_dangerous(a, &self.limits)
+                && !r.paired.iter().any(|p| p.mmsi == a.mmsi)
+        }) {
+            s += &format!(
+                "  AIS {} CPA {:.2} NM in {:.1} min  ALARM CPA/TCPA\n",
+                a.label,
+                a.cpa_m / tracker_core::geo::METRES_PER_NM,
+                a.tcpa_s / 60.0
+            );
+        }
+        s
+    }
+}
+
 impl ScanSink for Plain {
     fn scan(&mut self, _: &SourceScan, r: &ScanReport) -> anyhow::Result<()> {
         if self.closed {
             return Ok(());
         }
         let text = match self.mode {
-            PlainMode::Table => format!("{}\n{}", header(r), table(&r.targets, &self.limits)),
+            PlainMode::Table => format!("{}\n{}", header(r), self.table(r)),
             PlainMode::Progress { every } if r.scan.is_multiple_of(every.max(1)) => {
                 format!("{}\n", header(r))
             }

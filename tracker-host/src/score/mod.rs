@@ -79,12 +79,14 @@ struct Continuity {
     broken_since: Option<u32>,
 }
 
-fn p95(v: &mut [f32]) -> f32 {
+/// The 95th percentile of `v`, `None` when it is empty.
+fn p95(v: &mut [f32]) -> Option<f32> {
     if v.is_empty() {
-        return 0.0;
+        return None;
     }
     v.sort_by(|a, b| a.total_cmp(b));
-    v[((v.len() - 1) as f32 * 0.95).round() as usize]
+    v.get(((v.len() - 1) as f32 * 0.95).round() as usize)
+        .copied()
 }
 
 impl Scorer {

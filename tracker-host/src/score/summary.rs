@@ -31,10 +31,12 @@ pub struct Summary {
     pub rms_position_m: f64,
     /// RMS velocity error of matched tracks, m/s.
     pub rms_velocity_mps: f64,
-    /// 95th percentile of |CPA error| for settled tracks on approaching targets, m.
-    pub cpa_error_p95_m: f32,
-    /// 95th percentile of |TCPA error|, s.
-    pub tcpa_error_p95_s: f32,
+    /// 95th percentile of |CPA error| for settled tracks (3 minutes old) on approaching
+    /// targets, m; `None` (JSON `null`) when no such track was scored, as in a run shorter
+    /// than 3 minutes.
+    pub cpa_error_p95_m: Option<f32>,
+    /// 95th percentile of |TCPA error| likewise, s.
+    pub tcpa_error_p95_s: Option<f32>,
     /// The cut-off of OSPA and GOSPA, m.
     pub ospa_c_m: f64,
     /// The order of OSPA and GOSPA.
@@ -75,7 +77,7 @@ impl Summary {
              confirmed tracks: {} ({} false)\n\
              track swaps: {}\n\
              RMS error: position {:.1} m, velocity {:.2} m/s\n\
-             CPA/TCPA error after 3 min (95th percentile, approaching targets): {:.0} m, {:.0} s\n\
+             CPA/TCPA error after 3 min (95th percentile, approaching targets): {}\n\
              OSPA (c = {:.0} m, p = {}): mean {:.1} m; GOSPA (α = 2): mean {:.1} m\n\
              continuity: {} untracked target-scans, {} track breaks ({} re-acquired, mean {:.1} scans, longest {})",
             self.scans,
@@ -90,8 +92,10 @@ impl Summary {
             self.track_swaps,
             self.rms_position_m,
             self.rms_velocity_mps,
-            self.cpa_error_p95_m,
-            self.tcpa_error_p95_s,
+            match (self.cpa_error_p95_m, self.tcpa_error_p95_s) {
+                (Some(cpa), Some(tcpa)) => format!("{cpa:.0} m, {tcpa:.0} s"),
+                _ => "none scored (no track of an approaching target 3 min old)".to_string(),
+            },
             self.ospa_c_m,
             self.ospa_p,
             self.ospa_mean_m,

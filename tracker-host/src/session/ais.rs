@@ -399,7 +399,8 @@ impl AisPicture {
                 let label = self.table.get(mmsi).map_or(mmsi.to_string(), |a| a.label());
                 let number = targets.get(&track).map_or("--".to_string(), |x| x.label());
                 self.log(format!(
-                    "{t:.1} s: radar target {number} (track {track}) paired with AIS {label} (MMSI {mmsi})"
+                    "{}: radar target {number} (track {track}) paired with AIS {label} (MMSI {mmsi})",
+                    crate::display::utc_label(t)
                 ));
             } else {
                 streaks.insert((track, mmsi), n);
@@ -514,7 +515,8 @@ impl AisPicture {
             if let Some(p) = self.pairs.remove(&track) {
                 self.counts.parted += 1;
                 self.log(format!(
-                    "{t:.1} s: track {track} and AIS {} parted (track lost or out of the gates)",
+                    "{}: track {track} and AIS {} parted (track lost or out of the gates)",
+                    crate::display::utc_label(t),
                     p.mmsi
                 ));
             }

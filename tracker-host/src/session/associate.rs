@@ -57,6 +57,17 @@ pub enum Association {
     TwoStageUnresolved,
 }
 
+impl Association {
+    /// The name `--association` takes (`two-stage`, `joint`, `two-stage-unresolved`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::TwoStage => "two-stage",
+            Self::Joint => "joint",
+            Self::TwoStageUnresolved => "two-stage-unresolved",
+        }
+    }
+}
+
 /// The host's decision for one scan.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Associated {

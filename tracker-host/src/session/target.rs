@@ -120,10 +120,24 @@ impl Default for AlarmLimits {
 /// The target table as text, one line per target, in navigator's units (NM, kn, degrees
 /// true, minutes); the motion of a target whose trend is not known yet is `---`.
 pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
+    table_with_ais(targets, limits, None)
+}
+
+/// [`table`] with an AIS column (when `ais` is given): what `ais` says of each track
+/// number, the paired AIS target's name for instance, at most 20 characters.
+pub fn table_with_ais(
+    targets: &[TargetData],
+    limits: &AlarmLimits,
+    ais: Option<&dyn Fn(u16) -> String>,
+) -> String {
     let deg = |r: f32| r.to_degrees();
     let mut s = String::from(
-        " TGT STATUS     RNG NM  BRG °T  CRS °T   SPD kn  CPA NM  TCPA min  RCRS °T  RSPD kn  AGE\n",
+        " TGT STATUS     RNG NM  BRG °T  CRS °T   SPD kn  CPA NM  TCPA min  RCRS °T  RSPD kn  AGE",
     );
+    if ais.is_some() {
+        s += "  AIS";
+    }
+    s.push('\n');
     for t in targets {
         // A column is `---` when what it shows is not known: the motion before the trend
         // is, the true course and speed without own ship's motion.
@@ -135,8 +149,9 @@ pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
             }
         };
         let (trend, truth) = (t.trend_known, t.trend_known && t.true_motion_known);
-        s += &format!(
-            "{:>4} {:<9} {:>7.2} {:>7.1} {} {} {} {} {} {} {:>4}{}\n",
+        let name = ais.map(|f| format!("  {:<20}", f(t.track)));
+        let line = format!(
+            "{:>4} {:<9} {:>7.2} {:>7.1} {} {} {} {} {} {} {:>4}{}{}",
             t.label(),
             status_name(t.status),
             t.range_m / METRES_PER_NM,
@@ -148,12 +163,15 @@ pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
             known(trend, 8, deg(t.rel_course_rad), 1),
             known(trend, 8, t.rel_speed_mps / MPS_PER_KNOT, 1),
             t.age_scans,
+            name.unwrap_or_default(),
             if t.dangerous(limits) {
                 "  ALARM CPA/TCPA"
             } else {
                 ""
             },
         );
+        s += line.trim_end();
+        s.push('\n');
     }
     s
 }
@@ -222,5 +240,38 @@ mod tests {
             6,
             "{text}"
         );
+    }
+
+    #[test]
+    fn the_plain_table_names_a_targets_ais_ship_before_its_alarm() {
+        let own = OwnShip::at([0.0, 0.0], [0.0, 5.0]);
+        let t = |track: u16, x: f32| TrackState {
+            track,
+            status: TrackStatus::Confirmed,
+            position_m: [x, 4000.0],
+            velocity_mps: [0.0, -5.0],
+            age_scans: 40,
+            hit_history: 0x3ff,
+        };
+        let targets = [
+            TargetData::new(&own, &t(3, 0.0)),
+            TargetData::new(&own, &t(4, 9000.0)),
+        ];
+        let name = |track: u16| {
+            if track == 3 {
+                "RED FUNNEL".to_string()
+            } else {
+                String::new()
+            }
+        };
+        let text = table_with_ais(&targets, &AlarmLimits::default(), Some(&name));
+        let lines: Vec<&str> = text.lines().collect();
+        assert!(lines[0].ends_with("AGE  AIS"), "{text}");
+        assert!(
+            lines[1].ends_with("RED FUNNEL            ALARM CPA/TCPA"),
+            "{text}"
+        );
+        // No name, no alarm: nothing after the age, no trailing blanks.
+        assert!(lines[2].ends_with("  40"), "{text}");
     }
 }

@@ -7,7 +7,9 @@
 //!   dead-reckoning filter with `--nmea-record`).
 //! - **Targets**: every other vessel, on its real track, interpolated between its reports;
 //!   across a gap longer than [`MAX_GAP_S`] it is out of the truth, and before its first and
-//!   after its last report too.
+//!   after its last report too. A vessel still at both ends of a longer gap (moored: under
+//!   [`STILL_KN`] at both reports and between them) stays in across gaps up to
+//!   [`AisTruthOptions::still_gap_s`] (by default the same [`MAX_GAP_S`]: out).
 //! - **Radar plots** from the targets with the simulator's radar model ([`PlotModel`]: the
 //!   IMO errors, P_d 0.9, clutter, resolution cells), as for the plot-level demo.
 //! - **AIS**: each report of the file, at its own time, is sent as an `!AIVDM` type 1
@@ -30,6 +32,15 @@ use crate::score::{ScanTruth, TargetTruth};
 /// A vessel silent for longer than this between two reports is out of the truth in
 /// between (not interpolated across), s.
 pub const MAX_GAP_S: f64 = 120.0;
+
+/// A vessel slower than this at both reports around a gap, and between them, is still
+/// (moored or at anchor), kn.
+pub const STILL_KN: f64 = 1.0;
+
+/// A still vessel's longest gap kept in the truth with `--moored-gap` as the README runs
+/// it, s: a moored class A ship reports every 3 minutes (ITU-R M.1371-5, Annex 1, Table 1),
+/// so 400 s is its interval with one report lost.
+pub const MOORED_GAP_S: f64 = 400.0;
 
 /// The share of AIS reports lost on the air.
 pub const AIS_DROPOUT: f64 = 0.05;
@@ -138,9 +149,16 @@ impl AisTracks {
     }
 
     /// Vessel `mmsi` at `t_s`: position (m) and velocity (m/s), on the straight line between
-    /// the reports around `t_s` when they are at most `max_gap_s` apart; `None` outside its
-    /// reports or across a longer gap.
-    pub fn at(&self, mmsi: u32, t_s: f64, max_gap_s: f64) -> Option<([f64; 2], [f64; 2])> {
+    /// the reports around `t_s` when they are at most `max_gap_s` apart, or `still_gap_s`
+    /// when the vessel is still at both and between them (under [`STILL_KN`]); `None`
+    /// outside its reports or across a longer gap.
+    pub fn at(
+        &self,
+        mmsi: u32,
+        t_s: f64,
+        max_gap_s: f64,
+        still_gap_s: f64,
+    ) -> Option<([f64; 2], [f64; 2])> {
         let f = self.vessels.get(&mmsi)?;
         let i = f.partition_point(|x| x.t_s <= t_s);
         if i == 0 {
@@ -152,7 +170,12 @@ impl AisTracks {
             return (t_s - a.t_s < 1e-6).then(|| (a.position_m, velocity(&a)));
         };
         let dt = b.t_s - a.t_s;
-        if dt > max_gap_s || dt <= 0.0 {
+        let still = || {
+            let moved_m =
+                (b.position_m[0] - a.position_m[0]).hypot(b.position_m[1] - a.position_m[1]);
+            a.sog_kn < STILL_KN && b.sog_kn < STILL_KN && moved_m < STILL_KN * KNOT_MPS * dt
+        };
+        if dt <= 0.0 || (dt > max_gap_s && !(dt <= still_gap_s && still())) {
             return None;
         }
         let w = (t_s - a.t_s) / dt;
@@ -188,12 +211,16 @@ pub struct AisTruthOptions {
     pub duration_s: Option<f64>,
     /// Seed of the radar model's and the AIS dropouts' draws.
     pub seed: u64,
+    /// A still (moored) vessel's longest gap between reports across which it stays in the
+    /// truth, s ([`MAX_GAP_S`]: as any vessel's; [`MOORED_GAP_S`]: moored ships stay in).
+    pub still_gap_s: f64,
 }
 
 /// The source. See the module documentation.
 pub struct AisTruthSource {
     tracks: AisTracks,
     own_mmsi: u32,
+    still_gap_s: f64,
     model: PlotModel,
     scan_s: f64,
     time_s: f64,
@@ -248,6 +275,7 @@ impl AisTruthSource {
         Ok(AisTruthSource {
             tracks,
             own_mmsi: o.own_mmsi,
+            still_gap_s: o.still_gap_s,
             model: PlotModel::new(SensorModel::imo(), o.seed),
             scan_s: 2.5,
             time_s: start,
@@ -277,13 +305,24 @@ impl AisTruthSource {
             }
             let next = self.next_report.entry(*mmsi).or_insert(0);
             while let Some(f) = fixes.get(*next).filter(|f| f.t_s <= t_s) {
+                // Still, and minutes between reports: a class A ship reports that seldom
+                // only moored or at anchor (ITU-R M.1371-5, Annex 1, Table 1), and says so
+                // in its navigational status, which sets how long the receiver holds it
+                // (18 min against 60 s). With moored ships kept in the truth only.
+                let interval_s = next
+                    .checked_sub(1)
+                    .and_then(|i| fixes.get(i))
+                    .or_else(|| fixes.get(*next + 1))
+                    .map_or(0.0, |g| (g.t_s - f.t_s).abs());
+                let moored =
+                    self.still_gap_s > MAX_GAP_S && f.sog_kn < STILL_KN && interval_s > MAX_GAP_S;
                 *next += 1;
                 if self.rng.f64() < AIS_DROPOUT {
                     self.dropped += 1;
                     continue;
                 }
                 self.sent += 1;
-                if let Some(line) = aivdm_line(*mmsi, f) {
+                if let Some(line) = aivdm_line(*mmsi, f, moored) {
                     if let Some(r) = self.decoder.feed(&line) {
                         self.heard.push((f.t_s, r));
                     }
@@ -293,14 +332,19 @@ impl AisTruthSource {
     }
 }
 
-/// A class A position report (type 1) of `f` as an `!AIVDM` sentence.
-fn aivdm_line(mmsi: u32, f: &Fix) -> Option<String> {
+/// A class A position report (type 1) of `f` as an `!AIVDM` sentence, under way using its
+/// engine or `moored`.
+fn aivdm_line(mmsi: u32, f: &Fix, moored: bool) -> Option<String> {
     use aivdm::message::PositionReportClassA;
     let msg = aivdm::AisMessage::PositionReportClassA(PositionReportClassA {
         message_type: 1,
         repeat_indicator: 0,
         mmsi: aivdm::Mmsi::from_raw(mmsi),
-        navigation_status: aivdm::NavigationStatus::UnderWayUsingEngine,
+        navigation_status: if moored {
+            aivdm::NavigationStatus::Moored
+        } else {
+            aivdm::NavigationStatus::UnderWayUsingEngine
+        },
         rate_of_turn: aivdm::RateOfTurn::from_raw(-128),
         sog: aivdm::Sog::from_raw((f.sog_kn * 10.0).round().clamp(0.0, 1022.0) as u16),
         position_accuracy: false,
@@ -325,7 +369,10 @@ impl PlotSource for AisTruthSource {
         if t > self.end_s {
             return Ok(None);
         }
-        let Some((own_p, own_v)) = self.tracks.at(self.own_mmsi, t, f64::INFINITY) else {
+        let Some((own_p, own_v)) = self
+            .tracks
+            .at(self.own_mmsi, t, f64::INFINITY, f64::INFINITY)
+        else {
             return Ok(None);
         };
         let f = |x: [f64; 2]| [x[0] as f32, x[1] as f32];
@@ -337,7 +384,7 @@ impl PlotSource for AisTruthSource {
             .iter()
             .filter(|m| **m != self.own_mmsi)
             .filter_map(|m| {
-                let (p, v) = self.tracks.at(*m, t, MAX_GAP_S)?;
+                let (p, v) = self.tracks.at(*m, t, MAX_GAP_S, self.still_gap_s)?;
                 let d = (p[0] - own_p[0]).hypot(p[1] - own_p[1]);
                 Some((*m, p, v, d))
             })
@@ -428,11 +475,45 @@ mod tests {
             sog_kn: 5.9,
             position_m: [0.0, 0.0],
         };
-        let line = aivdm_line(235_070_762, &f).unwrap();
+        let line = aivdm_line(235_070_762, &f, false).unwrap();
         let r = AisDecoder::new().feed(&line).unwrap();
         assert_eq!((r.msg_type, r.mmsi), (1, 235_070_762));
         let (lat, lon) = r.position_deg.unwrap();
         assert!((lat - f.lat_deg).abs() < 2e-6 && (lon - f.lon_deg).abs() < 2e-6);
         assert_eq!((r.sog_kn, r.cog_deg), (Some(5.9), Some(157.8)));
+        let moored = AisDecoder::new()
+            .feed(&aivdm_line(235_070_762, &f, true).unwrap())
+            .unwrap();
+        assert_eq!(moored.nav_status.as_deref(), Some("Moored"));
+    }
+
+    #[test]
+    fn a_moored_vessel_stays_in_the_truth_across_its_three_minute_reports_when_asked() {
+        let fix = |t_s: f64, sog_kn: f64, x: f64| Fix {
+            t_s,
+            lat_deg: 0.0,
+            lon_deg: 0.0,
+            cog_deg: 90.0,
+            sog_kn,
+            position_m: [x, 0.0],
+        };
+        let tracks = AisTracks {
+            vessels: BTreeMap::from([
+                // Moored: 180 s between reports, 3 m apart.
+                (1, vec![fix(0.0, 0.0, 0.0), fix(180.0, 0.1, 3.0)]),
+                // Under way and silent as long: out whatever the still gap.
+                (2, vec![fix(0.0, 6.0, 0.0), fix(180.0, 6.0, 555.0)]),
+                // Slow at both reports but 200 m on: not still between them.
+                (3, vec![fix(0.0, 0.5, 0.0), fix(180.0, 0.5, 200.0)]),
+            ]),
+        };
+        assert_eq!(tracks.at(1, 90.0, MAX_GAP_S, MAX_GAP_S), None);
+        let (p, _) = tracks.at(1, 90.0, MAX_GAP_S, MOORED_GAP_S).unwrap();
+        assert!((p[0] - 1.5).abs() < 1e-9);
+        assert_eq!(tracks.at(1, 90.0, MAX_GAP_S, 179.0), None);
+        assert_eq!(tracks.at(2, 90.0, MAX_GAP_S, MOORED_GAP_S), None);
+        assert_eq!(tracks.at(3, 90.0, MAX_GAP_S, MOORED_GAP_S), None);
+        // Any vessel within the ordinary gap is in.
+        assert!(tracks.at(2, 90.0, 200.0, MAX_GAP_S).is_some());
     }
 }
