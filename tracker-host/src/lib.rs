@@ -38,3 +38,4 @@ pub mod score;
 pub mod session;
 pub mod sink;
 pub mod source;
+pub mod utc;

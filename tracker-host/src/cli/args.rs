@@ -240,3 +240,22 @@ impl RunArgs {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::ValueEnum;
+
+    #[test]
+    fn an_association_is_named_in_summaries_as_the_option_takes_it() {
+        for a in AssociationArg::value_variants() {
+            let name = a
+                .to_possible_value()
+                .expect("a value")
+                .get_name()
+                .to_string();
+            let association: crate::session::associate::Association = (*a).into();
+            assert_eq!(association.name(), name);
+        }
+    }
+}

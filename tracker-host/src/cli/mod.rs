@@ -102,8 +102,8 @@ pub enum Command {
         start: Option<f64>,
         /// With --ais-truth: a vessel still at both ends of a silence (under 1 kn at both
         /// reports and between them: moored) stays in the truth across silences up to this
-        /// long, s, and its reports are sent as moored (default and least 120, as any
-        /// vessel's: out between its reports). Moored class A ships report every 3 minutes
+        /// long, s, and its reports are sent as moored (at least 120, any vessel's gap, the
+        /// default: out between its reports). Moored class A ships report every 3 minutes
         /// (ITU-R M.1371); 400 keeps them in, as a radar sees them.
         #[arg(long, value_name = "S", requires = "ais_truth")]
         moored_gap: Option<f64>,
@@ -348,10 +348,12 @@ where
                     anyhow::bail!("--duration {d}: must be a positive number of seconds");
                 }
             }
-            if let Some(g) = moored_gap {
-                if !(g.is_finite() && *g >= 0.0) {
-                    anyhow::bail!("--moored-gap {g}: must be a number of seconds, 0 or more");
-                }
+            let still_gap_s = moored_gap.unwrap_or(crate::source::ais_truth::MAX_GAP_S);
+            if !(still_gap_s.is_finite() && still_gap_s >= crate::source::ais_truth::MAX_GAP_S) {
+                anyhow::bail!(
+                    "--moored-gap {still_gap_s}: must be at least {} s (any vessel's gap)",
+                    crate::source::ais_truth::MAX_GAP_S
+                );
             }
             if *targets > tracker_core::sim::MAX_TARGETS {
                 anyhow::bail!(
@@ -382,9 +384,7 @@ where
                         start_s: *start,
                         duration_s: *duration,
                         seed: *seed,
-                        still_gap_s: moored_gap
-                            .unwrap_or(crate::source::ais_truth::MAX_GAP_S)
-                            .max(crate::source::ais_truth::MAX_GAP_S),
+                        still_gap_s,
                     }
                 }),
             };
@@ -626,5 +626,40 @@ mod tests {
         let c = Cli::try_parse_from(["t", "track", "--plots", "p.csv", "--filter", "sswt"]);
         assert!(c.is_ok());
         assert!(Cli::try_parse_from(["t", "demo", "--filter", "kalman"]).is_err());
+    }
+
+    #[test]
+    fn a_moored_gap_shorter_than_any_vessels_is_refused_before_anything_runs() {
+        for gap in ["60", "-1", "NaN", "inf"] {
+            let gap = format!("--moored-gap={gap}");
+            let e = run([
+                "t",
+                "--link",
+                "inproc",
+                "demo",
+                "--ais-truth",
+                "no-such.csv",
+                "--own-mmsi",
+                "1",
+                gap.as_str(),
+            ])
+            .unwrap_err();
+            assert!(e.to_string().contains("--moored-gap"), "{gap}: {e}");
+        }
+        // 120 and more pass the check (and fail on the missing file).
+        let e = run([
+            "t",
+            "--link",
+            "inproc",
+            "demo",
+            "--ais-truth",
+            "no-such.csv",
+            "--own-mmsi",
+            "1",
+            "--moored-gap",
+            "400",
+        ])
+        .unwrap_err();
+        assert!(!e.to_string().contains("--moored-gap"), "{e}");
     }
 }

@@ -30,6 +30,7 @@ use crate::app::run::Run;
 use crate::session::ais::AssociatedSymbol;
 use crate::session::target::{status_name, AlarmLimits, TargetData};
 use crate::session::ScanReport;
+pub use crate::utc::utc_label;
 
 /// Range scales, NM (the short ones for a harbour radar's scales).
 pub const RANGE_SCALES_NM: [f32; 9] = [0.125, 0.25, 0.5, 0.75, 1.5, 3.0, 6.0, 12.0, 24.0];
@@ -232,6 +233,17 @@ pub fn ais_dangerous(a: &crate::ais::AisTargetData, limits: &AlarmLimits) -> boo
     a.cpa_m < limits.cpa_m && a.tcpa_s >= 0.0 && a.tcpa_s < limits.tcpa_s
 }
 
+/// The AIS targets that raise their own CPA/TCPA alarm: activated, dangerous, and paired
+/// with no radar target (a paired ship alarms as its radar target).
+pub fn ais_alarms<'a>(
+    view: &'a ScanReport,
+    limits: &'a AlarmLimits,
+) -> impl Iterator<Item = &'a crate::ais::AisTargetData> + 'a {
+    view.ais.iter().filter(move |a| {
+        a.active && ais_dangerous(a, limits) && !view.paired.iter().any(|p| p.mmsi == a.mmsi)
+    })
+}
+
 /// The plot nearest own ship that no confirmed or tentative track is close to (500 m).
 pub fn nearest_untracked_plot(view: &ScanReport) -> Option<u16> {
     view.plots_m
@@ -310,12 +322,6 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
         Paragraph::new(text).block(Block::default().borders(Borders::ALL)),
         area,
     );
-}
-
-/// `hh:mm:ssZ` of a time in s since 1970 UTC.
-pub fn utc_label(time_s: f64) -> String {
-    let t = time_s.rem_euclid(86_400.0) as u64;
-    format!("{:02}:{:02}:{:02}Z", t / 3600, t / 60 % 60, t % 60)
 }
 
 /// Own ship as the header shows it: course and speed over ground, heading, and how it is
@@ -583,7 +589,10 @@ const ALARM_HELP: [&str; 2] = [
 /// The alarm box's height in rows (borders included): room for every line and the help,
 /// from 7 up to [`ALARM_BOX_MAX_ROWS`].
 fn alarm_box_rows(state: &DisplayState, view: &ScanReport) -> u16 {
-    let lines = alarm_lines(state, view).len().max(1) + ALARM_HELP.len() + 2;
+    let lines = alarm_lines(state, view).len().max(1)
+        + usize::from(state.message.is_some())
+        + ALARM_HELP.len()
+        + 2;
     u16::try_from(lines).map_or(ALARM_BOX_MAX_ROWS, |n| n.clamp(7, ALARM_BOX_MAX_ROWS))
 }
 
@@ -594,7 +603,8 @@ const ALARM_BOX_MAX_ROWS: u16 = 14;
 /// The alarm box's lines, the most urgent first: own ship's sensor alarms, then the CPA/TCPA
 /// alarms of radar and AIS targets together, the soonest closest approach first (IEC 62388
 /// has the operator see every alarm; the soonest is the one to act on), lost targets, the
-/// track table's capacity, then notes (skipped scans, refused commands).
+/// track table's capacity, then skipped scans. (The answer to the operator's last command is
+/// drawn apart, always: see [`render_alarms`].)
 fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
     let alarm = Style::default().fg(Color::Red).add_modifier(Modifier::BOLD);
     let mut lines: Vec<Line> = view
@@ -619,26 +629,17 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
             )
         })
         .collect();
-    approaching.extend(
-        view.ais
-            .iter()
-            .filter(|a| {
-                a.active
-                    && ais_dangerous(a, &state.limits)
-                    && !view.paired.iter().any(|p| p.mmsi == a.mmsi)
-            })
-            .map(|a| {
-                (
-                    a.tcpa_s,
-                    format!(
-                        "CPA/TCPA ALARM: AIS {} CPA {:.2} NM in {:.1} min",
-                        a.label,
-                        a.cpa_m / METRES_PER_NM,
-                        a.tcpa_s / 60.0
-                    ),
-                )
-            }),
-    );
+    approaching.extend(ais_alarms(view, &state.limits).map(|a| {
+        (
+            a.tcpa_s,
+            format!(
+                "CPA/TCPA ALARM: AIS {} CPA {:.2} NM in {:.1} min",
+                a.label,
+                a.cpa_m / METRES_PER_NM,
+                a.tcpa_s / 60.0
+            ),
+        )
+    }));
     approaching.sort_by(|a, b| a.0.total_cmp(&b.0));
     lines.extend(
         approaching
@@ -661,7 +662,7 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
             Style::default().fg(Color::Yellow),
         ));
     }
-    for note in view.skipped.iter().chain(&state.message) {
+    if let Some(note) = &view.skipped {
         lines.push(Line::styled(
             note.clone(),
             Style::default().fg(Color::Yellow),
@@ -672,12 +673,18 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
 
 fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
     let mut lines = alarm_lines(state, view);
-    if lines.is_empty() {
+    if lines.is_empty() && state.message.is_none() {
         lines.push(Line::raw("no alarms"));
     }
-    // Inside the borders. Lines that do not fit are never dropped silently: the last row
-    // counts them.
-    let rows = usize::from(area.height.saturating_sub(2));
+    // Inside the borders, less a row for the answer to the operator's last command (a key
+    // just pressed must show its effect, whatever the alarms). Lines that do not fit are
+    // never dropped silently: the last row counts them.
+    let message = state
+        .message
+        .as_ref()
+        .map(|m| Line::styled(m.clone(), Style::default().fg(Color::Yellow)));
+    let inner = usize::from(area.height.saturating_sub(2));
+    let rows = inner.saturating_sub(usize::from(message.is_some()));
     if lines.len() > rows && rows > 0 {
         let more = lines.len() - (rows - 1);
         lines.truncate(rows - 1);
@@ -686,9 +693,10 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             Style::default().fg(Color::Red).add_modifier(Modifier::BOLD),
         ));
     }
+    lines.extend(message);
     for help in ALARM_HELP
         .into_iter()
-        .take(rows.saturating_sub(lines.len()))
+        .take(inner.saturating_sub(lines.len()))
     {
         lines.push(Line::styled(help, Style::default().fg(Color::DarkGray)));
     }
@@ -1099,48 +1107,68 @@ pub(crate) mod tests {
             view = step(&mut d);
             state.observe(&view);
         }
-        let dangerous: Vec<f32> = view
+        let dangerous = view
             .targets
             .iter()
             .filter(|t| t.dangerous(&state.limits))
-            .map(|t| t.tcpa_s)
-            .collect();
-        let lines = alarm_lines(&state, &view);
+            .count();
+        let total = alarm_lines(&state, &view).len();
         // A box of 4 rows inside its borders, as on a short terminal.
-        let rows = 4;
+        let draw = |state: &DisplayState| -> Vec<String> {
+            let mut terminal = Terminal::new(TestBackend::new(90, 6)).unwrap();
+            terminal
+                .draw(|f| render_alarms(f, f.area(), state, &view))
+                .unwrap();
+            let buffer = terminal.backend().buffer();
+            (0..buffer.area.height)
+                .map(|y| {
+                    (0..buffer.area.width)
+                        .map(|x| buffer[(x, y)].symbol())
+                        .collect()
+                })
+                .collect()
+        };
+        let screen = draw(&state);
         assert!(
-            lines.len() > rows,
-            "the demo should raise more alarms ({}) than the box holds",
-            lines.len()
+            total > 4 && dangerous >= 4,
+            "the demo should raise more alarms ({total}) than the box holds"
         );
-        let mut terminal = Terminal::new(TestBackend::new(90, 6)).unwrap();
-        terminal
-            .draw(|f| render_alarms(f, f.area(), &state, &view))
-            .unwrap();
-        let buffer = terminal.backend().buffer();
-        let text: String = (0..buffer.area.height)
-            .map(|y| {
-                let row: String = (0..buffer.area.width)
-                    .map(|x| buffer[(x, y)].symbol())
-                    .collect();
-                row + "\n"
-            })
+        let shown: Vec<&String> = screen.iter().filter(|l| l.contains("ALARM")).collect();
+        let more: usize = screen
+            .iter()
+            .find_map(|l| l.split_once('+')?.1.split_once(" more (")?.0.parse().ok())
+            .expect("the count of what is not shown");
+        assert_eq!(shown.len() + more, total, "{screen:#?}");
+        // The soonest closest approaches first: the minutes shown never decrease.
+        let minutes: Vec<f32> = shown
+            .iter()
+            .filter_map(|l| l.split(" in ").nth(1)?.split(" min").next()?.parse().ok())
             .collect();
-        let more = lines.len() - (rows - 1);
+        assert_eq!(minutes.len(), shown.len(), "{screen:#?}");
+        assert!(minutes.windows(2).all(|w| w[0] <= w[1]), "{minutes:?}");
+        let soonest = view
+            .targets
+            .iter()
+            .filter(|t| t.dangerous(&state.limits))
+            .map(|t| t.tcpa_s / 60.0)
+            .fold(f32::INFINITY, f32::min);
         assert!(
-            text.contains(&format!("+{more} more (alarms and notes not shown)")),
-            "{text}"
+            (minutes[0] - soonest).abs() < 0.051,
+            "{minutes:?} {soonest}"
         );
-        // The soonest closest approach is the first alarm line.
-        let soonest = dangerous.iter().copied().fold(f32::INFINITY, f32::min);
-        let first = text
-            .lines()
-            .find(|l| l.contains("CPA/TCPA ALARM"))
-            .expect("an alarm line");
+        // The answer to the operator's last key shows whatever the alarms.
+        state.message = Some("cancel refused: InvalidValue".into());
+        let screen = draw(&state);
         assert!(
-            first.contains(&format!("in {:.1} min", soonest / 60.0)),
-            "{first}"
+            screen.iter().any(|l| l.contains("cancel refused")),
+            "{screen:#?}"
         );
+        let shown = screen.iter().filter(|l| l.contains("ALARM")).count();
+        let more: usize = screen
+            .iter()
+            .find_map(|l| l.split_once('+')?.1.split_once(" more (")?.0.parse().ok())
+            .expect("the count of what is not shown");
+        assert_eq!(shown + more, total, "{screen:#?}");
     }
 
     #[test]

@@ -65,11 +65,7 @@ impl Plain {
         }
         let column = |track: u16| crate::display::ais_column(r, track);
         let mut s = table_with_ais(&r.targets, &self.limits, Some(&column));
-        for a in r.ais.iter().filter(|a| {
-            a.active
-                && crate::display::ais_dangerous(a, &self.limits)
-                && !r.paired.iter().any(|p| p.mmsi == a.mmsi)
-        }) {
+        for a in crate::display::ais_alarms(r, &self.limits) {
             s += &format!(
                 "  AIS {} CPA {:.2} NM in {:.1} min  ALARM CPA/TCPA\n",
                 a.label,

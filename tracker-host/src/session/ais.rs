@@ -400,7 +400,7 @@ impl AisPicture {
                 let number = targets.get(&track).map_or("--".to_string(), |x| x.label());
                 self.log(format!(
                     "{}: radar target {number} (track {track}) paired with AIS {label} (MMSI {mmsi})",
-                    crate::display::utc_label(t)
+                    crate::utc::utc_label(t)
                 ));
             } else {
                 streaks.insert((track, mmsi), n);
@@ -504,7 +504,8 @@ impl AisPicture {
             self.pairs.remove(&track);
             self.counts.parted += 1;
             self.log(format!(
-                "{t:.1} s: track {track} and AIS {mmsi} parted ({why})"
+                "{}: track {track} and AIS {mmsi} parted ({why})",
+                crate::utc::utc_label(t)
             ));
         }
     }
@@ -516,7 +517,7 @@ impl AisPicture {
                 self.counts.parted += 1;
                 self.log(format!(
                     "{}: track {track} and AIS {} parted (track lost or out of the gates)",
-                    crate::display::utc_label(t),
+                    crate::utc::utc_label(t),
                     p.mmsi
                 ));
             }

@@ -14,7 +14,9 @@
 //!   IMO errors, P_d 0.9, clutter, resolution cells), as for the plot-level demo.
 //! - **AIS**: each report of the file, at its own time, is sent as an `!AIVDM` type 1
 //!   sentence (encoded by the `aivdm` crate) and read back through the product's AIS
-//!   decoder; [`AIS_DROPOUT`] of them are lost on the air, as reception loses them.
+//!   decoder; [`AIS_DROPOUT`] of them are lost on the air, as reception loses them. A
+//!   report followed by a gap the truth keeps the vessel across as still is sent with the
+//!   status *moored*, else *under way using engine*.
 //! - **Truth ids are MMSIs**, so the scorer scores radar/AIS pairing too.
 
 use std::collections::BTreeMap;
@@ -170,12 +172,7 @@ impl AisTracks {
             return (t_s - a.t_s < 1e-6).then(|| (a.position_m, velocity(&a)));
         };
         let dt = b.t_s - a.t_s;
-        let still = || {
-            let moved_m =
-                (b.position_m[0] - a.position_m[0]).hypot(b.position_m[1] - a.position_m[1]);
-            a.sog_kn < STILL_KN && b.sog_kn < STILL_KN && moved_m < STILL_KN * KNOT_MPS * dt
-        };
-        if dt <= 0.0 || (dt > max_gap_s && !(dt <= still_gap_s && still())) {
+        if dt <= 0.0 || (dt > max_gap_s && !still_across(&a, &b, still_gap_s)) {
             return None;
         }
         let w = (t_s - a.t_s) / dt;
@@ -191,6 +188,37 @@ impl AisTracks {
         ];
         Some((p, v))
     }
+}
+
+/// True when a vessel is still across the gap from report `a` to `b` and the gap is at most
+/// `still_gap_s`: under [`STILL_KN`] at both and between them (moored or at anchor). The
+/// one rule for keeping it in the truth and for sending its reports as moored.
+fn still_across(a: &Fix, b: &Fix, still_gap_s: f64) -> bool {
+    let dt = b.t_s - a.t_s;
+    let moved_m = (b.position_m[0] - a.position_m[0]).hypot(b.position_m[1] - a.position_m[1]);
+    dt > 0.0
+        && dt <= still_gap_s
+        && a.sog_kn < STILL_KN
+        && b.sog_kn < STILL_KN
+        && moved_m < STILL_KN * KNOT_MPS * dt
+}
+
+/// True when report `i` of `fixes` goes out with the status *moored*: the vessel is still
+/// across the minutes to its next report, by the rule that keeps it in the truth
+/// ([`still_across`]). A class A ship reports that seldom only moored or at anchor (ITU-R
+/// M.1371-5, Annex 1, Table 1) and says so in its navigational status, which sets how long
+/// a receiver holds it (18 min against 60 s). The last report looks back at the gap
+/// before it.
+fn sent_as_moored(fixes: &[Fix], i: usize, still_gap_s: f64) -> bool {
+    let (Some(f), before) = (fixes.get(i), i.checked_sub(1).and_then(|j| fixes.get(j))) else {
+        return false;
+    };
+    let gap = match (fixes.get(i + 1), before) {
+        (Some(g), _) => (f, g),
+        (None, Some(p)) => (p, f),
+        (None, None) => return false,
+    };
+    gap.1.t_s - gap.0.t_s > MAX_GAP_S && still_across(gap.0, gap.1, still_gap_s)
 }
 
 fn velocity(f: &Fix) -> [f64; 2] {
@@ -305,17 +333,7 @@ impl AisTruthSource {
             }
             let next = self.next_report.entry(*mmsi).or_insert(0);
             while let Some(f) = fixes.get(*next).filter(|f| f.t_s <= t_s) {
-                // Still, and minutes between reports: a class A ship reports that seldom
-                // only moored or at anchor (ITU-R M.1371-5, Annex 1, Table 1), and says so
-                // in its navigational status, which sets how long the receiver holds it
-                // (18 min against 60 s). With moored ships kept in the truth only.
-                let interval_s = next
-                    .checked_sub(1)
-                    .and_then(|i| fixes.get(i))
-                    .or_else(|| fixes.get(*next + 1))
-                    .map_or(0.0, |g| (g.t_s - f.t_s).abs());
-                let moored =
-                    self.still_gap_s > MAX_GAP_S && f.sog_kn < STILL_KN && interval_s > MAX_GAP_S;
+                let moored = sent_as_moored(fixes, *next, self.still_gap_s);
                 *next += 1;
                 if self.rng.f64() < AIS_DROPOUT {
                     self.dropped += 1;
@@ -515,5 +533,31 @@ mod tests {
         assert_eq!(tracks.at(3, 90.0, MAX_GAP_S, MOORED_GAP_S), None);
         // Any vessel within the ordinary gap is in.
         assert!(tracks.at(2, 90.0, 200.0, MAX_GAP_S).is_some());
+        // Its reports go out as moored exactly where the truth keeps it across the gap to the
+        // next one (the last looks back).
+        let moored = |m: u32, still_gap_s: f64| -> Vec<bool> {
+            let f = &tracks.vessels[&m];
+            (0..f.len())
+                .map(|i| sent_as_moored(f, i, still_gap_s))
+                .collect()
+        };
+        assert_eq!(moored(1, MOORED_GAP_S), [true, true]);
+        assert_eq!(moored(1, MAX_GAP_S), [false, false]);
+        assert_eq!(moored(1, 179.0), [false, false]);
+        assert_eq!(moored(2, MOORED_GAP_S), [false, false]);
+        assert_eq!(moored(3, MOORED_GAP_S), [false, false]);
+        // Reports 10 s apart, still: under way (held 60 s, reported again within it).
+        let often = [fix(0.0, 0.0, 0.0), fix(10.0, 0.0, 0.0), fix(20.0, 0.0, 0.0)];
+        assert!((0..3).all(|i| !sent_as_moored(&often, i, MOORED_GAP_S)));
+        // Still across the first gap, under way after it: moored, then under way.
+        let leaves = [
+            fix(0.0, 0.0, 0.0),
+            fix(180.0, 0.2, 2.0),
+            fix(190.0, 6.0, 32.0),
+        ];
+        let out: Vec<bool> = (0..3)
+            .map(|i| sent_as_moored(&leaves, i, MOORED_GAP_S))
+            .collect();
+        assert_eq!(out, [true, false, false]);
     }
 }
