@@ -1068,8 +1068,9 @@ pub(crate) mod tests {
         assert!(before > 0);
     }
 
-    #[test]
-    fn alarms_and_lost_targets_are_shown() {
+    /// The demo `scans` scans on, on a display whose every approaching target whose motion is
+    /// known raises an alarm.
+    fn alarming(scans: usize) -> (DisplayState, ScanReport) {
         let mut d = demo();
         let mut state = DisplayState::new("inproc".into());
         state.limits = AlarmLimits {
@@ -1077,11 +1078,17 @@ pub(crate) mod tests {
             tcpa_s: 1e9,
         };
         let mut view = step(&mut d);
-        // 40 m plots: a target's motion is shown (and alarms) from its 14th plot on.
-        for _ in 0..16 {
+        for _ in 0..scans {
             view = step(&mut d);
             state.observe(&view);
         }
+        (state, view)
+    }
+
+    #[test]
+    fn alarms_and_lost_targets_are_shown() {
+        // 40 m plots: a target's motion is shown (and alarms) from its 14th plot on.
+        let (state, view) = alarming(16);
         assert!(view.targets.iter().any(|t| t.trend_known));
         if view
             .targets
@@ -1095,18 +1102,7 @@ pub(crate) mod tests {
 
     #[test]
     fn alarms_that_do_not_fit_are_counted_and_the_soonest_come_first() {
-        let mut d = demo();
-        let mut state = DisplayState::new("inproc".into());
-        // Every approaching target whose motion is known raises an alarm.
-        state.limits = AlarmLimits {
-            cpa_m: 1e9,
-            tcpa_s: 1e9,
-        };
-        let mut view = step(&mut d);
-        for _ in 0..20 {
-            view = step(&mut d);
-            state.observe(&view);
-        }
+        let (mut state, view) = alarming(20);
         let dangerous = view
             .targets
             .iter()
