@@ -272,17 +272,19 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
         .constraints([Constraint::Percentage(45), Constraint::Percentage(55)])
         .split(area);
     render_ppi(frame, columns[0], state, view);
+    // Made once: the box's height depends on them.
+    let alarms = alarm_lines(state, view);
     let right = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
             Constraint::Length(5),
             Constraint::Min(5),
-            Constraint::Length(alarm_box_rows(state, view)),
+            Constraint::Length(alarm_box_rows(&alarms, state)),
         ])
         .split(columns[1]);
     render_header(frame, right[0], state, view);
     render_table(frame, right[1], state, view);
-    render_alarms(frame, right[2], state, view);
+    render_alarms(frame, right[2], state, alarms);
 }
 
 fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
@@ -588,11 +590,8 @@ const ALARM_HELP: [&str; 2] = [
 
 /// The alarm box's height in rows (borders included): room for every line and the help,
 /// from 7 up to [`ALARM_BOX_MAX_ROWS`].
-fn alarm_box_rows(state: &DisplayState, view: &ScanReport) -> u16 {
-    let lines = alarm_lines(state, view).len().max(1)
-        + usize::from(state.message.is_some())
-        + ALARM_HELP.len()
-        + 2;
+fn alarm_box_rows(alarms: &[Line], state: &DisplayState) -> u16 {
+    let lines = alarms.len().max(1) + usize::from(state.message.is_some()) + ALARM_HELP.len() + 2;
     u16::try_from(lines).map_or(ALARM_BOX_MAX_ROWS, |n| n.clamp(7, ALARM_BOX_MAX_ROWS))
 }
 
@@ -671,8 +670,9 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
     lines
 }
 
-fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
-    let mut lines = alarm_lines(state, view);
+/// Draws the alarm box: `lines` ([`alarm_lines`]), the answer to the operator's last
+/// command, and the key help while there is room.
+fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, mut lines: Vec<Line>) {
     if lines.is_empty() && state.message.is_none() {
         lines.push(Line::raw("no alarms"));
     }
@@ -1113,7 +1113,7 @@ pub(crate) mod tests {
         let draw = |state: &DisplayState| -> Vec<String> {
             let mut terminal = Terminal::new(TestBackend::new(90, 6)).unwrap();
             terminal
-                .draw(|f| render_alarms(f, f.area(), state, &view))
+                .draw(|f| render_alarms(f, f.area(), state, alarm_lines(state, &view)))
                 .unwrap();
             let buffer = terminal.backend().buffer();
             (0..buffer.area.height)
@@ -1124,16 +1124,20 @@ pub(crate) mod tests {
                 })
                 .collect()
         };
+        // The count of what is not shown, from the box's last line.
+        let counted = |screen: &[String]| -> usize {
+            screen
+                .iter()
+                .find_map(|l| l.split_once('+')?.1.split_once(" more (")?.0.parse().ok())
+                .expect("the count of what is not shown")
+        };
         let screen = draw(&state);
         assert!(
             total > 4 && dangerous >= 4,
             "the demo should raise more alarms ({total}) than the box holds"
         );
         let shown: Vec<&String> = screen.iter().filter(|l| l.contains("ALARM")).collect();
-        let more: usize = screen
-            .iter()
-            .find_map(|l| l.split_once('+')?.1.split_once(" more (")?.0.parse().ok())
-            .expect("the count of what is not shown");
+        let more = counted(&screen);
         assert_eq!(shown.len() + more, total, "{screen:#?}");
         // The soonest closest approaches first: the minutes shown never decrease.
         let minutes: Vec<f32> = shown
@@ -1160,10 +1164,7 @@ pub(crate) mod tests {
             "{screen:#?}"
         );
         let shown = screen.iter().filter(|l| l.contains("ALARM")).count();
-        let more: usize = screen
-            .iter()
-            .find_map(|l| l.split_once('+')?.1.split_once(" more (")?.0.parse().ok())
-            .expect("the count of what is not shown");
+        let more = counted(&screen);
         assert_eq!(shown + more, total, "{screen:#?}");
     }
 

@@ -210,15 +210,13 @@ fn still_across(a: &Fix, b: &Fix, still_gap_s: f64) -> bool {
 /// a receiver holds it (18 min against 60 s). The last report looks back at the gap
 /// before it.
 fn sent_as_moored(fixes: &[Fix], i: usize, still_gap_s: f64) -> bool {
-    let (Some(f), before) = (fixes.get(i), i.checked_sub(1).and_then(|j| fixes.get(j))) else {
-        return false;
+    let before = i.checked_sub(1).and_then(|j| fixes.get(j));
+    let (a, b) = match (before, fixes.get(i), fixes.get(i + 1)) {
+        (_, Some(f), Some(next)) => (f, next),
+        (Some(previous), Some(f), None) => (previous, f),
+        _ => return false,
     };
-    let gap = match (fixes.get(i + 1), before) {
-        (Some(g), _) => (f, g),
-        (None, Some(p)) => (p, f),
-        (None, None) => return false,
-    };
-    gap.1.t_s - gap.0.t_s > MAX_GAP_S && still_across(gap.0, gap.1, still_gap_s)
+    b.t_s - a.t_s > MAX_GAP_S && still_across(a, b, still_gap_s)
 }
 
 fn velocity(f: &Fix) -> [f64; 2] {
