@@ -28,7 +28,7 @@ use tracker_core::track::MAX_TRACKS;
 
 use crate::app::run::Run;
 use crate::session::ais::AssociatedSymbol;
-use crate::session::target::{status_name, AlarmLimits, TargetData};
+use crate::session::target::{shown_status, AlarmLimits, TargetData};
 use crate::session::ScanReport;
 pub use crate::utc::utc_label;
 
@@ -288,22 +288,17 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
 }
 
 fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
-    let tentative = view
-        .tracks
-        .iter()
-        .filter(|t| t.status == TrackStatus::Tentative)
-        .count();
     let text = vec![
         Line::from(vec![
             Span::styled("ARPA ", Style::default().add_modifier(Modifier::BOLD)),
             Span::raw(format!(
-                "scan {}  {}  link {}  plots {}  targets {}  acquiring {}",
+                "scan {}  {}  link {}  plots {}  targets tracked {}  acquiring {}",
                 view.scan,
                 utc_label(view.time_s),
                 state.link,
                 view.plots.len(),
-                view.targets.len(),
-                tentative,
+                view.tracked(),
+                view.acquiring(),
             )),
         ]),
         Line::raw(own_ship_line(&view.own)),
@@ -339,6 +334,12 @@ pub fn own_ship_line(own: &crate::own_ship::OwnShip) -> String {
         format!("{:05.1}", f64::from(h).to_degrees().rem_euclid(360.0))
     });
     let q = own.quality;
+    // Unknown motion is not a ship stopped: shown as unknown.
+    let (cog, sog) = if q.motion_known {
+        (format!("{cog:05.1}"), format!("{sog:4.1} kn"))
+    } else {
+        ("---.-".to_string(), "---- kn".to_string())
+    };
     let state = if q.no_fix_yet {
         "NO FIX".to_string()
     } else if let Some(age) = q.dead_reckoning_s {
@@ -346,7 +347,7 @@ pub fn own_ship_line(own: &crate::own_ship::OwnShip) -> String {
     } else {
         "fix".to_string()
     };
-    format!("OWN  COG {cog:05.1}  SOG {sog:4.1} kn  HDG {heading}  {state}")
+    format!("OWN  COG {cog}  SOG {sog}  HDG {heading}  {state}")
 }
 
 fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
@@ -513,7 +514,7 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
         };
         Row::new(vec![
             t.label(),
-            status_name(t.status).to_string(),
+            shown_status(t).to_string(),
             format!("{:.2}", t.range_m / METRES_PER_NM),
             format!("{:.1}", t.bearing_rad.to_degrees()),
             motion(t.course_rad.to_degrees(), 1),

@@ -46,7 +46,7 @@ pub fn header(r: &ScanReport) -> String {
         r.scan,
         crate::display::utc_label(r.time_s),
         r.plots.len(),
-        r.targets.len(),
+        r.tracked(),
         r.acquiring(),
         crate::display::own_ship_line(&r.own)
     );

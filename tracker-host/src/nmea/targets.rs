@@ -121,8 +121,14 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
     } else {
         'V'
     };
+    // Unknown motion goes as empty fields, not as a ship stopped.
+    let (sog_kn, cog) = if q.motion_known {
+        (format!("{sog_kn:.1}"), cog)
+    } else {
+        (String::new(), String::new())
+    };
     let mut out = vec![sentence(&format!(
-        "RARMC,{},{status},{},{},{sog_kn:.1},{cog},{},,,{}",
+        "RARMC,{},{status},{},{},{sog_kn},{cog},{},,,{}",
         utc(time_s),
         angle_field(lat, 2, 'N', 'S'),
         angle_field(lon, 3, 'E', 'W'),
@@ -134,7 +140,7 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
         out.push(sentence(&format!("RAHDT,{h},T")));
     }
     out.push(sentence(&format!(
-        "RAOSD,{},{},{cog},P,{sog_kn:.1},P,,,N",
+        "RAOSD,{},{},{cog},P,{sog_kn},P,,,N",
         heading.as_deref().unwrap_or(""),
         if heading.is_some() { 'A' } else { 'V' }
     )));
@@ -281,6 +287,26 @@ mod tests {
             status: 'T',
             data,
         }
+    }
+
+    #[test]
+    fn own_ship_with_its_motion_unknown_goes_void_without_a_speed() {
+        let origin = Origin::default();
+        let mut own = OwnShip::at([0.0, 0.0], [0.0, 3.0]);
+        let rmc = |own: &OwnShip| own_ship_sentences(own, &origin, 0.0)[0].clone();
+        let known = rmc(&own);
+        assert!(
+            known.contains(",A,") && known.contains(",5.8,0.0,"),
+            "{known}"
+        );
+        // A fix without a velocity yet: stopped it is not.
+        own.quality.motion_known = false;
+        own.velocity_mps = [0.0, 0.0];
+        let unknown = rmc(&own);
+        assert!(unknown.starts_with("$RARMC,000000.00,V,"), "{unknown}");
+        assert!(unknown.contains(",W,,,010170,"), "{unknown}");
+        let osd = own_ship_sentences(&own, &origin, 0.0).pop().unwrap();
+        assert!(osd.starts_with("$RAOSD,,V,,P,,P,"), "{osd}");
     }
 
     #[test]

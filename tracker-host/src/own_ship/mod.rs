@@ -46,6 +46,9 @@ pub struct OwnShipQuality {
     pub no_fix_yet: bool,
     /// A position fix was refused as implausible lately (far from where own ship can be).
     pub implausible_fix: bool,
+    /// A head-up radar's plots were dropped this scan for want of a heading: none from
+    /// NMEA, none in the spokes, no fixed heading given.
+    pub heading_needed: bool,
 }
 
 impl Default for OwnShipQuality {
@@ -57,6 +60,7 @@ impl Default for OwnShipQuality {
             heading_lost: false,
             no_fix_yet: false,
             implausible_fix: false,
+            heading_needed: false,
         }
     }
 }
@@ -120,8 +124,39 @@ impl OwnShip {
         if q.implausible_fix {
             a.push("OWN SHIP: implausible position fix refused".to_string());
         }
+        if q.heading_needed {
+            a.push(
+                "OWN SHIP: no heading: the head-up radar's plots are not placed (--heading-deg DEG for a ship at a fixed heading, or a heading sensor on --nmea-in)"
+                    .to_string(),
+            );
+        }
         a
     }
+}
+
+/// A time difference as a person reads it, before what it is measured from:
+/// `4 h 38 min ahead of`, `12 s behind`.
+pub fn offset_label(offset_s: f64) -> String {
+    let way = if offset_s >= 0.0 {
+        "ahead of"
+    } else {
+        "behind"
+    };
+    let a = offset_s.abs();
+    let size = if a < 120.0 {
+        format!("{a:.0} s")
+    } else if a < 7200.0 {
+        format!("{:.0} min", a / 60.0)
+    } else if a < 3.0 * 86_400.0 {
+        format!(
+            "{} h {:.0} min",
+            (a / 3600.0).floor(),
+            (a % 3600.0 / 60.0).floor()
+        )
+    } else {
+        format!("{:.0} days", a / 86_400.0)
+    };
+    format!("{size} {way}")
 }
 
 /// A source of own ship, asked once a scan.
@@ -196,7 +231,18 @@ pub struct NmeaOwnShip {
     nav: OwnShipNav,
     ais: crate::ais::AisDecoder,
     heard: Vec<(f64, crate::ais::AisReport)>,
+    /// A live source's UTC less the session's time (this computer's clock), s, from the
+    /// newest timed sentence: own ship is asked for on the bridge's time.
+    offset_s: Option<f64>,
+    /// The offset last told of, when it was more than [`CLOCK_NOTE_S`].
+    offset_told_s: Option<f64>,
+    clock_events: Vec<String>,
 }
+
+/// A live source's UTC this far from this computer's clock is told of (an event), s: a
+/// PC on board without a time server is often hours out; own ship follows the bridge's
+/// time either way.
+pub const CLOCK_NOTE_S: f64 = 30.0;
 
 impl NmeaOwnShip {
     /// Opens the source.
@@ -214,7 +260,43 @@ impl NmeaOwnShip {
             ),
             ais: crate::ais::AisDecoder::new(),
             heard: Vec::new(),
+            offset_s: None,
+            offset_told_s: None,
+            clock_events: Vec::new(),
         })
+    }
+
+    /// Takes a live source's lines that arrived by the session's time `time_s`, learning
+    /// the offset of the bridge's UTC from it on every new timed sentence (the lines
+    /// arrived within a scan before `time_s`, so the offset is late by at most that).
+    fn take_live(&mut self, lines: Vec<String>, time_s: f64) {
+        for line in lines {
+            // On the bridge's time for the filter; AIS targets on the session's.
+            let bridge_s = time_s + self.offset_s.unwrap_or(0.0);
+            let newest = self.nav.newest_s();
+            if crate::ais::fragment::is_ais(&line) {
+                if let Some(r) = self.ais.feed(&line) {
+                    self.nav.feed_ais_own(&r, bridge_s);
+                    self.heard.push((time_s, r));
+                }
+            } else {
+                self.nav.feed_heard(&line, bridge_s);
+            }
+            if let Some(n) = self.nav.newest_s().filter(|n| Some(*n) != newest) {
+                self.offset_s = Some(n - time_s);
+            }
+        }
+        let Some(offset) = self.offset_s else {
+            return;
+        };
+        let told = self.offset_told_s.unwrap_or(0.0);
+        if (offset - told).abs() > CLOCK_NOTE_S {
+            self.clock_events.push(format!(
+                "the NMEA source's UTC is {} this computer's clock: own ship follows the NMEA's time",
+                offset_label(offset)
+            ));
+            self.offset_told_s = Some(offset);
+        }
     }
 
     /// Feeds every line of a recording due by `time_s`: untimed lines as they come, a timed
@@ -260,12 +342,15 @@ impl OwnShipSource for NmeaOwnShip {
         match &mut self.input {
             NmeaIn::File(_) => self.replay_until(t),
             NmeaIn::Live(live) => {
-                for line in live.available() {
-                    take(&mut self.nav, &mut self.ais, &mut self.heard, &line, t);
-                }
+                let lines = live.available();
+                self.take_live(lines, t);
             }
         }
-        Ok(self.nav.own_ship_at(t).unwrap_or_else(OwnShip::unknown))
+        let bridge_s = t + self.offset_s.unwrap_or(0.0);
+        Ok(self
+            .nav
+            .own_ship_at(bridge_s)
+            .unwrap_or_else(OwnShip::unknown))
     }
 
     fn nmea_counts(&self) -> Option<NavCounts> {
@@ -282,6 +367,7 @@ impl OwnShipSource for NmeaOwnShip {
 
     fn events(&self) -> Vec<String> {
         let mut e = self.nav.events();
+        e.extend(self.clock_events.iter().cloned());
         if let NmeaIn::Live(live) = &self.input {
             if live.drops > 0 {
                 e.push(format!(
@@ -294,8 +380,10 @@ impl OwnShipSource for NmeaOwnShip {
     }
 }
 
-/// One line: AIS sentences to the AIS decoder (heard at `time_s`; own ship's `AIVDO` also
-/// to the dead-reckoning filter, as one more sensor), the rest to the filter.
+/// One line of a recording: AIS sentences to the AIS decoder (heard at `time_s`; own
+/// ship's `AIVDO` also to the dead-reckoning filter, as one more sensor), the rest to the
+/// filter (a sentence without a time at the newest time: a recording's lines are in the
+/// order they were sent).
 fn take(
     nav: &mut OwnShipNav,
     ais: &mut crate::ais::AisDecoder,
@@ -367,5 +455,49 @@ impl OwnShipSource for SimulatedBridge {
 
     fn nmea_counts(&self) -> Option<NavCounts> {
         self.nav.as_ref().map(|n| n.counts().clone())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nmea::bridge::own_ship_sentences;
+
+    #[test]
+    fn offsets_read_as_a_person_says_them() {
+        assert_eq!(offset_label(12.4), "12 s ahead of");
+        assert_eq!(offset_label(-600.0), "10 min behind");
+        assert_eq!(
+            offset_label(-(4.0 * 3600.0 + 38.0 * 60.0 + 5.0)),
+            "4 h 38 min behind"
+        );
+        assert_eq!(offset_label(400.0 * 86_400.0), "400 days ahead of");
+    }
+
+    #[test]
+    fn a_live_source_on_its_own_utc_is_followed_and_told_of() {
+        // The session's clock (this computer's) is 3 h ahead of the bridge's UTC.
+        let file = tempfile::NamedTempFile::new().unwrap();
+        let origin = Origin::default();
+        let spec = InSpec::File(file.path().to_path_buf());
+        let mut own = NmeaOwnShip::open(&spec, origin, &NmeaOptions::default()).unwrap();
+        let pc_s = 1_767_225_600.0 + 12.0 * 3600.0;
+        let bridge_s = pc_s - 3.0 * 3600.0;
+        for k in 0..10 {
+            let k = f64::from(k);
+            let lines = own_ship_sentences([0.0, 4.0 * k], [0.0, 4.0], &origin, bridge_s + k);
+            own.take_live(lines, pc_s + k);
+        }
+        let offset = own.offset_s.unwrap();
+        assert!((offset + 3.0 * 3600.0).abs() < 1e-6, "{offset}");
+        let at = own.nav.own_ship_at(pc_s + 9.5 + offset).unwrap();
+        assert_eq!(at.quality.dead_reckoning_s, None, "{at:?}");
+        assert!(at.quality.motion_known && (at.velocity_mps[1] - 4.0).abs() < 0.1);
+        let told: Vec<String> = own
+            .events()
+            .into_iter()
+            .filter(|e| e.contains("3 h 0 min behind this computer's clock"))
+            .collect();
+        assert_eq!(told.len(), 1, "{:?}", own.events());
     }
 }

@@ -39,6 +39,14 @@ pub const MAX_DEAD_RECKONING_S: f64 = 300.0;
 /// A heading silent this long (after one was received) is an alarm, s.
 pub const HEADING_LOST_S: f64 = 10.0;
 
+/// Own ship's motion over ground is known once the filter's velocity standard deviation
+/// per axis has come down to this, m/s (about 2 kn; 0.3 m/s on a steady GNSS feed): a
+/// filter started on a position alone holds a velocity of zero with a σ of 3 m/s, which
+/// is no knowledge of the motion (the true vectors and a plotter's `RMC` must not take it
+/// as own ship stopped). Once known, dead reckoning keeps it for
+/// [`MAX_DEAD_RECKONING_S`].
+pub const MOTION_KNOWN_SIGMA_MPS: f64 = 1.0;
+
 /// A position fix further than this from the dead-reckoned position, plus three standard
 /// deviations of it and [`MAX_UNMODELLED_SPEED_MPS`] for every second since the last fix, is
 /// implausible, m.
@@ -166,6 +174,13 @@ fn drkf_config() -> DrkfConfig {
     c
 }
 
+/// Whether the filter knows own ship's velocity over ground ([`MOTION_KNOWN_SIGMA_MPS`]).
+fn velocity_known(d: &Drkf<f64>) -> bool {
+    let c = d.own_ship_covariance();
+    let mean_variance = 0.5 * (c[(2, 2)] + c[(3, 3)]);
+    mean_variance <= MOTION_KNOWN_SIGMA_MPS * MOTION_KNOWN_SIGMA_MPS
+}
+
 /// Own ship from NMEA.
 pub struct OwnShipNav {
     origin: Origin,
@@ -174,6 +189,8 @@ pub struct OwnShipNav {
     drkf: Option<Drkf<f64>>,
     /// Time of the filter's state, s.
     time_s: f64,
+    /// The filter has known own ship's velocity since it started ([`MOTION_KNOWN_SIGMA_MPS`]).
+    motion_measured: bool,
     /// Velocity over ground from before the first position.
     velocity: Option<[f64; 2]>,
     variation_deg: Option<f64>,
@@ -210,6 +227,7 @@ impl OwnShipNav {
             selector,
             drkf: None,
             time_s: 0.0,
+            motion_measured: false,
             velocity: None,
             variation_deg: None,
             operator_variation_deg: variation_deg,
@@ -271,8 +289,23 @@ impl OwnShipNav {
         }
     }
 
-    /// Takes one line.
+    /// Takes one line. A sentence without a time (`GLL` or `VTG` from some receivers, `HDT`)
+    /// is taken at the newest time used: a recording's lines come in the order they were
+    /// sent.
     pub fn feed(&mut self, line: &str) {
+        self.feed_line(line, None);
+    }
+
+    /// Takes one line heard at `heard_s` (s since 1970, on this clock: the caller adds the
+    /// offset between the bridge's UTC and its own time when it knows one). A sentence
+    /// without a time is taken at `heard_s` or the newest time used, whichever is later:
+    /// with no timed sentence at all (a capture of `GLL` without times), own ship's fixes
+    /// are as fresh as their arrival, not as old as the epoch.
+    pub fn feed_heard(&mut self, line: &str, heard_s: f64) {
+        self.feed_line(line, Some(heard_s));
+    }
+
+    fn feed_line(&mut self, line: &str, heard_s: Option<f64>) {
         self.counts.lines += 1;
         let s = match sentence::parse(line) {
             Ok(Line::Sentence(s)) => s,
@@ -303,9 +336,28 @@ impl OwnShipNav {
                 return;
             }
         };
+        let first_time = self.clock.newest_s().is_none();
         let now = match self.clock.take(&stamp) {
-            Ok(Some(t)) => t,
-            Ok(None) => self.clock.newest_s().unwrap_or(self.time_s),
+            Ok(Some(t)) => {
+                // Readings heard before the first timed sentence were taken at their
+                // arrival; a bridge clock far from that (a PC clock not set) would leave the
+                // filter ahead of every later reading: start it again on the bridge's time.
+                if first_time && self.drkf.is_some() && (t - self.time_s).abs() > clock::MAX_JUMP_S
+                {
+                    self.events.push(format!(
+                        "own-ship filter restarted: the bridge's UTC is {} the time its first sentences were heard",
+                        crate::own_ship::offset_label(t - self.time_s)
+                    ));
+                    self.drkf = None;
+                    self.last_position_s = None;
+                    self.time_s = t;
+                }
+                t
+            }
+            Ok(None) => match heard_s {
+                Some(heard) => self.heard_time(heard),
+                None => self.clock.newest_s().unwrap_or(self.time_s),
+            },
             Err(clock::Refused::Backwards { .. }) => {
                 self.counts.stale += 1;
                 return;
@@ -350,11 +402,7 @@ impl OwnShipNav {
         }
         // Timed by when it was heard: with GNSS silent the clock stands still, and readings
         // stamped with its time would be flown on from there as if old.
-        let now = self
-            .clock
-            .newest_s()
-            .map_or(heard_s, |n| n.max(heard_s))
-            .max(self.time_s);
+        let now = self.heard_time(heard_s);
         // The sentence counts are the lines'; an AIS report is not a line of this reader.
         let before = self.counts.clone();
         self.apply_readings("AI", &readings, now);
@@ -362,6 +410,15 @@ impl OwnShipNav {
         self.counts = before;
         self.counts.ais_own += 1;
         self.counts.ais_own_used += u64::from(used);
+    }
+
+    /// The time of a reading without a time of its own, heard at `heard_s`: never before
+    /// the newest time used, nor before the filter's.
+    fn heard_time(&self, heard_s: f64) -> f64 {
+        self.clock
+            .newest_s()
+            .map_or(heard_s, |n| n.max(heard_s))
+            .max(self.time_s)
     }
 
     fn apply_readings(&mut self, talker: &str, readings: &[Reading], now: f64) {
@@ -524,6 +581,7 @@ impl OwnShipNav {
                     if v.is_some() { 0.5 } else { 10.0 },
                 ) {
                     Ok(d) => {
+                        self.motion_measured = velocity_known(&d);
                         self.drkf = Some(d);
                         self.time_s = at;
                         self.last_position_s = Some(at);
@@ -546,6 +604,7 @@ impl OwnShipNav {
         }
         match drkf.update(fix) {
             Ok(_) => {
+                self.motion_measured |= velocity_known(drkf);
                 self.counts.used += 1;
                 if fix.gps_position_m.is_some() {
                     self.last_position_s = Some(at);
@@ -580,12 +639,13 @@ impl OwnShipNav {
                 .map(|h| h.to_radians() as f32),
             quality: OwnShipQuality {
                 dead_reckoning_s: (since_fix > POSITION_LOST_S).then_some(since_fix as f32),
-                motion_known: since_fix <= MAX_DEAD_RECKONING_S,
+                motion_known: since_fix <= MAX_DEAD_RECKONING_S && self.motion_measured,
                 heading_lost: heading_age.is_some_and(|a| a > HEADING_LOST_S),
                 no_fix_yet: false,
                 implausible_fix: self
                     .last_implausible_s
                     .is_some_and(|t| (0.0..=IMPLAUSIBLE_ALARM_S).contains(&(time_s - t))),
+                heading_needed: false,
             },
         })
     }
@@ -630,6 +690,56 @@ mod tests {
         assert!(!gone.quality.motion_known);
         // Held, not flown on for an hour.
         assert!(gone.position_m[1] < 360.0 + 6.0 * MAX_DEAD_RECKONING_S as f32 + 50.0);
+    }
+
+    #[test]
+    fn untimed_sentences_are_taken_when_heard_and_motion_waits_for_a_velocity() {
+        let mut nav = OwnShipNav::new(Origin::default(), DAY0, None);
+        // A GLL without a time (as a capture's multiplexer sent it), heard at T0 + 100 s:
+        // fresh then, not as old as 1970.
+        nav.feed_heard(&sentence("GPGLL,5040.0000,N,00100.0000,W,,A,D"), T0 + 100.0);
+        let own = nav.own_ship_at(T0 + 101.0).unwrap();
+        assert_eq!(own.quality.dead_reckoning_s, None, "{own:?}");
+        // A position alone says nothing of the motion: not a ship stopped.
+        assert!(!own.quality.motion_known, "{own:?}");
+        nav.feed_heard(&sentence("GPVTG,090.0,T,,M,5.0,N,9.3,K,A"), T0 + 101.0);
+        let own = nav.own_ship_at(T0 + 101.5).unwrap();
+        assert!(own.quality.motion_known, "{own:?}");
+        assert!((own.velocity_mps[0] - 2.572).abs() < 0.1, "{own:?}");
+        // The same GLL fed as a recording's line (no arrival time) takes the filter's.
+        let mut replay = OwnShipNav::new(Origin::default(), DAY0, None);
+        replay.feed(&sentence("GPGLL,5040.0000,N,00100.0000,W,,A,D"));
+        assert!(replay
+            .own_ship_at(T0)
+            .is_some_and(|o| o.quality.dead_reckoning_s.is_some()));
+    }
+
+    #[test]
+    fn a_bridge_clock_far_from_the_arrival_times_restarts_the_filter_on_it() {
+        let mut nav = OwnShipNav::new(Origin::default(), DAY0, None);
+        nav.feed_heard(
+            &sentence("GPGLL,5040.0000,N,00100.0000,W,,A,D"),
+            T0 + 17.0 * 3600.0,
+        );
+        // Then timed sentences 5 hours earlier (a PC clock not set): the filter follows them
+        // (the caller hears the rest on the bridge's time once it has one).
+        let t = T0 + 12.0 * 3600.0;
+        for k in 0..5 {
+            let at = t + f64::from(k);
+            for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &Origin::default(), at) {
+                nav.feed_heard(&l, at);
+            }
+        }
+        assert!(
+            nav.events()
+                .iter()
+                .any(|e| e.contains("restarted") && e.contains("5 h 0 min behind")),
+            "{:?}",
+            nav.events()
+        );
+        let own = nav.own_ship_at(t + 5.0).unwrap();
+        assert_eq!(own.quality.dead_reckoning_s, None, "{own:?}");
+        assert!((own.velocity_mps[1] - 3.0).abs() < 0.1, "{own:?}");
     }
 
     #[test]

@@ -177,12 +177,15 @@ impl ScanReport {
             .or_else(|| self.merged.iter().find(|c| c.mmsi == mmsi).map(|c| c.track))
     }
 
-    /// Tracks still being acquired (tentative).
+    /// Targets shown as tracked: their motion's trend known (`TTM` status `T`).
+    pub fn tracked(&self) -> usize {
+        self.targets.iter().filter(|t| t.trend_known).count()
+    }
+
+    /// Targets shown as being acquired (`TTM` status `Q`): tentative tracks with a second
+    /// plot, and confirmed ones whose motion's trend is not known yet.
     pub fn acquiring(&self) -> usize {
-        self.tracks
-            .iter()
-            .filter(|t| t.status == TrackStatus::Tentative)
-            .count()
+        self.acquiring.len() + self.targets.iter().filter(|t| !t.trend_known).count()
     }
 }
 

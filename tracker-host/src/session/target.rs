@@ -153,7 +153,7 @@ pub fn table_with_ais(
         let line = format!(
             "{:>4} {:<9} {:>7.2} {:>7.1} {} {} {} {} {} {} {:>4}{}{}",
             t.label(),
-            status_name(t.status),
+            shown_status(t),
             t.range_m / METRES_PER_NM,
             deg(t.bearing_rad),
             known(truth, 7, deg(t.course_rad), 1),
@@ -174,6 +174,17 @@ pub fn table_with_ais(
         s.push('\n');
     }
     s
+}
+
+/// A shown target's status as a navigator reads it, as the plotter is told it (`TTM`'s
+/// `Q` and `T`): acquiring until its motion's trend is known (IEC 62388 draws no vector
+/// before), tracked after.
+pub fn shown_status(t: &TargetData) -> &'static str {
+    if t.status == TrackStatus::Confirmed && !t.trend_known {
+        "acquiring"
+    } else {
+        status_name(t.status)
+    }
 }
 
 /// The status as a navigator reads it.
@@ -205,6 +216,17 @@ pub(crate) fn example() -> TargetData {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_target_is_shown_acquiring_until_its_trend_is_known() {
+        let mut t = example();
+        t.trend_known = false;
+        assert_eq!(shown_status(&t), "acquiring");
+        t.trend_known = true;
+        assert_eq!(shown_status(&t), "tracked");
+        t.status = TrackStatus::Coasting;
+        assert_eq!(shown_status(&t), "coasting");
+    }
 
     #[test]
     fn a_head_on_target_alarms() {

@@ -358,7 +358,9 @@ impl RadarPlotSource {
                 continue;
             }
             let newest = self.nav.newest_s();
-            self.nav.feed(&line);
+            // Untimed sentences (a capture's GLL without times) at their capture time.
+            self.nav
+                .feed_heard(&line, t + self.nmea_offset_s.unwrap_or(0.0));
             self.heading_cache = None;
             if let Some(n) = self.nav.newest_s().filter(|n| Some(*n) != newest) {
                 self.nmea_offset_s = Some(n - t);
@@ -481,6 +483,7 @@ impl RadarPlotSource {
             .filter(|o| o.quality.motion_known)
             .map_or([0.0, 0.0], |o| o.velocity_mps);
         let mut plots: Vec<Plot> = Vec::with_capacity(picture.plots.len());
+        let without_heading = self.counts.plots_without_heading;
         for p in &picture.plots {
             let Some(plot) = p.to_icd() else {
                 self.counts.plots_without_heading += 1;
@@ -515,6 +518,7 @@ impl RadarPlotSource {
             self.reported_fixed_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
             own.quality.heading_lost &= own.heading_rad.is_none();
         }
+        own.quality.heading_needed = self.counts.plots_without_heading > without_heading;
         let own_ship = Some(own);
         let echoes = std::mem::take(&mut self.image);
         SourceScan {
