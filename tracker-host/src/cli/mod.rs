@@ -474,6 +474,7 @@ where
             range_sd,
             bearing_sd,
         } => {
+            crate::record::check_writable(output).context("--output")?;
             let kind = match filter {
                 replay::ReplayFilter::Ttkf => {
                     let nav = nav
@@ -507,8 +508,10 @@ where
                 kind == tracker_core::filter::FilterKind::Grnn,
             )?;
             eprintln!(
-                "replay: {} measurements through {config:?} ({scalar:?}) -> {}",
+                "replay: {} measurements through {} in {} -> {}",
                 rows.len(),
+                replay::describe(&config),
+                scalar.name(),
                 output.display()
             );
             Ok(ExitCode::SUCCESS)
