@@ -1,5 +1,7 @@
 //! The binary as a shell user meets it: its output piped into a reader that stops early
-//! (`tracker-host demo --plain | head -1`) ends the run quietly, never with a panic.
+//! (`tracker-host demo --plain | head -1`) ends the run quietly, never with a panic; an
+//! output path that cannot be written is refused before the run, not after it; the
+//! summary's events read plainly.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -22,4 +24,85 @@ fn a_closed_pipe_is_not_a_panic() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_ne!(out.status.code(), Some(101), "{stderr}");
+}
+
+#[test]
+fn an_output_that_cannot_be_written_is_refused_before_the_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let nowhere = dir.path().join("no-such-dir").join("s.json");
+    for (option, path, said) in [
+        (
+            "--summary-json",
+            nowhere.display().to_string(),
+            "does not exist",
+        ),
+        ("--snapshot", "foo.txt".to_string(), "must end in .png"),
+        (
+            "--snapshot",
+            nowhere.with_extension("png").display().to_string(),
+            "does not exist",
+        ),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_tracker-host"))
+            .args(["--link", "inproc", "demo", "--plain", option, &path])
+            .current_dir(dir.path())
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(1), "{option} {path}: {stderr}");
+        assert!(out.stdout.is_empty(), "{option}: the run ran");
+        assert!(stderr.contains(option) && stderr.contains(said), "{stderr}");
+    }
+}
+
+#[test]
+fn a_ship_without_a_name_is_paired_by_its_mmsi_once() {
+    // Own ship and one ship 550 m north and 1 km east, both north at 6 kn for 4 minutes,
+    // as AIS reports every 5 s (the `--ais-truth` format).
+    let dir = tempfile::tempdir().unwrap();
+    let mut csv =
+        String::from("Time,MMSI,Latitude_degrees,Longitude_degrees,COG_degrees,SOG_knots\n");
+    for i in 0..48 {
+        let (m, s) = (i * 5 / 60, i * 5 % 60);
+        let lat = 50.7 + f64::from(i * 5) * 6.0 * 0.514 / 111_000.0;
+        csv += &format!("2016-01-12 13:{m:02}:{s:02}.000,235000001,{lat},-1.1,0,6\n");
+        csv += &format!(
+            "2016-01-12 13:{m:02}:{s:02}.000,235000002,{},-1.085,0,6\n",
+            lat + 0.005
+        );
+    }
+    std::fs::write(dir.path().join("truth.csv"), csv).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_tracker-host"))
+        .args([
+            "--link",
+            "inproc",
+            "demo",
+            "--ais-truth",
+            "truth.csv",
+            "--own-mmsi",
+            "235000001",
+            "--summary-json",
+            "s.json",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("s.json")).unwrap()).unwrap();
+    let events: Vec<&str> = summary["events"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter_map(|e| e.as_str())
+        .filter(|e| e.contains("paired with"))
+        .collect();
+    assert!(!events.is_empty(), "{summary}");
+    for e in events {
+        assert!(e.ends_with("paired with AIS 235000002"), "{e}");
+    }
 }

@@ -195,6 +195,32 @@ fn bad_input_fails_clearly_and_leaves_no_output() {
             "--r",
         ),
         (
+            &["--filter", "kalman-cv", "--input", "good.csv"],
+            "missing options --q Q, --r R",
+        ),
+        (
+            &[
+                "--filter",
+                "alpha-beta",
+                "--alpha",
+                "1.5",
+                "--input",
+                "good.csv",
+            ],
+            "α = 1.5 out of range (0, 1]",
+        ),
+        (
+            &[
+                "--filter",
+                "alpha-beta-gamma",
+                "--alpha",
+                "0.5",
+                "--input",
+                "good.csv",
+            ],
+            "missing options --beta B, --gamma G",
+        ),
+        (
             &[
                 "--filter",
                 "kalman-cv",
@@ -294,4 +320,54 @@ fn grnn_adds_a_manoeuvre_column() {
         ],
     );
     assert!(!ok && err.contains("--short"), "{err}");
+}
+
+#[test]
+fn messages_are_plain_words_and_the_help_lists_every_schedule() {
+    let dir = tempfile::tempdir().unwrap();
+    write_track(&dir.path().join("meas.csv"), 60);
+    for (args, said) in [
+        (
+            &["--filter", "grnn"][..],
+            "through grnn (σ from the measured noise, short 10, long 45, residual detector",
+        ),
+        (
+            &["--filter", "kalman-cv", "--q", "0.1", "--r", "25"],
+            "through kalman-cv (q = 0.1, identity model, r = 25 m², p0 = 10000) in f64",
+        ),
+        (
+            &["--filter", "alpha-beta", "--alpha", "0.5"],
+            "through alpha-beta (α = 0.5, Benedict–Bordner β = 0.1667) in f64",
+        ),
+    ] {
+        let mut all = args.to_vec();
+        all.extend_from_slice(&["--input", "meas.csv", "--output", "est.csv"]);
+        let (ok, err) = replay(dir.path(), &all);
+        assert!(ok && err.contains(said), "{args:?}: {err}");
+        assert!(!err.contains('{') && !err.contains("Config"), "{err}");
+    }
+    // The output's directory is checked before the filter runs.
+    let (ok, err) = replay(
+        dir.path(),
+        &[
+            "--filter",
+            "alpha-beta",
+            "--xi",
+            "0.5",
+            "--input",
+            "meas.csv",
+            "--output",
+            "no-such-dir/est.csv",
+        ],
+    );
+    assert!(
+        !ok && err.contains("--output") && err.contains("does not exist"),
+        "{err}"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_tracker-host"))
+        .args(["replay", "--help"])
+        .output()
+        .expect("runs");
+    let help = String::from_utf8_lossy(&out.stdout);
+    assert!(help.contains("`thesis` with --alpha"), "{help}");
 }

@@ -108,6 +108,15 @@ impl AisTarget {
             .clone()
             .unwrap_or_else(|| self.mmsi.to_string())
     }
+
+    /// The target for a message: the name and the MMSI (`KESTREL (MMSI 235000001)`), or
+    /// the MMSI alone while no name is known (not `235000001 (MMSI 235000001)`).
+    pub fn described(&self) -> String {
+        match &self.last.name {
+            Some(name) => format!("{name} (MMSI {})", self.mmsi),
+            None => self.mmsi.to_string(),
+        }
+    }
 }
 
 /// An AIS target as seen from own ship at one time.
@@ -360,5 +369,27 @@ mod tests {
         assert_eq!(t.len(), MAX_AIS_TARGETS);
         assert_eq!(t.counts().crowded_out, 10_000 - MAX_AIS_TARGETS as u64);
         assert!(t.get(100 + 9_999).is_some() && t.get(100).is_none());
+    }
+
+    #[test]
+    fn a_target_is_described_by_its_name_and_mmsi_or_its_mmsi_once() {
+        let mut t = AisTargets::new(Origin {
+            lat_deg: 50.0,
+            lon_deg: -1.0,
+        });
+        t.report(0.0, &report(311_855_000, 50.0, 10.0, StationClass::ClassA));
+        assert_eq!(t.get(311_855_000).unwrap().described(), "311855000");
+        t.report(
+            1.0,
+            &AisReport {
+                mmsi: 311_855_000,
+                msg_type: 5,
+                name: Some("KESTREL".into()),
+                ..AisReport::default()
+            },
+        );
+        let target = t.get(311_855_000).unwrap();
+        assert_eq!(target.described(), "KESTREL (MMSI 311855000)");
+        assert_eq!(target.label(), "KESTREL");
     }
 }

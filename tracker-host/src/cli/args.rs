@@ -1,6 +1,8 @@
 //! Arguments shared by the commands that run the tracker (`demo`, `track`).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
 
 use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::Args;
@@ -128,9 +130,9 @@ pub struct RunArgs {
     /// water-speed). Without it the first talker heard is used.
     #[arg(long, value_name = "QUANTITY=TALKER,…", value_parser = parse_source)]
     pub nmea_source: Vec<(Quantity, Vec<String>)>,
-    /// Magnetic variation, degrees east (west negative), for magnetic headings (`HDM`,
-    /// `HDG`) when neither the sentence nor an `RMC` gives one.
-    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    /// Magnetic variation, degrees east (west negative, within ±180), for magnetic headings
+    /// (`HDM`, `HDG`) when neither the sentence nor an `RMC` gives one.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = magnetic_variation)]
     pub magnetic_variation: Option<f64>,
     /// Take own ship from NMEA 0183 (GGA/RMC, VTG, HDT, VHW) through the dead-reckoning
     /// filter: `file:PATH` (a recording, replayed scan by scan), `udp:PORT`,
@@ -154,7 +156,8 @@ pub struct RunArgs {
     #[arg(long, value_name = "PATH")]
     pub record_tracks: Option<PathBuf>,
     /// Draw the last scan to this PNG when the run ends: a radar's echoes, the plots, the
-    /// targets with numbers and vectors, AIS targets (to check extraction by eye).
+    /// targets with numbers and vectors, AIS targets (to check extraction by eye). The name
+    /// ends in `.png` (or `.jpg`, `.bmp`: the drawing's other formats).
     #[arg(long, value_name = "PATH")]
     pub snapshot: Option<PathBuf>,
     /// Write the end-of-run summary to this file as one JSON object.
@@ -162,12 +165,68 @@ pub struct RunArgs {
     pub summary_json: Option<PathBuf>,
 }
 
-/// A positive, finite number.
-fn positive(s: &str) -> Result<f64, String> {
+/// A finite number for which `ok` holds; else "`s`: expected `what`".
+fn number(s: &str, ok: impl Fn(f64) -> bool, what: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && v > 0.0 => Ok(v),
-        _ => Err(format!("`{s}`: expected a positive number")),
+        Ok(v) if v.is_finite() && ok(v) => Ok(v),
+        _ => Err(format!("`{s}`: expected {what}")),
     }
+}
+
+/// A positive, finite number.
+///
+/// # Errors
+/// Anything else, in words.
+pub fn positive(s: &str) -> Result<f64, String> {
+    number(s, |v| v > 0.0, "a positive number")
+}
+
+/// A positive number that an `f32` holds (a distance sent to the device), e.g. m.
+///
+/// # Errors
+/// Anything else, in words.
+pub fn positive_f32(s: &str) -> Result<f32, String> {
+    number(
+        s,
+        |v| v > 0.0 && v <= f64::from(f32::MAX),
+        "a positive number",
+    )
+    .map(|v| v as f32)
+}
+
+/// A finite number, 0 or more (e.g. seconds from a start).
+///
+/// # Errors
+/// Anything else, in words.
+pub fn non_negative(s: &str) -> Result<f64, String> {
+    number(s, |v| v >= 0.0, "a number, 0 or more")
+}
+
+/// A heading or bearing, degrees true, in [0, 360): 360 is written 0, and a larger or
+/// negative angle is more likely a slip than a turn meant.
+///
+/// # Errors
+/// Anything else, in words.
+pub fn heading_deg(s: &str) -> Result<f64, String> {
+    number(
+        s,
+        |v| (0.0..360.0).contains(&v),
+        "degrees from 0 up to (not including) 360",
+    )
+}
+
+/// Magnetic variation, degrees east (west negative), within ±180: the range NMEA's
+/// variation fields carry (`RMC`, `HDG`: 0 to 180, E or W). Not ±90: near the magnetic
+/// poles (the Northwest Passage) variation passes 90°.
+///
+/// # Errors
+/// Anything else, in words.
+pub fn magnetic_variation(s: &str) -> Result<f64, String> {
+    number(
+        s,
+        |v| (-180.0..=180.0).contains(&v),
+        "degrees east within ±180 (west negative)",
+    )
 }
 
 /// `QUANTITY=TALKER,TALKER…`.
@@ -225,6 +284,32 @@ impl RunArgs {
             cpa_m: (self.cpa_nm * f64::from(METRES_PER_NM)) as f32,
             tcpa_s: (self.tcpa_min * 60.0) as f32,
         }
+    }
+
+    /// Checks every output file these arguments name (and `record_truth`, the demo's own)
+    /// can be written, before anything runs: a mistyped path is told at once, not after a
+    /// run of hours.
+    ///
+    /// # Errors
+    /// The first output that cannot be written, with its option and the reason; a
+    /// snapshot's name whose extension is not an image format the drawing writes.
+    pub fn check_outputs(&self, record_truth: Option<&Path>) -> anyhow::Result<()> {
+        if let Some(p) = &self.snapshot {
+            crate::record::snapshot::check_path(p).context("--snapshot")?;
+        }
+        let files = [
+            ("--record-plots", self.record_plots.as_deref()),
+            ("--record-truth", record_truth),
+            ("--record-tracks", self.record_tracks.as_deref()),
+            ("--nmea-record", self.nmea_record.as_deref()),
+            ("--summary-json", self.summary_json.as_deref()),
+        ];
+        for (option, path) in files {
+            if let Some(p) = path {
+                crate::record::check_writable(p).context(option)?;
+            }
+        }
+        Ok(())
     }
 
     /// The outputs these arguments ask for (`record_truth` is the demo's own).

@@ -42,12 +42,12 @@ pub struct Cli {
 
     /// How long to wait for the device's answer before asking again, s (default 5; each
     /// request is asked up to 6 times).
-    #[arg(long, global = true, value_name = "SECONDS")]
+    #[arg(long, global = true, value_name = "SECONDS", value_parser = link_timeout_s)]
     pub link_timeout: Option<f64>,
 
     /// Damage the link on purpose: this probability per byte, both ways, of a flipped bit
     /// (80 %), a lost byte (10 %) or a repeated one (10 %). For testing; the host retries.
-    #[arg(long, global = true, value_name = "RATE")]
+    #[arg(long, global = true, value_name = "RATE", value_parser = byte_error_rate)]
     pub byte_errors: Option<f64>,
 
     /// The command.
@@ -98,7 +98,7 @@ pub enum Command {
         own_mmsi: Option<u32>,
         /// With --ais-truth: start this many seconds after the file's first report (default:
         /// own ship's first report).
-        #[arg(long, value_name = "S", requires = "ais_truth")]
+        #[arg(long, value_name = "S", requires = "ais_truth", value_parser = args::non_negative)]
         start: Option<f64>,
         /// With --ais-truth: a vessel still at both ends of a silence (under 1 kn at both
         /// reports and between them: moored) stays in the truth across silences up to this
@@ -127,15 +127,15 @@ pub enum Command {
         /// that address). Own ship from the capture's NMEA unless --nmea-in.
         #[arg(long, value_name = "pcap:PATH|navico[@IP]|garmin[@IP]")]
         radar: Option<crate::radar::RadarSpec>,
-        /// With --radar: own ship's heading, degrees true, when neither the radar nor NMEA
-        /// gives one (a moored ship), turned by own ship's yaw measured from the picture (a
-        /// moored ship swings); without any heading, plots are not tracked.
-        #[arg(long, value_name = "DEG", requires = "radar")]
+        /// With --radar: own ship's heading, degrees true in [0, 360), when neither the radar
+        /// nor NMEA gives one (a moored ship), turned by own ship's yaw measured from the
+        /// picture (a moored ship swings); without any heading, plots are not tracked.
+        #[arg(long, value_name = "DEG", requires = "radar", value_parser = args::heading_deg)]
         heading_deg: Option<f64>,
         /// With --radar: the plots' accuracy, m (one axis), for the filters and gates; by
         /// default 0.25 % of the range scale in use, 2 to 40 m (live: 40 m until the first
         /// rotation).
-        #[arg(long, value_name = "M", requires = "radar")]
+        #[arg(long, value_name = "M", requires = "radar", value_parser = args::positive_f32)]
         plot_sigma_m: Option<f32>,
         /// How the run is shown, own ship, outputs.
         #[command(flatten)]
@@ -181,16 +181,16 @@ pub enum Command {
     /// manoeuvre detector's false alarms and delay (Monte Carlo).
     Compare {
         /// Monte Carlo runs.
-        #[arg(long, default_value_t = 200)]
+        #[arg(long, default_value_t = 200, value_parser = at_least_one::<u64>)]
         runs: u64,
         /// Position noise per axis, m.
-        #[arg(long, default_value_t = 5.0)]
+        #[arg(long, default_value_t = 5.0, value_parser = args::positive)]
         sigma: f64,
     },
     /// The IMO ARPA accuracy test (A.823 App. 2) by Monte Carlo: our EKFs and a least-squares plot.
     Arpa {
         /// Monte Carlo runs per scenario.
-        #[arg(long, default_value_t = 500)]
+        #[arg(long, default_value_t = 500, value_parser = at_least_one::<u64>)]
         runs: u64,
     },
     /// Reruns the seed papers' experiments: DIR/report.md (paper figure beside ours) and plots.
@@ -205,7 +205,7 @@ pub enum Command {
     /// How far f32 and fixed point drift from f64 on a long run, per filter.
     Precision {
         /// Scans in the run.
-        #[arg(long, default_value_t = 100_000)]
+        #[arg(long, default_value_t = 100_000, value_parser = at_least_one::<usize>)]
         scans: usize,
         /// Noise seed.
         #[arg(long, default_value_t = 1)]
@@ -220,9 +220,38 @@ pub enum Command {
     /// Bytes on the link a scan, and the largest picture a serial line carries.
     LinkBudget {
         /// Line speeds, baud (8N1).
-        #[arg(long, value_delimiter = ',', default_value = "115200,38400")]
+        #[arg(
+            long,
+            value_delimiter = ',',
+            default_value = "115200,38400",
+            value_parser = at_least_one::<u32>
+        )]
         baud: Vec<u32>,
     },
+}
+
+/// `--link-timeout`: 0.01 to 600 s.
+fn link_timeout_s(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if v.is_finite() && (0.01..=600.0).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}`: expected 0.01 to 600 seconds")),
+    }
+}
+
+/// `--byte-errors`: a probability up to 0.1 (more, and hardly a frame gets through).
+fn byte_error_rate(s: &str) -> Result<f64, String> {
+    match s.parse::<f64>() {
+        Ok(v) if (0.0..=0.1).contains(&v) => Ok(v),
+        _ => Err(format!("`{s}`: expected a probability up to 0.1")),
+    }
+}
+
+/// A count of 1 or more (runs, scans, baud).
+fn at_least_one<T: std::str::FromStr + PartialOrd + From<u8>>(s: &str) -> Result<T, String> {
+    match s.parse::<T>() {
+        Ok(n) if n >= T::from(1) => Ok(n),
+        _ => Err(format!("`{s}`: expected a whole number, 1 or more")),
+    }
 }
 
 fn replay_filter_parser() -> impl TypedValueParser<Value = replay::ReplayFilter> {
@@ -279,9 +308,6 @@ impl Cli {
         let mut transport = link::open(&spec, &self.qemu_options())?;
         let mut client_timeout = None;
         if let Some(rate) = self.byte_errors {
-            if !(0.0..=0.1).contains(&rate) {
-                anyhow::bail!("--byte-errors {rate}: expected a probability up to 0.1");
-            }
             eprintln!("link: damaging {rate} of the bytes on purpose");
             transport = Box::new(FaultyTransport::new(
                 transport,
@@ -297,9 +323,6 @@ impl Cli {
             client.retries = 50;
         }
         if let Some(s) = self.link_timeout {
-            if !(s.is_finite() && (0.01..=600.0).contains(&s)) {
-                anyhow::bail!("--link-timeout {s}: expected 0.01 to 600 seconds");
-            }
             client.timeout = std::time::Duration::from_secs_f64(s);
         }
         Ok(client)
@@ -373,6 +396,7 @@ where
                     tracker_core::sim::MAX_TARGETS
                 );
             }
+            run.check_outputs(record_truth.as_deref())?;
             let options = demo::DemoOptions {
                 simulator: SimulatorOptions {
                     scenario: scenario.kind(),
@@ -425,6 +449,7 @@ where
                 }
                 (None, None) => anyhow::bail!("track: --plots or --radar"),
             };
+            run.check_outputs(None)?;
             let options = track::TrackOptions {
                 input,
                 filter: run.filter,
@@ -461,6 +486,7 @@ where
             range_sd,
             bearing_sd,
         } => {
+            crate::record::check_writable(output).context("--output")?;
             let kind = match filter {
                 replay::ReplayFilter::Ttkf => {
                     let nav = nav
@@ -494,8 +520,10 @@ where
                 kind == tracker_core::filter::FilterKind::Grnn,
             )?;
             eprintln!(
-                "replay: {} measurements through {config:?} ({scalar:?}) -> {}",
+                "replay: {} measurements through {} in {} -> {}",
                 rows.len(),
+                replay::describe(&config),
+                scalar.name(),
                 output.display()
             );
             Ok(ExitCode::SUCCESS)
@@ -638,6 +666,132 @@ mod tests {
         let c = Cli::try_parse_from(["t", "track", "--plots", "p.csv", "--filter", "sswt"]);
         assert!(c.is_ok());
         assert!(Cli::try_parse_from(["t", "demo", "--filter", "kalman"]).is_err());
+    }
+
+    #[test]
+    fn angles_and_counts_out_of_range_are_refused_as_they_are_parsed() {
+        let radar = ["t", "track", "--radar", "pcap:x.pcap"];
+        let with = |base: &[&str], arg: String| {
+            let args: Vec<String> = base.iter().map(|a| a.to_string()).chain([arg]).collect();
+            Cli::try_parse_from(args)
+        };
+        for (base, option, bad, good) in [
+            (
+                &["t", "demo"][..],
+                "--magnetic-variation",
+                &["400", "-181", "NaN", "inf", "east"][..],
+                &["-180", "3.5", "180"][..],
+            ),
+            (
+                &radar,
+                "--heading-deg",
+                &["400", "360", "-1", "NaN"],
+                &["0", "359.9"],
+            ),
+            (
+                &radar,
+                "--plot-sigma-m",
+                &["0", "-5", "NaN", "1e39"],
+                &["12"],
+            ),
+            (
+                &["t", "link-budget"],
+                "--baud",
+                &["0", "9600,0", "-1"],
+                &["9600,300"],
+            ),
+            (&["t", "compare"], "--runs", &["0"], &["1"]),
+            (&["t", "compare"], "--sigma", &["0", "-1", "NaN"], &["5"]),
+            (&["t", "arpa"], "--runs", &["0"], &["1"]),
+            (&["t", "precision"], "--scans", &["0"], &["1"]),
+            (
+                &["t", "link-check"],
+                "--byte-errors",
+                &["0.5", "-0.1"],
+                &["0.01"],
+            ),
+            (
+                &["t", "link-check"],
+                "--link-timeout",
+                &["0", "NaN", "601"],
+                &["2"],
+            ),
+        ] {
+            for value in bad {
+                let arg = format!("{option}={value}");
+                let e = with(base, arg.clone()).unwrap_err();
+                assert_eq!(e.kind(), clap::error::ErrorKind::ValueValidation, "{arg}");
+                assert!(e.to_string().contains("expected"), "{arg}: {e}");
+            }
+            for value in good {
+                let arg = format!("{option}={value}");
+                assert!(with(base, arg.clone()).is_ok(), "{arg}");
+            }
+        }
+        let c = Cli::try_parse_from(["t", "demo", "--magnetic-variation", "-3"]).unwrap();
+        let Command::Demo { run, .. } = c.command else {
+            panic!("{:?}", c.command)
+        };
+        assert_eq!(run.magnetic_variation, Some(-3.0));
+    }
+
+    #[test]
+    fn every_output_path_is_checked_before_anything_runs() {
+        let dir = tempfile::tempdir().unwrap();
+        let nowhere = dir.path().join("no-such-dir");
+        let in_nowhere = |name: &str| nowhere.join(name).display().to_string();
+        let txt = dir.path().join("s.txt").display().to_string();
+        for (option, path, told) in [
+            ("--summary-json", in_nowhere("s.json"), "does not exist"),
+            ("--snapshot", in_nowhere("s.png"), "does not exist"),
+            ("--snapshot", txt, "must end in .png"),
+            ("--record-plots", in_nowhere("p.csv"), "does not exist"),
+            ("--record-tracks", in_nowhere("t.csv"), "does not exist"),
+            ("--record-truth", in_nowhere("t.csv"), "does not exist"),
+            ("--nmea-record", in_nowhere("n.nmea"), "does not exist"),
+            (
+                "--summary-json",
+                dir.path().display().to_string(),
+                "is a directory",
+            ),
+        ] {
+            // 10 000 s of demo: refused at once, not after the run.
+            let started = std::time::Instant::now();
+            let e = run([
+                "t",
+                "--link",
+                "inproc",
+                "demo",
+                "--duration",
+                "10000",
+                option,
+                path.as_str(),
+            ])
+            .unwrap_err();
+            let e = format!("{e:#}");
+            assert!(
+                e.starts_with(option) && e.contains(told),
+                "{option} {path}: {e}"
+            );
+            assert!(started.elapsed().as_secs() < 5, "{option}: ran first");
+        }
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            0,
+            "no trace"
+        );
+        let e = run([
+            "t",
+            "--link",
+            "inproc",
+            "track",
+            "--plots",
+            "no-such.csv",
+            "--summary-json",
+            &in_nowhere("s.json"),
+        ])
+        .unwrap_err();
+        assert!(format!("{e:#}").starts_with("--summary-json"), "{e:#}");
     }
 
     #[test]

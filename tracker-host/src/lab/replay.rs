@@ -73,6 +73,17 @@ pub enum ScalarKind {
     Fixed,
 }
 
+impl ScalarKind {
+    /// The name on the command line: `f64`, `f32`, `fixed`.
+    pub fn name(self) -> &'static str {
+        match self {
+            ScalarKind::F64 => "f64",
+            ScalarKind::F32 => "f32",
+            ScalarKind::Fixed => "fixed",
+        }
+    }
+}
+
 /// Process-noise model names on the command line.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 pub enum QModelArg {
@@ -113,7 +124,8 @@ pub struct GainArgs {
     /// Fading-memory parameter ξ in [0, 1]: critically damped gains, all poles at ξ.
     #[arg(long)]
     pub xi: Option<f64>,
-    /// α-β gain schedule: `least-squares` (thesis eq. 2-3/2-4).
+    /// α-β gain schedule: `least-squares` (thesis eq. 2-3/2-4), or `thesis` with --alpha
+    /// (the thesis as run: α fixed, β from eq. 2-4's schedule).
     #[arg(long, value_name = "SCHEDULE")]
     pub alpha_schedule: Option<String>,
     /// α-β-γ with --xi: `seed-literal` runs paper 000 as it ran (Table 2's gains through
@@ -183,6 +195,130 @@ fn unused(args: &GainArgs, filter: FilterKind, allowed: &[&str]) -> anyhow::Resu
     Ok(())
 }
 
+/// "missing options --q Q, --r R": the options of `wanted` (each `--name VALUE` and
+/// whether it was given) not given, all told at once rather than one a try.
+fn missing(wanted: &[(&str, bool)]) -> anyhow::Error {
+    let names: Vec<&str> = wanted
+        .iter()
+        .filter(|(_, given)| !given)
+        .map(|(name, _)| *name)
+        .collect();
+    match names.as_slice() {
+        [one] => anyhow!("missing option {one}"),
+        many => anyhow!("missing options {}", many.join(", ")),
+    }
+}
+
+/// An α-β design's gains out of range, in words: the option, its value, the range.
+fn alpha_beta_out_of_range(design: &AlphaBetaGains) -> anyhow::Error {
+    match *design {
+        AlphaBetaGains::BenedictBordner { alpha } | AlphaBetaGains::ThesisFixedAlpha { alpha } => {
+            anyhow!("option --alpha: α = {alpha} out of range (0, 1]")
+        }
+        AlphaBetaGains::FadingMemory { xi } => {
+            anyhow!("option --xi: ξ = {xi} out of range [0, 1]")
+        }
+        AlphaBetaGains::Fixed { alpha, beta } => anyhow!(
+            "options --alpha, --beta: α = {alpha}, β = {beta} unstable (need α ≥ 0, β ≥ 0, 2α + β < 4)"
+        ),
+        AlphaBetaGains::LeastSquares => anyhow!("the least-squares schedule was refused"),
+    }
+}
+
+/// ξ out of range, or explicit gains (`names`: α, β, …) outside [0, 2].
+fn xi_or_gains_out_of_range(xi: Option<f64>, gains: &[f64], names: &[&str]) -> anyhow::Error {
+    match xi {
+        Some(xi) => anyhow!("option --xi: ξ = {xi} out of range [0, 1]"),
+        None => {
+            let given: Vec<String> = names
+                .iter()
+                .zip(gains)
+                .map(|(n, g)| format!("{n} = {g}"))
+                .collect();
+            anyhow!(
+                "gain options: {} out of range (each within [0, 2])",
+                given.join(", ")
+            )
+        }
+    }
+}
+
+/// The filter `config` describes, in words: its name and the parameters that matter, e.g.
+/// `kalman-cv (q = 0.1, cwna model, r = 25 m², p0 = 10000)`.
+pub fn describe(config: &FilterConfig) -> String {
+    let alpha_beta = |g: &AlphaBetaGains| match *g {
+        AlphaBetaGains::Fixed { alpha, beta } => format!("α = {alpha}, β = {beta}"),
+        AlphaBetaGains::BenedictBordner { alpha } => {
+            format!(
+                "α = {alpha}, Benedict–Bordner β = {:.4}",
+                alpha * alpha / (2.0 - alpha)
+            )
+        }
+        AlphaBetaGains::LeastSquares => "least-squares gain schedule".to_string(),
+        AlphaBetaGains::ThesisFixedAlpha { alpha } => {
+            format!("α = {alpha}, β from the least-squares schedule (thesis)")
+        }
+        AlphaBetaGains::FadingMemory { xi } => format!("ξ = {xi}"),
+    };
+    let q_model = |m: QModel| match m {
+        QModel::Identity => "identity",
+        QModel::Discrete => "dwna",
+        QModel::Continuous => "cwna",
+    };
+    let details = match config {
+        FilterConfig::AlphaBeta(g) => alpha_beta(g),
+        FilterConfig::AlphaBetaGamma(g) => match *g {
+            AbgGains::Explicit { alpha, beta, gamma } => {
+                format!("α = {alpha}, β = {beta}, γ = {gamma}")
+            }
+            AbgGains::FadingMemory { xi } => format!("ξ = {xi}"),
+            AbgGains::SeedLiteral { xi } => format!("ξ = {xi}, paper 000's gains as it ran"),
+            AbgGains::PrintedEq6 { xi } => format!("ξ = {xi}, paper 000's eq. 6 as printed"),
+        },
+        FilterConfig::AlphaBetaGammaEta(g) => match *g {
+            AbgeGains::Explicit {
+                alpha,
+                beta,
+                gamma,
+                eta,
+            } => format!("α = {alpha}, β = {beta}, γ = {gamma}, η = {eta}"),
+            AbgeGains::FadingMemory { xi } => format!("ξ = {xi}"),
+        },
+        FilterConfig::Sswt(c) => format!(
+            "window {}, starting with {}",
+            c.window,
+            alpha_beta(&c.start)
+        ),
+        FilterConfig::KalmanCv(c) | FilterConfig::KalmanCa(c) => format!(
+            "q = {}, {} model, r = {} m², p0 = {}",
+            c.q,
+            q_model(c.q_model),
+            c.r,
+            c.p0_derivative
+        ),
+        FilterConfig::Grnn(c) => {
+            let sigma = c
+                .sigma_mps
+                .map_or("σ from the measured noise".to_string(), |s| {
+                    format!("σ = {s} m/s")
+                });
+            let detector = match &c.detector {
+                GrnnDetector::Residual(r) => format!(
+                    "residual detector, onset {}, release {}",
+                    r.onset, r.release
+                ),
+                GrnnDetector::Difference => format!(
+                    "difference detector, onset {}, release {}",
+                    c.onset, c.release
+                ),
+            };
+            format!("{sigma}, short {}, long {}, {detector}", c.short, c.long)
+        }
+        FilterConfig::Imm(c) => format!("q CV = {}, r = {} m²", c.q_cv, c.r),
+    };
+    format!("{} ({details})", config.kind())
+}
+
 fn alpha_beta_design(a: &GainArgs) -> anyhow::Result<AlphaBetaGains> {
     let design = match (a.alpha_schedule.as_deref(), a.xi, a.alpha, a.beta) {
         (Some("least-squares"), None, None, None) => AlphaBetaGains::LeastSquares,
@@ -202,7 +338,7 @@ fn alpha_beta_design(a: &GainArgs) -> anyhow::Result<AlphaBetaGains> {
     };
     design
         .validate()
-        .map_err(|_| anyhow!("gain options {design:?}: out of range or unstable"))?;
+        .map_err(|_| alpha_beta_out_of_range(&design))?;
     Ok(design)
 }
 
@@ -239,10 +375,20 @@ pub fn config_from_args(kind: FilterKind, a: &GainArgs) -> anyhow::Result<Filter
                 (None, None, None, None, None) => {
                     bail!("missing gain: give --xi X or --alpha A --beta B --gamma G")
                 }
+                (None, None, alpha, beta, gamma) => {
+                    return Err(missing(&[
+                        ("--alpha A", alpha.is_some()),
+                        ("--beta B", beta.is_some()),
+                        ("--gamma G", gamma.is_some()),
+                    ])
+                    .context("explicit gains need all three (or --xi X alone)"));
+                }
                 _ => bail!("options: give either --xi X or all of --alpha, --beta, --gamma"),
             };
-            g.validate()
-                .map_err(|_| anyhow!("gain options {g:?}: out of range"))?;
+            g.validate().map_err(|_| {
+                let [alpha, beta, gamma] = g.gains();
+                xi_or_gains_out_of_range(a.xi, &[alpha, beta, gamma], &["α", "β", "γ"])
+            })?;
             FilterConfig::AlphaBetaGamma(g)
         }
         FilterKind::AlphaBetaGammaEta => {
@@ -258,10 +404,19 @@ pub fn config_from_args(kind: FilterKind, a: &GainArgs) -> anyhow::Result<Filter
                 (None, None, None, None, None) => {
                     bail!("missing gain: give --xi X or --alpha --beta --gamma --eta")
                 }
+                (None, alpha, beta, gamma, eta) => {
+                    return Err(missing(&[
+                        ("--alpha A", alpha.is_some()),
+                        ("--beta B", beta.is_some()),
+                        ("--gamma G", gamma.is_some()),
+                        ("--eta E", eta.is_some()),
+                    ])
+                    .context("explicit gains need all four (or --xi X alone)"));
+                }
                 _ => bail!("options: give either --xi X or all of --alpha, --beta, --gamma, --eta"),
             };
             g.validate()
-                .map_err(|_| anyhow!("gain options {g:?}: out of range"))?;
+                .map_err(|_| xi_or_gains_out_of_range(a.xi, &g.gains(), &["α", "β", "γ", "η"]))?;
             FilterConfig::AlphaBetaGammaEta(g)
         }
         FilterKind::Sswt => {
@@ -345,8 +500,12 @@ pub fn config_from_args(kind: FilterKind, a: &GainArgs) -> anyhow::Result<Filter
         }
         FilterKind::KalmanCv | FilterKind::KalmanCa => {
             unused(a, kind, &["--q", "--r", "--p0"])?;
-            let q = a.q.ok_or_else(|| anyhow!("missing option --q Q"))?;
-            let r = a.r.ok_or_else(|| anyhow!("missing option --r R"))?;
+            let (Some(q), Some(r)) = (a.q, a.r) else {
+                return Err(missing(&[
+                    ("--q Q", a.q.is_some()),
+                    ("--r R", a.r.is_some()),
+                ]));
+            };
             let q_model = match a.q_model {
                 QModelArg::Identity => QModel::Identity,
                 QModelArg::Dwna => QModel::Discrete,

@@ -10,12 +10,53 @@ pub mod snapshot;
 
 use std::path::Path;
 
-use anyhow::Context;
+use anyhow::{bail, Context};
 use tracker_core::icd::TrackStatus;
 
 use crate::session::ScanReport;
 use crate::sink::ScanSink;
 use crate::source::{plots_file, truth_file, SourceScan};
+
+/// Checks a file can be written at `path` without writing it: its directory exists and
+/// lets a file be made there, or the file exists and can be written to. Run before a run
+/// starts, so that a typo in an output's path is told at once, not after the run; nothing
+/// is left behind (a file made to try is removed, an existing one is not changed).
+///
+/// # Errors
+/// The path is a directory, its directory does not exist or is not one, or the file
+/// cannot be made or written (the system's reason).
+pub fn check_writable(path: &Path) -> anyhow::Result<()> {
+    if path.is_dir() {
+        bail!("{} is a directory, not a file", path.display());
+    }
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !dir.is_dir() {
+        let why = if dir.exists() {
+            "is not a directory"
+        } else {
+            "does not exist"
+        };
+        bail!("{}: directory {} {why}", path.display(), dir.display());
+    }
+    let mut options = std::fs::OpenOptions::new();
+    if path.exists() {
+        options
+            .append(true)
+            .open(path)
+            .with_context(|| format!("{} cannot be written", path.display()))?;
+    } else {
+        options
+            .write(true)
+            .create_new(true)
+            .open(path)
+            .with_context(|| format!("{} cannot be created", path.display()))?;
+        let _ = std::fs::remove_file(path);
+    }
+    Ok(())
+}
 
 /// A CSV file being written.
 struct CsvOut {
@@ -176,5 +217,36 @@ impl ScanSink for TracksRecorder {
 
     fn finish(&mut self) -> anyhow::Result<()> {
         self.0.flush()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_output_path_is_checked_without_a_trace() {
+        let dir = tempfile::tempdir().unwrap();
+        let new = dir.path().join("new.csv");
+        check_writable(&new).unwrap();
+        assert!(!new.exists(), "the file made to try is removed");
+        let old = dir.path().join("old.csv");
+        std::fs::write(&old, "kept").unwrap();
+        check_writable(&old).unwrap();
+        assert_eq!(std::fs::read_to_string(&old).unwrap(), "kept");
+        let e = |p: &Path| format!("{:#}", check_writable(p).unwrap_err());
+        let nowhere = dir.path().join("no-such-dir").join("s.json");
+        assert!(e(&nowhere).contains("does not exist"), "{}", e(&nowhere));
+        assert!(
+            e(dir.path()).contains("is a directory"),
+            "{}",
+            e(dir.path())
+        );
+        let under_a_file = old.join("s.json");
+        assert!(
+            e(&under_a_file).contains("is not a directory"),
+            "{}",
+            e(&under_a_file)
+        );
     }
 }

@@ -12,6 +12,7 @@ use std::sync::Arc;
 
 use anyhow::Context;
 use plotters::prelude::*;
+use plotters_bitmap::BitMapBackendError;
 
 use crate::ais::AisTargetData;
 use crate::radar::EchoImage;
@@ -22,6 +23,29 @@ use crate::sink::ScanSink;
 use crate::source::SourceScan;
 
 const SIZE: u32 = 1000;
+
+/// The file name extensions the snapshot can be written as: the image formats plotters'
+/// bitmap backend encodes as built here (`image` with `png`, `jpeg`, `bmp`).
+pub const EXTENSIONS: [&str; 4] = ["png", "jpg", "jpeg", "bmp"];
+
+/// Checks, before a run, that a snapshot can be written to `path`: its extension names a
+/// format the drawing writes ([`EXTENSIONS`], any case) and the file can be made there.
+///
+/// # Errors
+/// Another extension or none, or as [`super::check_writable`].
+pub fn check_path(path: &std::path::Path) -> anyhow::Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !ext.is_some_and(|e| EXTENSIONS.contains(&e.as_str())) {
+        anyhow::bail!(
+            "{}: the snapshot is a PNG image, the name must end in .png (or .jpg, .jpeg, .bmp)",
+            path.display()
+        );
+    }
+    super::check_writable(path)
+}
 
 #[derive(Clone, Debug)]
 struct Last {
@@ -87,6 +111,7 @@ impl ScanSink for Snapshot {
             return Ok(());
         };
         draw(&self.path, last, &self.limits)
+            .map_err(plain)
             .with_context(|| format!("writing the snapshot {}", self.path.display()))
     }
 }
@@ -103,7 +128,25 @@ fn vector(at: (f64, f64), velocity_mps: [f32; 2], vector_s: f32) -> Vec<(f64, f6
     ]
 }
 
-fn draw(path: &std::path::Path, last: &Last, limits: &AlarmLimits) -> anyhow::Result<()> {
+/// A drawing error in words: plotters' bitmap errors show themselves as `Debug` structs
+/// (`ImageError(IoError(Os { … }))`); the image or I/O error inside says it plainly.
+fn plain(e: DrawingAreaErrorKind<BitMapBackendError>) -> anyhow::Error {
+    use plotters_backend::DrawingErrorKind;
+    match e {
+        DrawingAreaErrorKind::BackendError(DrawingErrorKind::DrawingError(b)) => match b {
+            BitMapBackendError::IOError(io) => anyhow::anyhow!(io),
+            BitMapBackendError::ImageError(image) => anyhow::anyhow!("{image}"),
+            other => anyhow::anyhow!("{other}"),
+        },
+        other => anyhow::anyhow!("{other}"),
+    }
+}
+
+fn draw(
+    path: &std::path::Path,
+    last: &Last,
+    limits: &AlarmLimits,
+) -> Result<(), DrawingAreaErrorKind<BitMapBackendError>> {
     crate::font::register();
     let root = BitMapBackend::new(path, (SIZE, SIZE)).into_drawing_area();
     root.fill(&BLACK)?;
@@ -292,5 +335,38 @@ mod tests {
                 assert!(std::fs::metadata(&path).unwrap().len() > 0);
             }
         }
+    }
+
+    #[test]
+    fn every_extension_allowed_draws_and_a_late_failure_is_told_in_words() {
+        let last = Last {
+            scan: 1,
+            echoes: None,
+            plots_m: vec![[100.0, 200.0]],
+            own_m: [0.0, 0.0],
+            targets: Vec::new(),
+            ais: Vec::new(),
+        };
+        let dir = tempfile::tempdir().unwrap();
+        for ext in EXTENSIONS.iter().chain(&["PNG"]) {
+            let path = dir.path().join(format!("s.{ext}"));
+            check_path(&path).unwrap();
+            draw(&path, &last, &AlarmLimits::default()).unwrap();
+            assert!(std::fs::metadata(&path).unwrap().len() > 0, "{ext}");
+        }
+        for name in ["s.txt", "s.svg", "s"] {
+            let e = format!("{:#}", check_path(&dir.path().join(name)).unwrap_err());
+            assert!(e.contains("must end in .png"), "{e}");
+        }
+        // The directory gone by the end of the run: the system's words, no Debug struct.
+        let mut sink = Snapshot::new(
+            dir.path().join("gone").join("s.png"),
+            AlarmLimits::default(),
+            AssociatedSymbol::Ais,
+        );
+        sink.last = Some(last);
+        let e = format!("{:#}", sink.finish().unwrap_err());
+        assert!(e.contains("No such file or directory"), "{e}");
+        assert!(!e.contains("IoError") && !e.contains("Os {"), "{e}");
     }
 }

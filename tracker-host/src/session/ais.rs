@@ -396,10 +396,13 @@ impl AisPicture {
             if n >= gates.scans_to_pair {
                 self.pairs.insert(track, Pair::new(mmsi));
                 self.counts.paired += 1;
-                let label = self.table.get(mmsi).map_or(mmsi.to_string(), |a| a.label());
+                let label = self
+                    .table
+                    .get(mmsi)
+                    .map_or(mmsi.to_string(), |a| a.described());
                 let number = targets.get(&track).map_or("--".to_string(), |x| x.label());
                 self.log(format!(
-                    "{}: radar target {number} (track {track}) paired with AIS {label} (MMSI {mmsi})",
+                    "{}: radar target {number} (track {track}) paired with AIS {label}",
                     crate::utc::utc_label(t)
                 ));
             } else {
