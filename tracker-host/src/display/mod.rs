@@ -84,6 +84,8 @@ pub struct DisplayState {
     pub selected: Option<u16>,
     /// Paused: scans stop until unpaused.
     pub paused: bool,
+    /// The source has ended: the last picture stays until the operator quits.
+    pub ended: bool,
     /// CPA/TCPA alarm limits.
     pub limits: AlarmLimits,
     /// Link name for the title.
@@ -110,6 +112,7 @@ impl DisplayState {
             vector_length: 3,
             selected: None,
             paused: false,
+            ended: false,
             limits: AlarmLimits::default(),
             link,
             message: None,
@@ -312,7 +315,13 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             VECTOR_MINUTES[state.vector_length],
             state.limits.cpa_m / METRES_PER_NM,
             state.limits.tcpa_s / 60.0,
-            if state.paused { "  PAUSED" } else { "" },
+            if state.ended {
+                "  END OF INPUT: q to quit"
+            } else if state.paused {
+                "  PAUSED"
+            } else {
+                ""
+            },
         )),
     ];
     frame.render_widget(
@@ -735,7 +744,7 @@ pub fn run_tui(
     state: &mut DisplayState,
     speedup: Option<f64>,
 ) -> anyhow::Result<u64> {
-    use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind};
+    use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind, KeyModifiers};
     use std::time::{Duration, Instant};
 
     let period = run.scan_period_s().unwrap_or(2.5);
@@ -750,13 +759,20 @@ pub fn run_tui(
         let mut next_due = Instant::now() + interval;
         loop {
             terminal.draw(|f| render(f, state, &view))?;
-            let wait = next_due.saturating_duration_since(Instant::now());
+            // Paused or ended, nothing is due: wait for keys without spinning.
+            let wait = if state.ended || state.paused {
+                Duration::from_millis(200)
+            } else {
+                next_due.saturating_duration_since(Instant::now())
+            };
             if event::poll(wait.max(Duration::from_millis(1)))? {
                 if let Event::Key(k) = event::read()? {
                     if k.kind != KeyEventKind::Press {
                         continue;
                     }
                     let c = match k.code {
+                        // The terminal is raw: Ctrl-C comes as a key, and quits as `q` does.
+                        KeyCode::Char('c') if k.modifiers.contains(KeyModifiers::CONTROL) => 'q',
                         KeyCode::Char(c) => c,
                         KeyCode::Up => '↑',
                         KeyCode::Down => '↓',
@@ -769,11 +785,18 @@ pub fn run_tui(
                     continue;
                 }
             }
-            if state.paused || Instant::now() < next_due {
+            if state.ended || state.paused {
+                // Scans resume at their pace, not in a burst to catch up.
+                next_due = next_due.max(Instant::now());
+                continue;
+            }
+            if Instant::now() < next_due {
                 continue;
             }
             let Some(next) = run.step()? else {
-                return Ok(done);
+                // The last picture stays up to be looked at, as a radar's does.
+                state.ended = true;
+                continue;
             };
             view = next;
             state.observe(&view);

@@ -263,6 +263,7 @@ impl Scorer {
                 .count(),
             confirmed_tracks: self.tracks.len(),
             track_swaps: self.tracks.values().map(|r| r.swaps).sum(),
+            matched_track_scans: self.matched,
             rms_position_m: (self.sum_sq_pos / n).sqrt(),
             rms_velocity_mps: (self.sum_sq_vel / n).sqrt(),
             cpa_error_p95_m: p95(&mut cpa),
@@ -399,6 +400,27 @@ mod tests {
             targets: targets.to_vec(),
             ..ScanTruth::default()
         }
+    }
+
+    #[test]
+    fn a_run_with_no_track_on_a_target_scores_no_rms_error() {
+        let mut s = Scorer::default();
+        s.scan(0, &truth(&[target(1, 0.0, true)]), &[], 2.5);
+        let m = s.summary();
+        assert_eq!(m.matched_track_scans, 0);
+        assert!(
+            m.report().contains("RMS error: none scored"),
+            "{}",
+            m.report()
+        );
+        s.scan(1, &truth(&[target(1, 0.0, true)]), &[track(1, 3.0)], 2.5);
+        let m = s.summary();
+        assert_eq!(m.matched_track_scans, 1);
+        assert!(
+            m.report().contains("RMS error: position 3.0 m"),
+            "{}",
+            m.report()
+        );
     }
 
     #[test]

@@ -27,6 +27,9 @@ pub struct Summary {
     pub confirmed_tracks: usize,
     /// Times a track jumped from one target to another.
     pub track_swaps: u32,
+    /// Track-scans matched to a target, which the RMS errors are over (none: the RMS errors
+    /// are 0 and the text says none was scored).
+    pub matched_track_scans: u64,
     /// RMS position error of matched tracks, m.
     pub rms_position_m: f64,
     /// RMS velocity error of matched tracks, m/s.
@@ -76,7 +79,7 @@ impl Summary {
              confirmation: {} targets within 5 scans of first detection, the slowest after {} scans\n\
              confirmed tracks: {} ({} false)\n\
              track swaps: {}\n\
-             RMS error: position {:.1} m, velocity {:.2} m/s\n\
+             RMS error: {}\n\
              CPA/TCPA error after 3 min (95th percentile, approaching targets): {}\n\
              OSPA (c = {:.0} m, p = {}): mean {:.1} m; GOSPA (α = 2): mean {:.1} m\n\
              continuity: {} untracked target-scans, {} track breaks ({} re-acquired, mean {:.1} scans, longest {})",
@@ -90,8 +93,14 @@ impl Summary {
             self.confirmed_tracks,
             self.false_tracks,
             self.track_swaps,
-            self.rms_position_m,
-            self.rms_velocity_mps,
+            if self.matched_track_scans == 0 {
+                "none scored (no track followed a target)".to_string()
+            } else {
+                format!(
+                    "position {:.1} m, velocity {:.2} m/s",
+                    self.rms_position_m, self.rms_velocity_mps
+                )
+            },
             match (self.cpa_error_p95_m, self.tcpa_error_p95_s) {
                 (Some(cpa), Some(tcpa)) => format!("{cpa:.0} m, {tcpa:.0} s"),
                 _ => "none scored (no track of an approaching target 3 min old)".to_string(),
