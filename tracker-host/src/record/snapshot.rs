@@ -172,20 +172,23 @@ fn draw(
             x.hypot(y)
         })
         .fold(500.0, f64::max);
-    let r = last
+    let reach = last
         .echoes
         .as_ref()
         .map_or(farthest, |e| f64::from(e.range_m).max(1.0));
-    // A 20 kn ship's vector reaches a quarter of the range: 30 s to 12 min.
-    let vector_s = (r / (4.0 * 10.3)).clamp(30.0, 720.0) as f32;
+    // On the display's range scale that holds it (a radar's scales), in NM.
+    let scale_nm = scale_holding_nm(reach);
+    let r = scale_nm * f64::from(tracker_core::geo::METRES_PER_NM);
+    // A 20 kn ship's vector reaches about a quarter of the range: the display's vector
+    // length nearest that.
+    let vector_min = vector_minutes_for(r);
+    let vector_s = vector_min * 60.0;
     let mut chart = ChartBuilder::on(&root)
         .margin(10)
         .caption(
             format!(
-                "scan {}, range {:.0} m, north up, true vectors {:.1} min",
+                "scan {}, range {scale_nm} NM, north up, true vectors {vector_min} min",
                 last.scan,
-                r,
-                vector_s / 60.0
             ),
             ("sans-serif", 22).into_font().color(&WHITE),
         )
@@ -291,8 +294,42 @@ fn draw(
     Ok(())
 }
 
+/// The smallest of the display's range scales that holds `reach_m`, NM; past the largest,
+/// whole NM.
+fn scale_holding_nm(reach_m: f64) -> f64 {
+    let nm = reach_m / f64::from(tracker_core::geo::METRES_PER_NM);
+    crate::display::RANGE_SCALES_NM
+        .iter()
+        .map(|&s| f64::from(s))
+        .find(|&s| s >= nm * 0.999)
+        .unwrap_or_else(|| nm.ceil())
+}
+
+/// The display's vector length nearest the time a 20 kn ship takes to cross a quarter of
+/// a range of `range_m`, min.
+fn vector_minutes_for(range_m: f64) -> f32 {
+    let want_min = (range_m / (4.0 * 10.3) / 60.0) as f32;
+    crate::display::VECTOR_MINUTES
+        .iter()
+        .copied()
+        .min_by(|a, b| (a - want_min).abs().total_cmp(&(b - want_min).abs()))
+        .unwrap_or(6.0)
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_snapshot_takes_a_radar_range_scale_and_a_display_vector_length() {
+        assert_eq!(super::scale_holding_nm(25_465.0), 24.0);
+        assert_eq!(super::scale_holding_nm(50_000.0), 27.0);
+        assert_eq!(super::scale_holding_nm(1_312.0), 0.75);
+        assert_eq!(super::scale_holding_nm(195.0), 0.125);
+        assert_eq!(super::vector_minutes_for(24.0 * 1852.0), 12.0);
+        assert_eq!(super::vector_minutes_for(0.75 * 1852.0), 0.5);
+        assert_eq!(super::vector_minutes_for(6.0 * 1852.0), 3.0);
+        assert_eq!(super::vector_minutes_for(0.125 * 1852.0), 0.5);
+    }
+
     use super::*;
     use crate::app::demo::{self, DemoOptions};
     use crate::display::tests::one_associated_ship;
