@@ -131,6 +131,7 @@ impl Run {
     pub fn finish(&mut self) -> anyhow::Result<()> {
         if !self.finished {
             self.finished = true;
+            self.own_ship.finish();
             for sink in &mut self.sinks {
                 sink.finish()?;
             }

@@ -173,6 +173,9 @@ pub trait OwnShipSource {
         None
     }
 
+    /// The run has ended: a recording counts the lines it did not reach.
+    fn finish(&mut self) {}
+
     /// What happened worth telling (a change of source, a disagreement, a reconnection).
     fn events(&self) -> Vec<String> {
         Vec::new()
@@ -357,6 +360,16 @@ impl OwnShipSource for NmeaOwnShip {
         Some(self.nav.counts().clone())
     }
 
+    fn finish(&mut self) {
+        if let NmeaIn::File(file) = &mut self.input {
+            let mut n = 0;
+            while file.next_line().is_some() {
+                n += 1;
+            }
+            self.nav.note_unread(n);
+        }
+    }
+
     fn take_ais(&mut self) -> Vec<(f64, crate::ais::AisReport)> {
         std::mem::take(&mut self.heard)
     }
@@ -472,6 +485,43 @@ mod tests {
             "4 h 38 min behind"
         );
         assert_eq!(offset_label(400.0 * 86_400.0), "400 days ahead of");
+    }
+
+    #[test]
+    fn a_recordings_lines_after_the_last_scan_are_counted_at_the_end() {
+        use std::io::Write as _;
+        let origin = Origin::default();
+        let t0 = 1_767_225_600.0 + 10.0 * 3600.0;
+        let mut file = tempfile::NamedTempFile::new().unwrap();
+        for t in [t0, t0 + 100.0] {
+            for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t) {
+                file.write_all(l.as_bytes()).unwrap();
+            }
+        }
+        file.flush().unwrap();
+        let per_epoch = own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t0).len() as u64;
+        let spec = InSpec::File(file.path().to_path_buf());
+        let options = NmeaOptions {
+            provisional_day: (t0 / 86_400.0).floor() as i64,
+            ..NmeaOptions::default()
+        };
+        let mut own = NmeaOwnShip::open(&spec, origin, &options).unwrap();
+        let scan = SourceScan {
+            radar: crate::source::RadarScan {
+                scan: 0,
+                time_s: t0 + 1.0,
+                plots: Vec::new(),
+            },
+            ..SourceScan::default()
+        };
+        own.own_ship(&scan).unwrap();
+        assert_eq!(own.nmea_counts().unwrap().lines, per_epoch);
+        own.finish();
+        let c = own.nmea_counts().unwrap();
+        assert_eq!((c.lines, c.after_last_scan), (per_epoch, per_epoch), "{c}");
+        assert!(c
+            .to_string()
+            .ends_with(&format!("; {per_epoch} after the last scan, not read")));
     }
 
     #[test]

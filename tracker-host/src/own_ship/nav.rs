@@ -67,6 +67,9 @@ pub const IMPLAUSIBLE_ALARM_S: f64 = 30.0;
 pub struct NavCounts {
     /// Lines read (annotations and blank lines included).
     pub lines: u64,
+    /// A recording's lines after the run's last scan (or after the operator quit): not
+    /// read into own ship, counted at the end so that every line is accounted for.
+    pub after_last_scan: u64,
     /// Sentences used (at least one reading applied).
     pub used: u64,
     /// Well-formed sentences own ship does not use (satellites, depth, wind, AIS,
@@ -157,7 +160,15 @@ impl std::fmt::Display for NavCounts {
             self.not_true,
             self.no_variation,
             self.annotations
-        )
+        )?;
+        if self.after_last_scan > 0 {
+            write!(
+                f,
+                "; {} after the last scan, not read",
+                self.after_last_scan
+            )?;
+        }
+        Ok(())
     }
 }
 
@@ -270,6 +281,11 @@ impl OwnShipNav {
         let mut e = self.selector.events().to_vec();
         e.extend(self.events.iter().cloned());
         e
+    }
+
+    /// Counts `n` lines of a recording left after the run's last scan.
+    pub fn note_unread(&mut self, n: u64) {
+        self.counts.after_last_scan += n;
     }
 
     /// The newest sentence time used, s since 1970.
