@@ -263,7 +263,12 @@ impl RunArgs {
             nmea: NmeaOptions {
                 priority: self.nmea_source.iter().cloned().collect(),
                 variation_deg: self.magnetic_variation,
-                provisional_day: 0,
+                // A live source's times before its first date are today's (a recording's
+                // are its own first date's, found when it is read).
+                provisional_day: match &self.nmea_in {
+                    Some(InSpec::File(_)) | None => 0,
+                    Some(_) => crate::app::today(),
+                },
             },
         }
     }

@@ -224,6 +224,10 @@ pub struct NmeaOptions {
 /// it, is out of sequence (one corrupt time with a valid checksum), s.
 const OUT_OF_SEQUENCE_S: f64 = 60.0;
 
+/// A recording's lines counted past the run's last scan, at most (a count this large reads
+/// "at least").
+pub const MAX_UNREAD_COUNTED: u64 = 1_000_000;
+
 /// Timed sentences looked at past an outlying one.
 const LOOK_AHEAD_LINES: usize = 64;
 
@@ -235,8 +239,10 @@ pub struct NmeaOwnShip {
     ais: crate::ais::AisDecoder,
     heard: Vec<(f64, crate::ais::AisReport)>,
     /// A live source's UTC less the session's time (this computer's clock), s, from the
-    /// newest timed sentence: own ship is asked for on the bridge's time.
+    /// newest timed sentence (late by up to a scan: the lines of a scan are read together).
     offset_s: Option<f64>,
+    /// The session's time of the last read that brought a new timed sentence.
+    timed_read_s: Option<f64>,
     /// The offset last told of, when it was more than [`CLOCK_NOTE_S`].
     offset_told_s: Option<f64>,
     clock_events: Vec<String>,
@@ -246,6 +252,10 @@ pub struct NmeaOwnShip {
 /// PC on board without a time server is often hours out; own ship follows the bridge's
 /// time either way.
 pub const CLOCK_NOTE_S: f64 = 30.0;
+
+/// A live source's UTC this far from this computer's clock is followed (own ship asked for
+/// on the bridge's time), s; nearer, the two are taken to agree.
+pub const CLOCK_APPLIED_S: f64 = 5.0;
 
 impl NmeaOwnShip {
     /// Opens the source.
@@ -264,29 +274,49 @@ impl NmeaOwnShip {
             ais: crate::ais::AisDecoder::new(),
             heard: Vec::new(),
             offset_s: None,
+            timed_read_s: None,
             offset_told_s: None,
             clock_events: Vec::new(),
         })
     }
 
-    /// Takes a live source's lines that arrived by the session's time `time_s`, learning
-    /// the offset of the bridge's UTC from it on every new timed sentence (the lines
-    /// arrived within a scan before `time_s`, so the offset is late by at most that).
+    /// The offset own ship is asked for at: the bridge's UTC less this computer's clock
+    /// when they differ by more than [`CLOCK_APPLIED_S`], else none (the clocks agree: the
+    /// offset measured is late by the age of the newest sentence at the read, a second or
+    /// two, and would put own ship that far behind).
+    fn clock_offset_s(&self) -> f64 {
+        self.offset_s
+            .filter(|o| o.abs() > CLOCK_APPLIED_S)
+            .unwrap_or(0.0)
+    }
+
+    /// Takes a live source's lines that arrived by the session's time `time_s` (read
+    /// together once a scan), learning the offset of the bridge's UTC from it on every new
+    /// timed sentence. A sentence without a time is taken at the newest timed one while
+    /// those come (as a recording's), and at its arrival on the bridge's time when none has
+    /// come for [`nav::POSITION_LOST_S`] (a heading sensor outliving the GNSS) or ever
+    /// (a multiplexer's `GLL` without times).
     fn take_live(&mut self, lines: Vec<String>, time_s: f64) {
         for line in lines {
             // On the bridge's time for the filter; AIS targets on the session's.
-            let bridge_s = time_s + self.offset_s.unwrap_or(0.0);
+            let bridge_s = time_s + self.clock_offset_s();
+            let timed_lately = self
+                .timed_read_s
+                .is_some_and(|r| time_s - r <= nav::POSITION_LOST_S);
             let newest = self.nav.newest_s();
             if crate::ais::fragment::is_ais(&line) {
                 if let Some(r) = self.ais.feed(&line) {
                     self.nav.feed_ais_own(&r, bridge_s);
                     self.heard.push((time_s, r));
                 }
+            } else if timed_lately {
+                self.nav.feed(&line);
             } else {
                 self.nav.feed_heard(&line, bridge_s);
             }
             if let Some(n) = self.nav.newest_s().filter(|n| Some(*n) != newest) {
                 self.offset_s = Some(n - time_s);
+                self.timed_read_s = Some(time_s);
             }
         }
         let Some(offset) = self.offset_s else {
@@ -349,7 +379,7 @@ impl OwnShipSource for NmeaOwnShip {
                 self.take_live(lines, t);
             }
         }
-        let bridge_s = t + self.offset_s.unwrap_or(0.0);
+        let bridge_s = t + self.clock_offset_s();
         Ok(self
             .nav
             .own_ship_at(bridge_s)
@@ -362,8 +392,9 @@ impl OwnShipSource for NmeaOwnShip {
 
     fn finish(&mut self) {
         if let NmeaIn::File(file) = &mut self.input {
+            // Bounded: an operator who quits early does not wait for a huge file.
             let mut n = 0;
-            while file.next_line().is_some() {
+            while n < MAX_UNREAD_COUNTED && file.next_line().is_some() {
                 n += 1;
             }
             self.nav.note_unread(n);
@@ -488,6 +519,27 @@ mod tests {
     }
 
     #[test]
+    fn clocks_that_agree_are_taken_to_agree() {
+        let file = tempfile::NamedTempFile::new().unwrap();
+        let origin = Origin::default();
+        let spec = InSpec::File(file.path().to_path_buf());
+        let t: f64 = 1_767_225_600.0 + 12.0 * 3600.0;
+        let options = NmeaOptions {
+            provisional_day: (t / 86_400.0).floor() as i64,
+            ..NmeaOptions::default()
+        };
+        let mut own = NmeaOwnShip::open(&spec, origin, &options).unwrap();
+        // The newest sentence 1.5 s old when read: the same clock, not an offset.
+        own.take_live(
+            own_ship_sentences([0.0, 0.0], [0.0, 4.0], &origin, t),
+            t + 1.5,
+        );
+        assert_eq!(own.offset_s, Some(-1.5));
+        assert_eq!(own.clock_offset_s(), 0.0);
+        assert!(own.events().iter().all(|e| !e.contains("computer's clock")));
+    }
+
+    #[test]
     fn a_recordings_lines_after_the_last_scan_are_counted_at_the_end() {
         use std::io::Write as _;
         let origin = Origin::default();
@@ -533,16 +585,32 @@ mod tests {
         let mut own = NmeaOwnShip::open(&spec, origin, &NmeaOptions::default()).unwrap();
         let pc_s = 1_767_225_600.0 + 12.0 * 3600.0;
         let bridge_s = pc_s - 3.0 * 3600.0;
+        // Each read brings a heading without a time, then the epoch's sentences.
+        let hdt = crate::nmea::sentence::sentence("HEHDT,000.0,T");
         for k in 0..10 {
             let k = f64::from(k);
-            let lines = own_ship_sentences([0.0, 4.0 * k], [0.0, 4.0], &origin, bridge_s + k);
-            own.take_live(lines, pc_s + k);
+            let mut lines = vec![hdt.clone()];
+            lines.extend(own_ship_sentences(
+                [0.0, 4.0 * k],
+                [0.0, 4.0],
+                &origin,
+                bridge_s + k,
+            ));
+            own.take_live(lines, pc_s + k + 0.5);
         }
         let offset = own.offset_s.unwrap();
-        assert!((offset + 3.0 * 3600.0).abs() < 1e-6, "{offset}");
-        let at = own.nav.own_ship_at(pc_s + 9.5 + offset).unwrap();
+        assert!((offset + 3.0 * 3600.0 + 0.5).abs() < 1e-6, "{offset}");
+        assert_eq!(own.clock_offset_s(), offset);
+        // On the bridge's time, at the last epoch: where the sentences put it (the
+        // headings, untimed, did not carry the filter ahead of them).
+        let at = own.nav.own_ship_at(bridge_s + 9.0).unwrap();
         assert_eq!(at.quality.dead_reckoning_s, None, "{at:?}");
+        assert!((at.position_m[1] - 36.0).abs() < 2.0, "{at:?}");
         assert!(at.quality.motion_known && (at.velocity_mps[1] - 4.0).abs() < 0.1);
+        assert!(
+            at.heading_rad.is_some() && !at.quality.heading_lost,
+            "{at:?}"
+        );
         let told: Vec<String> = own
             .events()
             .into_iter()

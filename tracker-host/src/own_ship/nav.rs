@@ -162,9 +162,14 @@ impl std::fmt::Display for NavCounts {
             self.annotations
         )?;
         if self.after_last_scan > 0 {
+            let at_least = if self.after_last_scan >= super::MAX_UNREAD_COUNTED {
+                "at least "
+            } else {
+                ""
+            };
             write!(
                 f,
-                "; {} after the last scan, not read",
+                "; {at_least}{} after the last scan, not read",
                 self.after_last_scan
             )?;
         }
@@ -202,6 +207,9 @@ pub struct OwnShipNav {
     time_s: f64,
     /// The filter has known own ship's velocity since it started ([`MOTION_KNOWN_SIGMA_MPS`]).
     motion_measured: bool,
+    /// Readings were taken at their arrival ([`OwnShipNav::feed_heard`]) before any timed
+    /// sentence: the arrival clock may not be the bridge's.
+    heard_before_clock: bool,
     /// Velocity over ground from before the first position.
     velocity: Option<[f64; 2]>,
     variation_deg: Option<f64>,
@@ -239,6 +247,7 @@ impl OwnShipNav {
             drkf: None,
             time_s: 0.0,
             motion_measured: false,
+            heard_before_clock: false,
             velocity: None,
             variation_deg: None,
             operator_variation_deg: variation_deg,
@@ -356,9 +365,13 @@ impl OwnShipNav {
         let now = match self.clock.take(&stamp) {
             Ok(Some(t)) => {
                 // Readings heard before the first timed sentence were taken at their
-                // arrival; a bridge clock far from that (a PC clock not set) would leave the
-                // filter ahead of every later reading: start it again on the bridge's time.
-                if first_time && self.drkf.is_some() && (t - self.time_s).abs() > clock::MAX_JUMP_S
+                // arrival; a bridge clock behind that (a PC clock not set) would leave the
+                // filter ahead of every later reading, one far ahead would fly it on: start
+                // it again on the bridge's time, forgetting the arrival clock's times.
+                let ahead_s = t - self.time_s;
+                if first_time
+                    && self.heard_before_clock
+                    && !(-1.0..=clock::MAX_JUMP_S).contains(&ahead_s)
                 {
                     self.events.push(format!(
                         "own-ship filter restarted: the bridge's UTC is {} the time its first sentences were heard",
@@ -366,12 +379,20 @@ impl OwnShipNav {
                     ));
                     self.drkf = None;
                     self.last_position_s = None;
+                    self.last_heading_s = None;
+                    self.heading_deg = None;
+                    self.last_implausible_s = None;
+                    self.implausible.clear();
+                    self.selector.forget_times();
                     self.time_s = t;
                 }
                 t
             }
             Ok(None) => match heard_s {
-                Some(heard) => self.heard_time(heard),
+                Some(heard) => {
+                    self.heard_before_clock |= self.clock.newest_s().is_none();
+                    self.heard_time(heard)
+                }
                 None => self.clock.newest_s().unwrap_or(self.time_s),
             },
             Err(clock::Refused::Backwards { .. }) => {

@@ -79,6 +79,13 @@ impl Selector {
         }
     }
 
+    /// Forgets the talkers' times (chosen and last heard), keeping the priorities, events
+    /// and disagreement counts: the times were on a clock the bridge's UTC has replaced.
+    pub fn forget_times(&mut self) {
+        self.chosen.clear();
+        self.last.clear();
+    }
+
     /// The talker chosen for `q`, if any.
     pub fn chosen(&self, q: Quantity) -> Option<&str> {
         self.chosen.get(&q).map(|(t, _)| t.as_str())

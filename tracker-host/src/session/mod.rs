@@ -177,15 +177,24 @@ impl ScanReport {
             .or_else(|| self.merged.iter().find(|c| c.mmsi == mmsi).map(|c| c.track))
     }
 
-    /// Targets shown as tracked: their motion's trend known (`TTM` status `T`).
+    /// Targets of confirmed and coasting tracks not shown as acquiring
+    /// ([`target::shown_status`]).
     pub fn tracked(&self) -> usize {
-        self.targets.iter().filter(|t| t.trend_known).count()
+        self.targets.len() - self.confirmed_acquiring()
     }
 
-    /// Targets shown as being acquired (`TTM` status `Q`): tentative tracks with a second
-    /// plot, and confirmed ones whose motion's trend is not known yet.
+    /// Targets shown as being acquired: tentative tracks with a second plot, and confirmed
+    /// ones whose motion's trend is not known yet ([`target::shown_status`]; the plotter is
+    /// sent both as `Q`).
     pub fn acquiring(&self) -> usize {
-        self.acquiring.len() + self.targets.iter().filter(|t| !t.trend_known).count()
+        self.acquiring.len() + self.confirmed_acquiring()
+    }
+
+    fn confirmed_acquiring(&self) -> usize {
+        self.targets
+            .iter()
+            .filter(|t| target::shown_status(t) == "acquiring")
+            .count()
     }
 }
 
