@@ -1,7 +1,49 @@
-//! UTC as the operator reads it, for the display, the plain table and the event log.
+//! UTC as the operator reads it, and time differences, for the display, the plain table and the
+//! event log.
 
 /// `hh:mm:ssZ` of a time in s since 1970-01-01 00:00 UTC.
 pub fn utc_label(time_s: f64) -> String {
     let t = time_s.rem_euclid(86_400.0) as u64;
     format!("{:02}:{:02}:{:02}Z", t / 3600, t / 60 % 60, t % 60)
+}
+
+/// A time difference as a person reads it, before what it is measured from:
+/// `4 h 38 min ahead of`, `12 s behind`.
+pub fn offset_label(offset_s: f64) -> String {
+    let way = if offset_s >= 0.0 {
+        "ahead of"
+    } else {
+        "behind"
+    };
+    let a = offset_s.abs();
+    let size = if a < 120.0 {
+        format!("{a:.0} s")
+    } else if a < 7200.0 {
+        format!("{:.0} min", a / 60.0)
+    } else if a < 3.0 * 86_400.0 {
+        format!(
+            "{} h {:.0} min",
+            (a / 3600.0).floor(),
+            (a % 3600.0 / 60.0).floor()
+        )
+    } else {
+        format!("{:.0} days", a / 86_400.0)
+    };
+    format!("{size} {way}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn offsets_read_as_a_person_says_them() {
+        assert_eq!(offset_label(12.4), "12 s ahead of");
+        assert_eq!(offset_label(-600.0), "10 min behind");
+        assert_eq!(
+            offset_label(-(4.0 * 3600.0 + 38.0 * 60.0 + 5.0)),
+            "4 h 38 min behind"
+        );
+        assert_eq!(offset_label(400.0 * 86_400.0), "400 days ahead of");
+    }
 }

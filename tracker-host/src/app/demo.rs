@@ -17,7 +17,7 @@ use crate::session::associate::Association;
 use tracker_core::sim::ScenarioKind;
 
 use super::run::Run;
-use super::{own_ship_source, sinks, today, Outputs, OwnShipOptions};
+use super::{own_ship_source, sinks, Outputs, OwnShipOptions};
 use crate::link::Client;
 use crate::nmea::InSpec;
 use crate::own_ship::recording::RecordedTrack;
@@ -102,10 +102,7 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
             }
             OwnShipTruth::Recorded(track, origin)
         }
-        Some(_) => {
-            own_ship.nmea.provisional_day = today();
-            OwnShipTruth::Estimated
-        }
+        Some(_) => OwnShipTruth::Estimated,
         None => OwnShipTruth::Scenario,
     };
     let origin = own_ship.origin();

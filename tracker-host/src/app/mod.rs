@@ -73,7 +73,15 @@ pub fn own_ship_source(
         (Some(_), Some(_)) => {
             anyhow::bail!("own ship from NMEA input or a recording of the simulation, not both")
         }
-        (Some(spec), None) => Box::new(NmeaOwnShip::open(spec, origin, &o.nmea)?),
+        (Some(spec), None) => {
+            // A live source's times before its first date are today's (a recording's are its
+            // own first date's, set by whoever read it ahead).
+            let mut nmea = o.nmea.clone();
+            if spec.is_live() {
+                nmea.provisional_day = today();
+            }
+            Box::new(NmeaOwnShip::open(spec, origin, &nmea)?)
+        }
         (None, Some(path)) => Box::new(SimulatedBridge::create(path, origin)?),
         (None, None) => Box::new(FromPlotSource),
     })

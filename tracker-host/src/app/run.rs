@@ -94,10 +94,10 @@ impl Run {
         };
         before(scan.radar.time_s);
         let mut own = self.own_ship.own_ship(&scan)?;
-        // The plot source knows whether its plots wanted a heading, whoever gives own ship.
-        own.quality.heading_needed |= scan
-            .own_ship
-            .is_some_and(|o| o.quality.heading_needed && own.heading_rad.is_none());
+        // The plot source knows whether its plots wanted a heading, whoever gives own ship;
+        // an alarm only while own ship has none.
+        own.quality.heading_needed =
+            scan.own_ship.is_some_and(|o| o.quality.heading_needed) && own.heading_rad.is_none();
         self.plots.own_ship_estimate(&own);
         // A radar's plots are as accurate as its range scale, which a live radar tells with
         // its first spoke and the operator changes.

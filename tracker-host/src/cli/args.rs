@@ -166,7 +166,7 @@ pub struct RunArgs {
 }
 
 /// A finite number for which `ok` holds; else "`s`: expected `what`".
-fn number(s: &str, ok: impl Fn(f64) -> bool, what: &str) -> Result<f64, String> {
+pub(crate) fn number(s: &str, ok: impl Fn(f64) -> bool, what: &str) -> Result<f64, String> {
     match s.parse::<f64>() {
         Ok(v) if v.is_finite() && ok(v) => Ok(v),
         _ => Err(format!("`{s}`: expected {what}")),
@@ -263,12 +263,7 @@ impl RunArgs {
             nmea: NmeaOptions {
                 priority: self.nmea_source.iter().cloned().collect(),
                 variation_deg: self.magnetic_variation,
-                // A live source's times before its first date are today's (a recording's
-                // are its own first date's, found when it is read).
-                provisional_day: match &self.nmea_in {
-                    Some(InSpec::File(_)) | None => 0,
-                    Some(_) => crate::app::today(),
-                },
+                provisional_day: 0,
             },
         }
     }

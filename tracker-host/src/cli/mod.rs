@@ -232,18 +232,12 @@ pub enum Command {
 
 /// `--link-timeout`: 0.01 to 600 s.
 fn link_timeout_s(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if v.is_finite() && (0.01..=600.0).contains(&v) => Ok(v),
-        _ => Err(format!("`{s}`: expected 0.01 to 600 seconds")),
-    }
+    args::number(s, |v| (0.01..=600.0).contains(&v), "0.01 to 600 seconds")
 }
 
 /// `--byte-errors`: a probability up to 0.1 (more, and hardly a frame gets through).
 fn byte_error_rate(s: &str) -> Result<f64, String> {
-    match s.parse::<f64>() {
-        Ok(v) if (0.0..=0.1).contains(&v) => Ok(v),
-        _ => Err(format!("`{s}`: expected a probability up to 0.1")),
-    }
+    args::number(s, |v| (0.0..=0.1).contains(&v), "a probability up to 0.1")
 }
 
 /// A count of 1 or more (runs, scans, baud).
@@ -382,7 +376,7 @@ where
             let live_nmea = run
                 .nmea_in
                 .as_ref()
-                .is_some_and(|s| !matches!(s, crate::nmea::InSpec::File(_)));
+                .is_some_and(crate::nmea::InSpec::is_live);
             if live_nmea && run.origin.is_none() && ais_truth.is_none() {
                 let o = crate::origin::Origin::default();
                 eprintln!(

@@ -22,6 +22,13 @@ pub enum InSpec {
     Serial(String, u32),
 }
 
+impl InSpec {
+    /// A live source (UDP, TCP, serial), not a recording.
+    pub fn is_live(&self) -> bool {
+        !matches!(self, InSpec::File(_))
+    }
+}
+
 impl std::str::FromStr for InSpec {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {

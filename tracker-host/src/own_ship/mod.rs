@@ -134,31 +134,6 @@ impl OwnShip {
     }
 }
 
-/// A time difference as a person reads it, before what it is measured from:
-/// `4 h 38 min ahead of`, `12 s behind`.
-pub fn offset_label(offset_s: f64) -> String {
-    let way = if offset_s >= 0.0 {
-        "ahead of"
-    } else {
-        "behind"
-    };
-    let a = offset_s.abs();
-    let size = if a < 120.0 {
-        format!("{a:.0} s")
-    } else if a < 7200.0 {
-        format!("{:.0} min", a / 60.0)
-    } else if a < 3.0 * 86_400.0 {
-        format!(
-            "{} h {:.0} min",
-            (a / 3600.0).floor(),
-            (a % 3600.0 / 60.0).floor()
-        )
-    } else {
-        format!("{:.0} days", a / 86_400.0)
-    };
-    format!("{size} {way}")
-}
-
 /// A source of own ship, asked once a scan.
 pub trait OwnShipSource {
     /// Own ship at the time of `scan`.
@@ -304,16 +279,15 @@ impl NmeaOwnShip {
                 .timed_read_s
                 .is_some_and(|r| time_s - r <= nav::POSITION_LOST_S);
             let newest = self.nav.newest_s();
-            if crate::ais::fragment::is_ais(&line) {
-                if let Some(r) = self.ais.feed(&line) {
-                    self.nav.feed_ais_own(&r, bridge_s);
-                    self.heard.push((time_s, r));
-                }
-            } else if timed_lately {
-                self.nav.feed(&line);
-            } else {
-                self.nav.feed_heard(&line, bridge_s);
-            }
+            let untimed = (!timed_lately).then_some(bridge_s);
+            take(
+                &mut self.nav,
+                &mut self.ais,
+                &mut self.heard,
+                &line,
+                (time_s, bridge_s),
+                untimed,
+            );
             if let Some(n) = self.nav.newest_s().filter(|n| Some(*n) != newest) {
                 self.offset_s = Some(n - time_s);
                 self.timed_read_s = Some(time_s);
@@ -326,7 +300,7 @@ impl NmeaOwnShip {
         if (offset - told).abs() > CLOCK_NOTE_S {
             self.clock_events.push(format!(
                 "the NMEA source's UTC is {} this computer's clock: own ship follows the NMEA's time",
-                offset_label(offset)
+                crate::utc::offset_label(offset)
             ));
             self.offset_told_s = Some(offset);
         }
@@ -342,7 +316,14 @@ impl NmeaOwnShip {
         while let Some(line) = file.peek(0) {
             let Some(t) = self.nav.time_of(line) else {
                 if let Some(line) = file.next_line() {
-                    take(&mut self.nav, &mut self.ais, &mut self.heard, &line, time_s);
+                    take(
+                        &mut self.nav,
+                        &mut self.ais,
+                        &mut self.heard,
+                        &line,
+                        (time_s, time_s),
+                        None,
+                    );
                 }
                 continue;
             };
@@ -363,7 +344,14 @@ impl NmeaOwnShip {
                 break;
             }
             if let Some(line) = file.next_line() {
-                take(&mut self.nav, &mut self.ais, &mut self.heard, &line, time_s);
+                take(
+                    &mut self.nav,
+                    &mut self.ais,
+                    &mut self.heard,
+                    &line,
+                    (time_s, time_s),
+                    None,
+                );
             }
         }
     }
@@ -424,22 +412,26 @@ impl OwnShipSource for NmeaOwnShip {
     }
 }
 
-/// One line of a recording: AIS sentences to the AIS decoder (heard at `time_s`; own
-/// ship's `AIVDO` also to the dead-reckoning filter, as one more sensor), the rest to the
-/// filter (a sentence without a time at the newest time: a recording's lines are in the
-/// order they were sent).
+/// One line: AIS sentences to the AIS decoder (heard at `session_s`; own ship's `AIVDO`
+/// also to the dead-reckoning filter at `bridge_s`, as one more sensor), the rest to the
+/// filter: a sentence without a time at `untimed_at` (its arrival, on the bridge's time)
+/// when given, else at the newest time (a recording's lines are in the order they were
+/// sent).
 fn take(
     nav: &mut OwnShipNav,
     ais: &mut crate::ais::AisDecoder,
     heard: &mut Vec<(f64, crate::ais::AisReport)>,
     line: &str,
-    time_s: f64,
+    (session_s, bridge_s): (f64, f64),
+    untimed_at: Option<f64>,
 ) {
     if crate::ais::fragment::is_ais(line) {
         if let Some(r) = ais.feed(line) {
-            nav.feed_ais_own(&r, time_s);
-            heard.push((time_s, r));
+            nav.feed_ais_own(&r, bridge_s);
+            heard.push((session_s, r));
         }
+    } else if let Some(at) = untimed_at {
+        nav.feed_heard(line, at);
     } else {
         nav.feed(line);
     }
@@ -506,17 +498,6 @@ impl OwnShipSource for SimulatedBridge {
 mod tests {
     use super::*;
     use crate::nmea::bridge::own_ship_sentences;
-
-    #[test]
-    fn offsets_read_as_a_person_says_them() {
-        assert_eq!(offset_label(12.4), "12 s ahead of");
-        assert_eq!(offset_label(-600.0), "10 min behind");
-        assert_eq!(
-            offset_label(-(4.0 * 3600.0 + 38.0 * 60.0 + 5.0)),
-            "4 h 38 min behind"
-        );
-        assert_eq!(offset_label(400.0 * 86_400.0), "400 days ahead of");
-    }
 
     #[test]
     fn clocks_that_agree_are_taken_to_agree() {

@@ -375,7 +375,7 @@ impl OwnShipNav {
                 {
                     self.events.push(format!(
                         "own-ship filter restarted: the bridge's UTC is {} the time its first sentences were heard",
-                        crate::own_ship::offset_label(t - self.time_s)
+                        crate::utc::offset_label(t - self.time_s)
                     ));
                     self.drkf = None;
                     self.last_position_s = None;

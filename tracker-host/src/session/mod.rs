@@ -193,7 +193,7 @@ impl ScanReport {
     fn confirmed_acquiring(&self) -> usize {
         self.targets
             .iter()
-            .filter(|t| target::shown_status(t) == "acquiring")
+            .filter(|t| target::is_acquiring(t))
             .count()
     }
 }

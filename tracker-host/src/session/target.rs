@@ -180,11 +180,17 @@ pub fn table_with_ais(
 /// `Q` and `T`): acquiring until its motion's trend is known (IEC 62388 draws no vector
 /// before), tracked after.
 pub fn shown_status(t: &TargetData) -> &'static str {
-    if t.status == TrackStatus::Confirmed && !t.trend_known {
+    if is_acquiring(t) {
         "acquiring"
     } else {
         status_name(t.status)
     }
+}
+
+/// A confirmed target whose motion's trend is not known yet: shown as acquiring
+/// ([`shown_status`]).
+pub fn is_acquiring(t: &TargetData) -> bool {
+    t.status == TrackStatus::Confirmed && !t.trend_known
 }
 
 /// The status as a navigator reads it.

@@ -518,8 +518,8 @@ impl RadarPlotSource {
             self.reported_fixed_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
             own.quality.heading_lost &= own.heading_rad.is_none();
         }
-        own.quality.heading_needed =
-            self.counts.plots_without_heading > without_heading && own.heading_rad.is_none();
+        // Whether the alarm stands (no heading for own ship at all) is the run's to say.
+        own.quality.heading_needed = self.counts.plots_without_heading > without_heading;
         let own_ship = Some(own);
         let echoes = std::mem::take(&mut self.image);
         SourceScan {
