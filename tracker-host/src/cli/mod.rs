@@ -749,8 +749,8 @@ mod tests {
                 "is a directory",
             ),
         ] {
-            // 10 000 s of demo: refused at once, not after the run.
-            let started = std::time::Instant::now();
+            // 10 000 s of demo: refused before it, by the check's words (a failure at the
+            // end would say "writing …"), not by the clock.
             let e = run([
                 "t",
                 "--link",
@@ -767,7 +767,6 @@ mod tests {
                 e.starts_with(option) && e.contains(told),
                 "{option} {path}: {e}"
             );
-            assert!(started.elapsed().as_secs() < 5, "{option}: ran first");
         }
         assert_eq!(
             std::fs::read_dir(dir.path()).unwrap().count(),
