@@ -227,6 +227,27 @@ pub enum ErrorCode {
     OutOfSequence,
 }
 
+impl core::fmt::Display for ErrorCode {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            ErrorCode::BadCobs => f.write_str("a damaged frame (bad COBS)"),
+            ErrorCode::BadCrc => f.write_str("a damaged frame (bad CRC)"),
+            ErrorCode::Oversize => f.write_str("a frame over the largest size"),
+            ErrorCode::Malformed => f.write_str("a frame whose content does not decode"),
+            ErrorCode::UnknownMessage => f.write_str("a message it does not know"),
+            ErrorCode::VersionMismatch { device } => {
+                write!(f, "another protocol version (the device speaks {device})")
+            }
+            ErrorCode::Unsupported => f.write_str("a message this firmware does not implement"),
+            ErrorCode::CapacityExceeded => {
+                f.write_str("over its capacity (plots a scan or tracks in its table)")
+            }
+            ErrorCode::InvalidValue => f.write_str("a value out of range or not finite"),
+            ErrorCode::OutOfSequence => f.write_str("a request out of sequence"),
+        }
+    }
+}
+
 /// Counters the device keeps about its link; all wrap at `u32::MAX`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[cfg_attr(feature = "defmt", derive(defmt::Format))]

@@ -292,7 +292,8 @@ impl RunArgs {
     ///
     /// # Errors
     /// The first output that cannot be written, with its option and the reason; a
-    /// snapshot's name whose extension is not an image format the drawing writes.
+    /// snapshot's name whose extension is not an image format the drawing writes; one file
+    /// named by two outputs.
     pub fn check_outputs(&self, record_truth: Option<&Path>) -> anyhow::Result<()> {
         if let Some(p) = &self.snapshot {
             crate::record::snapshot::check_path(p).context("--snapshot")?;
@@ -303,11 +304,20 @@ impl RunArgs {
             ("--record-tracks", self.record_tracks.as_deref()),
             ("--nmea-record", self.nmea_record.as_deref()),
             ("--summary-json", self.summary_json.as_deref()),
+            ("--snapshot", self.snapshot.as_deref()),
         ];
+        // One file for two outputs: the second would overwrite the first at the end.
+        let mut seen: Vec<(&str, PathBuf)> = Vec::new();
         for (option, path) in files {
-            if let Some(p) = path {
+            let Some(p) = path else { continue };
+            if option != "--snapshot" {
                 crate::record::check_writable(p).context(option)?;
             }
+            let at = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+            if let Some((first, _)) = seen.iter().find(|(_, q)| *q == at) {
+                anyhow::bail!("{first} and {option} both name {}", p.display());
+            }
+            seen.push((option, at));
         }
         Ok(())
     }

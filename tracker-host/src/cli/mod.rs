@@ -143,8 +143,8 @@ pub enum Command {
     },
     /// Check the link: handshake, echo frames of every size, bad input rejected, counters.
     LinkCheck {
-        /// Good frames to send.
-        #[arg(long, default_value_t = 1000)]
+        /// Good frames to send (at least 1).
+        #[arg(long, default_value_t = 1000, value_parser = at_least_one::<usize>)]
         frames: usize,
         /// Seed for frame sizes and contents.
         #[arg(long, default_value_t = 1)]
@@ -698,6 +698,7 @@ mod tests {
             (&["t", "compare"], "--sigma", &["0", "-1", "NaN"], &["5"]),
             (&["t", "arpa"], "--runs", &["0"], &["1"]),
             (&["t", "precision"], "--scans", &["0"], &["1"]),
+            (&["t", "link-check"], "--frames", &["0", "-1"], &["1"]),
             (
                 &["t", "link-check"],
                 "--byte-errors",
@@ -768,6 +769,25 @@ mod tests {
                 "{option} {path}: {e}"
             );
         }
+        // One file named by two outputs: the later would overwrite the earlier.
+        let same = dir.path().join("out.csv").display().to_string();
+        let e = run([
+            "t",
+            "--link",
+            "inproc",
+            "demo",
+            "--duration",
+            "10000",
+            "--record-plots",
+            &same,
+            "--record-tracks",
+            &same,
+        ])
+        .unwrap_err();
+        assert!(
+            format!("{e:#}").starts_with("--record-plots and --record-tracks both name"),
+            "{e:#}"
+        );
         assert_eq!(
             std::fs::read_dir(dir.path()).unwrap().count(),
             0,

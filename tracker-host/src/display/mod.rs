@@ -333,22 +333,17 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
 /// Own ship as the header shows it: course and speed over ground, heading, and how it is
 /// known.
 pub fn own_ship_line(own: &crate::own_ship::OwnShip) -> String {
-    let v = own.velocity_mps;
-    let cog = f64::from(v[0])
-        .atan2(f64::from(v[1]))
-        .to_degrees()
-        .rem_euclid(360.0);
-    let sog = f64::from(v[0].hypot(v[1])) / f64::from(MPS_PER_KNOT);
     let heading = own.heading_rad.map_or("---".to_string(), |h| {
         format!("{:05.1}", f64::from(h).to_degrees().rem_euclid(360.0))
     });
     let q = own.quality;
-    // Unknown motion is not a ship stopped: shown as unknown.
-    let (cog, sog) = if q.motion_known {
-        (format!("{cog:05.1}"), format!("{sog:4.1} kn"))
-    } else {
-        ("---.-".to_string(), "---- kn".to_string())
-    };
+    // Unknown motion is not a ship stopped, and a ship stopped has no course.
+    let sog = own
+        .sog_kn()
+        .map_or("---- kn".to_string(), |kn| format!("{kn:4.1} kn"));
+    let cog = own
+        .cog_deg()
+        .map_or("---.-".to_string(), |deg| format!("{deg:05.1}"));
     let state = if q.no_fix_yet {
         "NO FIX".to_string()
     } else if let Some(age) = q.dead_reckoning_s {
@@ -1181,7 +1176,8 @@ pub(crate) mod tests {
             "{minutes:?} {soonest}"
         );
         // The answer to the operator's last key shows whatever the alarms.
-        state.message = Some("cancel refused: InvalidValue".into());
+        state.message =
+            Some("cancel refused: the target is no longer in the device's table".into());
         let screen = draw(&state);
         assert!(
             screen.iter().any(|l| l.contains("cancel refused")),
@@ -1209,7 +1205,10 @@ pub(crate) mod tests {
         assert_eq!(state.message, None);
         assert!(!key(&mut d, &mut state, 'c', &view));
         let m = state.message.clone().expect("the refusal shown");
-        assert!(m.contains("refused") && m.contains("InvalidValue"), "{m}");
+        assert!(
+            m.contains("cancel refused") && m.contains("no longer"),
+            "{m}"
+        );
         // The run goes on; the cancelled target is gone.
         let view = step(&mut d);
         assert!(!view.tracks.iter().any(|t| t.track == selected));

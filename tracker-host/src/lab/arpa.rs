@@ -209,7 +209,7 @@ fn run_once(s: &ImoScenario, seed: u64) -> anyhow::Result<[Instant; 2]> {
     let roll_phase = rng.f64() * 2.0 * PI;
     let roll_period_s = 10.0;
     let mut drkf = Drkf::<f64>::new(drkf_config(), [0.0, 0.0], own_v, 1.0, 0.5)
-        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
     let mut ttkf: Option<Ttkf<f64>> = None;
     let mut plot: Vec<(f64, [f64; 2])> = Vec::new();
     let mut own_log: Vec<[f64; 2]> = Vec::new();
@@ -219,9 +219,9 @@ fn run_once(s: &ImoScenario, seed: u64) -> anyhow::Result<[Instant; 2]> {
     for k in 1..=steps {
         let t = k as f64 * dt;
         let rel = [r0[0] + rel_v[0] * t, r0[1] + rel_v[1] * t];
-        drkf.predict(dt).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        drkf.predict(dt).map_err(|e| anyhow::anyhow!("{e}"))?;
         if let Some(f) = ttkf.as_mut() {
-            f.predict(dt).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            f.predict(dt).map_err(|e| anyhow::anyhow!("{e}"))?;
         }
         let gyro_err = gyro_bias + 0.12f64.to_radians() * normal(&mut rng);
         let heading = 0.0 + gyro_err;
@@ -235,12 +235,12 @@ fn run_once(s: &ImoScenario, seed: u64) -> anyhow::Result<[Instant; 2]> {
                 gps_velocity_mps: None,
                 loran_position_m: None,
             };
-            drkf.update(&fix).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+            drkf.update(&fix).map_err(|e| anyhow::anyhow!("{e}"))?;
             own_log.push([log * heading.sin(), log * heading.cos()]);
             if let Some(f) = ttkf.as_mut() {
                 let own = own_ship(&drkf);
                 f.update_own_ship(&own)
-                    .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+                    .map_err(|e| anyhow::anyhow!("{e}"))?;
             }
         }
         let radar_k = (RADAR_S / dt) as usize;
@@ -275,12 +275,12 @@ fn run_once(s: &ImoScenario, seed: u64) -> anyhow::Result<[Instant; 2]> {
                 None => {
                     ttkf = Some(
                         Ttkf::new(ttkf_config(), &own_ship(&drkf), range, bearing)
-                            .map_err(|e| anyhow::anyhow!("{e:?}"))?,
+                            .map_err(|e| anyhow::anyhow!("{e}"))?,
                     )
                 }
                 Some(f) => {
                     f.update_radar(range, bearing)
-                        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+                        .map_err(|e| anyhow::anyhow!("{e}"))?;
                 }
             }
         }

@@ -370,7 +370,7 @@ impl Client {
                 info.protocol,
                 PROTOCOL_VERSION
             ),
-            Reply::Error(e) => bail!("device refused the handshake: {e:?}"),
+            Reply::Error(e) => bail!("device refused the handshake: {e}"),
             other => bail!("unexpected handshake reply: {other:?}"),
         }
     }

@@ -107,33 +107,37 @@ pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, time_s: f64) -> String {
 }
 
 /// Own ship for a plotter without GNSS: `RMC` (position, SOG, COG, UTC and date; status
-/// `V` while own ship is dead reckoning or its motion unknown), `HDT` when a heading is
+/// `V` while own ship is dead reckoning or has no fix yet; speed and course empty while
+/// its motion is unknown, the course also at 0.0 kn), `HDT` when a heading is
 /// known, and `OSD` (own ship data: heading, course, speed, and their references).
 pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<String> {
     let p = [f64::from(own.position_m[0]), f64::from(own.position_m[1])];
     let (lat, lon) = origin.to_lat_lon(p);
-    let v = own.velocity_mps;
-    let sog_kn = f64::from(v[0].hypot(v[1])) / f64::from(MPS_PER_KNOT);
-    let cog = angle_360(f64::from(v[0]).atan2(f64::from(v[1])).to_degrees(), 1);
     let q = own.quality;
-    let status = if q.dead_reckoning_s.is_none() && q.motion_known && !q.no_fix_yet {
+    // The position's validity: a fix whose motion is not measured yet is still a fix.
+    let status = if q.dead_reckoning_s.is_none() && !q.no_fix_yet {
         'A'
     } else {
         'V'
     };
-    // Unknown motion goes as empty fields, not as a ship stopped.
-    let (sog_kn, cog) = if q.motion_known {
-        (format!("{sog_kn:.1}"), cog)
-    } else {
-        (String::new(), String::new())
-    };
+    // Unknown motion goes as empty fields, not as a ship stopped; a ship stopped has no
+    // course.
+    let sog_kn = own.sog_kn().map_or(String::new(), |kn| format!("{kn:.1}"));
+    let cog = own.cog_deg().map_or(String::new(), |deg| angle_360(deg, 1));
     let mut out = vec![sentence(&format!(
         "RARMC,{},{status},{},{},{sog_kn},{cog},{},,,{}",
         utc(time_s),
         angle_field(lat, 2, 'N', 'S'),
         angle_field(lon, 3, 'E', 'W'),
         date(time_s),
-        if status == 'A' { 'A' } else { 'E' }
+        // NMEA 0183 4.x mode: N no fix, E estimated (dead reckoning), A autonomous.
+        if q.no_fix_yet {
+            'N'
+        } else if status == 'A' {
+            'A'
+        } else {
+            'E'
+        }
     ))];
     let heading = own.heading_rad.map(|h| angle_360(degrees(h), 1));
     if let Some(h) = &heading {
@@ -290,7 +294,7 @@ mod tests {
     }
 
     #[test]
-    fn own_ship_with_its_motion_unknown_goes_void_without_a_speed() {
+    fn own_ship_with_its_motion_unknown_goes_without_a_speed_or_course() {
         let origin = Origin::default();
         let mut own = OwnShip::at([0.0, 0.0], [0.0, 3.0]);
         let rmc = |own: &OwnShip| own_ship_sentences(own, &origin, 0.0)[0].clone();
@@ -299,14 +303,23 @@ mod tests {
             known.contains(",A,") && known.contains(",5.8,0.0,"),
             "{known}"
         );
-        // A fix without a velocity yet: stopped it is not.
-        own.quality.motion_known = false;
+        // Stopped: a speed, no course.
         own.velocity_mps = [0.0, 0.0];
+        let stopped = rmc(&own);
+        assert!(
+            stopped.contains(",A,") && stopped.contains(",W,0.0,,010170,"),
+            "{stopped}"
+        );
+        // A fix without a velocity yet: stopped it is not, and the fix is still valid.
+        own.quality.motion_known = false;
         let unknown = rmc(&own);
-        assert!(unknown.starts_with("$RARMC,000000.00,V,"), "{unknown}");
-        assert!(unknown.contains(",W,,,010170,"), "{unknown}");
+        assert!(unknown.starts_with("$RARMC,000000.00,A,"), "{unknown}");
+        assert!(unknown.contains(",W,,,010170,,,A*"), "{unknown}");
         let osd = own_ship_sentences(&own, &origin, 0.0).pop().unwrap();
         assert!(osd.starts_with("$RAOSD,,V,,P,,P,"), "{osd}");
+        // Dead reckoning: the position is not a fix.
+        own.quality.dead_reckoning_s = Some(12.0);
+        assert!(rmc(&own).contains(",V,") && rmc(&own).contains(",,,E*"));
     }
 
     #[test]

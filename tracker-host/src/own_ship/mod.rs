@@ -65,6 +65,10 @@ impl Default for OwnShipQuality {
     }
 }
 
+/// The speed under which own ship's course is not shown or sent, kn: a speed that shows as
+/// 0.0 kn has no course.
+pub const COG_FROM_KN: f64 = 0.05;
+
 /// Own ship's state.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct OwnShip {
@@ -98,6 +102,27 @@ impl OwnShip {
             },
             ..OwnShip::default()
         }
+    }
+
+    /// Speed over ground, kn; `None` while the motion is unknown
+    /// ([`OwnShipQuality::motion_known`]).
+    pub fn sog_kn(&self) -> Option<f64> {
+        let v = self.velocity_mps;
+        self.quality
+            .motion_known
+            .then(|| f64::from(v[0].hypot(v[1])) / f64::from(tracker_core::geo::MPS_PER_KNOT))
+    }
+
+    /// Course over ground, degrees true in [0, 360); `None` while the motion is unknown or
+    /// the speed shows as 0.0 kn (under [`COG_FROM_KN`]), where a course means nothing.
+    pub fn cog_deg(&self) -> Option<f64> {
+        let v = self.velocity_mps;
+        self.sog_kn().filter(|&kn| kn >= COG_FROM_KN).map(|_| {
+            f64::from(v[0])
+                .atan2(f64::from(v[1]))
+                .to_degrees()
+                .rem_euclid(360.0)
+        })
     }
 
     /// The alarms own ship raises, as the operator reads them.

@@ -68,7 +68,7 @@ pub struct Refused {
 
 impl std::fmt::Display for Refused {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "the device refused the {}: {:?}", self.what, self.code)
+        write!(f, "the device refused the {}: {}", self.what, self.code)
     }
 }
 
@@ -228,10 +228,31 @@ impl DeviceLink {
     /// The link failed, or the device refused the command (an unknown track, a full
     /// table).
     pub fn command(&mut self, command: TrackCommand) -> anyhow::Result<()> {
-        expect_ack(
-            self.client.request(&HostToDevice::Command(command))?,
-            "command",
-        )?;
+        let reply = self.client.request(&HostToDevice::Command(command))?;
+        // The operator is told what the refusal means for the command given.
+        if let Reply::Error(code) = reply {
+            let why = match (command, code) {
+                // The device's track number, not the target number the operator sees.
+                (TrackCommand::Cancel { .. }, ErrorCode::InvalidValue) => {
+                    "cancel refused: the target is no longer in the device's table".to_string()
+                }
+                (TrackCommand::Acquire { plot }, ErrorCode::InvalidValue) => {
+                    format!("acquire refused: no plot {plot} in the last scan")
+                }
+                (TrackCommand::Acquire { .. }, ErrorCode::CapacityExceeded) => {
+                    "acquire refused: the device's track table is full".to_string()
+                }
+                _ => {
+                    return Err(Refused {
+                        what: "command",
+                        code,
+                    }
+                    .into())
+                }
+            };
+            bail!(why);
+        }
+        expect_ack(reply, "command")?;
         // Tracks the operator dropped are not missing ones.
         match command {
             TrackCommand::CancelAll => self.last_tracks.clear(),

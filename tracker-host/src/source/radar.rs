@@ -278,7 +278,7 @@ impl RadarPlotSource {
     pub fn open(o: &RadarOptions, origin: Origin) -> anyhow::Result<Self> {
         for c in [&o.navico, &o.garmin] {
             c.validate()
-                .map_err(|e| anyhow::anyhow!("radar extractor settings: {e:?}"))?;
+                .map_err(|e| anyhow::anyhow!("radar extractor settings: {e}"))?;
         }
         let spokes = SpokeSource::open(&o.spec)?;
         Ok(RadarPlotSource {
@@ -440,7 +440,7 @@ impl RadarPlotSource {
                         RadarKind::Garmin => self.options.garmin,
                     };
                     let x = Extractor::new(config)
-                        .map_err(|e| anyhow::anyhow!("radar extractor settings: {e:?}"))?;
+                        .map_err(|e| anyhow::anyhow!("radar extractor settings: {e}"))?;
                     self.extractor = Some((kind, Box::new(x)));
                 }
             }

@@ -50,7 +50,7 @@ fn dr_run(test: usize, seed: u64) -> anyhow::Result<DrRun> {
     let cfg = DrkfConfig::table_1(test).ok_or_else(|| anyhow::anyhow!("no test {test}"))?;
     let (tv, vx0, vy0, tb, rate) = TABLE_2[test - 1];
     let mut rng = fastrand::Rng::with_seed(seed);
-    let err = |e| anyhow::anyhow!("{e:?}");
+    let err = |e| anyhow::anyhow!("{e}");
     let mut f = Drkf::<f64>::new(cfg, [0.0, 0.0], [0.0, 0.0], 30.0, 2.0).map_err(err)?;
     let (mut p, mut v, mut c) = ([0.0f64, 0.0], [0.0f64, 0.0], [0.0f64, 0.0]);
     let (mut loran_err, mut log_err) = ([0.0f64, 0.0], 0.0f64);
@@ -137,7 +137,7 @@ fn target_run(test: usize, seed: u64) -> anyhow::Result<(Vec<f64>, Vec<f64>)> {
     let (vessel, var, beta, vx0, vy0, rate) = TABLE_3[test - 1];
     let own = dr_run(vessel, seed)?;
     let mut rng = fastrand::Rng::with_seed(seed ^ 0x5eed);
-    let err = |e| anyhow::anyhow!("{e:?}");
+    let err = |e| anyhow::anyhow!("{e}");
     let cfg = TtkfConfig {
         own_acceleration: GaussMarkov::with_variance(var, beta),
         target_acceleration: GaussMarkov::with_variance(var, beta),

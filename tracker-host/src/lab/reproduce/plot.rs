@@ -111,7 +111,7 @@ fn draw<DB: DrawingBackend>(chart: &Chart, area: DrawingArea<DB, Shift>) -> anyh
 where
     DB::ErrorType: 'static,
 {
-    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e:?}");
+    let err = |e: DrawingAreaErrorKind<DB::ErrorType>| anyhow!("{e}");
     area.fill(&WHITE).map_err(err)?;
     let ((x0, x1), (y0, y1)) = bounds(chart)?;
     let mut builder = ChartBuilder::on(&area);
