@@ -1,24 +1,31 @@
-//! One rotation's echoes for the eye: the spokes max-pooled onto a coarse north-up polar
-//! grid ([`EchoImage`]), which the terminal display draws under the plots and tracks and
+//! The radar picture for the eye: the spokes max-pooled onto a coarse north-up polar grid
+//! ([`EchoImage`]), which the terminal display draws under the plots and tracks and
 //! `--snapshot` paints to a PNG. A HALO rotation is 2,048 × 1,024 samples; the grid keeps
 //! [`BEARING_CELLS`] × [`RANGE_CELLS`] (the strongest sample in each cell), enough for a
-//! terminal or a 1,000-pixel picture, in 128 KiB.
+//! terminal or a 1,000-pixel picture, in 128 KiB. As on a radar display, the sweep
+//! repaints each bearing as it passes and leaves the rest as the last rotation drew it, so
+//! a rotation cut short (a capture's end) still shows the whole picture.
 
 /// Bearing cells in a rotation (0.7° each).
 pub const BEARING_CELLS: usize = 512;
 /// Range cells from own ship to the radar's range.
 pub const RANGE_CELLS: usize = 256;
 
-/// A rotation's echoes on a north-up polar grid.
+/// The echoes of the last rotation on a north-up polar grid, each bearing as the sweep last
+/// painted it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct EchoImage {
     /// The range the cells span, m (the last spoke's).
     pub range_m: f32,
     /// The strongest level a sample can hold (15 Navico, 255 Garmin).
     pub max_sample: u8,
-    /// Spokes taken.
+    /// Spokes taken in this rotation.
     pub spokes: u32,
     cells: Vec<u8>,
+    /// The rotation each bearing cell was last painted in: a row is cleared when the sweep
+    /// first reaches it in a new rotation.
+    painted_in: Vec<u32>,
+    rotation: u32,
 }
 
 impl Default for EchoImage {
@@ -28,6 +35,8 @@ impl Default for EchoImage {
             max_sample: 1,
             spokes: 0,
             cells: vec![0; BEARING_CELLS * RANGE_CELLS],
+            painted_in: vec![0; BEARING_CELLS],
+            rotation: 0,
         }
     }
 }
@@ -49,11 +58,22 @@ impl EchoImage {
         let turn = bearing_rad.rem_euclid(core::f32::consts::TAU) / core::f32::consts::TAU;
         let b = ((turn * BEARING_CELLS as f32) as usize).min(BEARING_CELLS - 1);
         let row = &mut self.cells[b * RANGE_CELLS..(b + 1) * RANGE_CELLS];
+        if self.painted_in[b] != self.rotation {
+            // The sweep is back at this bearing: the last rotation's echoes there go.
+            row.iter_mut().for_each(|c| *c = 0);
+            self.painted_in[b] = self.rotation;
+        }
         let n = samples.len();
         for (i, &s) in samples.iter().enumerate() {
             let r = i * RANGE_CELLS / n;
             row[r] = row[r].max(s);
         }
+    }
+
+    /// Starts the next rotation: the picture stays until the sweep repaints each bearing.
+    pub fn next_rotation(&mut self) {
+        self.rotation = self.rotation.wrapping_add(1);
+        self.spokes = 0;
     }
 
     /// The cells at or above `fraction` of full scale: (true bearing rad, range m, level as
@@ -96,5 +116,33 @@ mod tests {
         im.add(f32::NAN, 2000.0, &samples, 15);
         im.add(0.0, -1.0, &samples, 15);
         assert_eq!(im.spokes, 2);
+    }
+
+    #[test]
+    fn the_sweep_repaints_only_the_bearings_it_has_passed() {
+        let mut im = EchoImage::default();
+        let echo_at = |level: u8| {
+            let mut s = [0u8; 256];
+            s[128] = level;
+            s
+        };
+        let east = core::f32::consts::FRAC_PI_2;
+        let west = 3.0 * core::f32::consts::FRAC_PI_2;
+        im.add(east, 1000.0, &echo_at(15), 15);
+        im.add(west, 1000.0, &echo_at(15), 15);
+        assert_eq!(im.echoes(0.5).count(), 2);
+        // The next rotation is cut short after the east: the west stays as it was, the
+        // east is what this rotation saw there (nothing), not the two rotations' maximum.
+        im.next_rotation();
+        assert_eq!(im.spokes, 0);
+        im.add(east, 1000.0, &echo_at(0), 15);
+        let e: Vec<_> = im.echoes(0.5).collect();
+        assert_eq!(e.len(), 1);
+        assert!((e[0].0 - west).abs() < 0.01, "{e:?}");
+        // Two spokes in one bearing cell within a rotation keep the stronger.
+        im.add(west, 1000.0, &echo_at(4), 15);
+        im.add(west, 1000.0, &echo_at(12), 15);
+        im.add(west, 1000.0, &echo_at(8), 15);
+        assert_eq!(im.echoes(0.0).next().map(|e| e.2), Some(0.8));
     }
 }

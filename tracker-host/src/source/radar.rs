@@ -193,7 +193,7 @@ pub struct RadarPlotSource {
     finished: bool,
     /// The spoke being extracted's samples, copied out of the source's buffer.
     samples: Vec<u8>,
-    /// This rotation's echoes, for the eye.
+    /// The radar picture, each bearing as the sweep last painted it, for the eye.
     image: EchoImage,
     /// The capture's AIS sentences.
     ais: crate::ais::AisDecoder,
@@ -521,7 +521,9 @@ impl RadarPlotSource {
         // Whether the alarm stands (no heading for own ship at all) is the run's to say.
         own.quality.heading_needed = self.counts.plots_without_heading > without_heading;
         let own_ship = Some(own);
-        let echoes = std::mem::take(&mut self.image);
+        // The picture as the sweep left it; the next rotation repaints it bearing by bearing.
+        let echoes = self.image.clone();
+        self.image.next_rotation();
         SourceScan {
             radar: RadarScan {
                 scan: self.scan,
