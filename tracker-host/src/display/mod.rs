@@ -291,9 +291,21 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
 }
 
 fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
+    // The run's state first, where a narrow terminal cannot cut it off.
+    let run_state = if state.ended {
+        "END OF INPUT: q to quit "
+    } else if state.paused {
+        "PAUSED "
+    } else {
+        ""
+    };
     let text = vec![
         Line::from(vec![
             Span::styled("ARPA ", Style::default().add_modifier(Modifier::BOLD)),
+            Span::styled(
+                run_state,
+                Style::default().add_modifier(Modifier::REVERSED | Modifier::BOLD),
+            ),
             Span::raw(format!(
                 "scan {}  {}  link {}  plots {}  targets tracked {}  acquiring {}",
                 view.scan,
@@ -306,7 +318,7 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
         ]),
         Line::raw(own_ship_line(&view.own)),
         Line::raw(format!(
-            "{} NM  {} vectors {} min  CPA/TCPA alarm {:.2} NM / {:.0} min{}",
+            "{} NM  {} vectors {} min  CPA/TCPA alarm {:.2} NM / {:.0} min",
             RANGE_SCALES_NM[state.range_scale],
             match state.vectors {
                 VectorMode::Relative => "relative",
@@ -315,13 +327,6 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             VECTOR_MINUTES[state.vector_length],
             state.limits.cpa_m / METRES_PER_NM,
             state.limits.tcpa_s / 60.0,
-            if state.ended {
-                "  END OF INPUT: q to quit"
-            } else if state.paused {
-                "  PAUSED"
-            } else {
-                ""
-            },
         )),
     ];
     frame.render_widget(
@@ -1186,6 +1191,28 @@ pub(crate) mod tests {
         let shown = screen.iter().filter(|l| l.contains("ALARM")).count();
         let more = counted(&screen);
         assert_eq!(shown + more, total, "{screen:#?}");
+    }
+
+    #[test]
+    fn the_end_of_input_is_shown_on_a_narrow_terminal_too() {
+        let (mut state, view) = alarming(20);
+        let header = |state: &DisplayState| -> String {
+            let mut terminal = Terminal::new(TestBackend::new(60, 5)).unwrap();
+            terminal
+                .draw(|f| render_header(f, f.area(), state, &view))
+                .unwrap();
+            let buffer = terminal.backend().buffer();
+            (0..buffer.area.width)
+                .map(|x| buffer[(x, 1)].symbol())
+                .collect()
+        };
+        assert!(!header(&state).contains("END OF INPUT"));
+        state.ended = true;
+        let first = header(&state);
+        assert!(first.contains("ARPA END OF INPUT: q to quit"), "{first}");
+        state.ended = false;
+        state.paused = true;
+        assert!(header(&state).contains("ARPA PAUSED scan"));
     }
 
     #[test]
