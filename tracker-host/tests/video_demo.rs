@@ -4,7 +4,7 @@
 //! model's 0.9, no more false plots a scan than its 10. The tracking: every target
 //! confirmed, no false track, no swap, as the plot-level demo; confirmation within 5 scans
 //! for at least 90 % of as many targets; RMS position and velocity errors no worse than
-//! 10 % above (measured: 14.8 m and 1.20 m/s against 21.2 m and 1.50 m/s).
+//! 10 % above (measured: 14.8 m and 1.21 m/s against 21.2 m and 1.49 m/s).
 
 use tracker_core::filter::FilterKind;
 use tracker_core::sim::ScenarioKind;
