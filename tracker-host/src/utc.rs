@@ -7,6 +7,17 @@ pub fn utc_label(time_s: f64) -> String {
     format!("{:02}:{:02}:{:02}Z", t / 3600, t / 60 % 60, t % 60)
 }
 
+/// The scan time as the header shows it: [`utc_label`] when the clock is UTC, else the
+/// source's own time of day without the `Z` (`t 00:01:05`).
+pub fn scan_time_label(time_s: f64, is_utc: bool) -> String {
+    if is_utc {
+        utc_label(time_s)
+    } else {
+        let t = time_s.rem_euclid(86_400.0) as u64;
+        format!("t {:02}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
+    }
+}
+
 /// A time difference as a person reads it, before what it is measured from:
 /// `4 h 38 min ahead of`, `12 s behind`.
 pub fn offset_label(offset_s: f64) -> String {
@@ -35,6 +46,12 @@ pub fn offset_label(offset_s: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_clock_that_is_not_utc_is_not_labelled_utc() {
+        assert_eq!(scan_time_label(3_661.0, true), "01:01:01Z");
+        assert_eq!(scan_time_label(3_661.0, false), "t 01:01:01");
+    }
 
     #[test]
     fn offsets_read_as_a_person_says_them() {

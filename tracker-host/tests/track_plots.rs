@@ -239,3 +239,25 @@ fn bad_plots_files_are_refused_with_their_line_and_column() {
         assert!(!tracks.exists(), "case {i}: output written");
     }
 }
+
+#[test]
+fn a_plots_files_own_epoch_is_not_shown_as_utc() {
+    use tracker_host::source::plots_file::PlotsFileSource;
+    use tracker_host::source::PlotSource;
+    let dir = tempfile::tempdir().unwrap();
+    let file = |name: &str, t0: f64| {
+        let p = path(dir.path(), name);
+        let rows: String = (0..3)
+            .map(|k| format!("{k},{},1500,45,0,0\n", t0 + 2.5 * f64::from(k)))
+            .collect();
+        std::fs::write(
+            &p,
+            format!("scan,t_s,range_m,bearing_deg,own_east_m,own_north_m\n{rows}"),
+        )
+        .unwrap();
+        PlotsFileSource::open(&p).unwrap()
+    };
+    // Seconds from the recording's start; seconds since 1970.
+    assert!(!file("elapsed.csv", 0.0).time_is_utc());
+    assert!(file("utc.csv", 1.7e9).time_is_utc());
+}

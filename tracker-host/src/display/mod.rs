@@ -309,7 +309,7 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             Span::raw(format!(
                 "scan {}  {}  link {}  plots {}  targets tracked {}  acquiring {}",
                 view.scan,
-                utc_label(view.time_s),
+                crate::utc::scan_time_label(view.time_s, view.time_is_utc),
                 state.link,
                 view.plots.len(),
                 view.tracked(),

@@ -44,7 +44,7 @@ pub fn header(r: &ScanReport) -> String {
     let mut s = format!(
         "scan {:>4}  {}  plots {:>3}  targets tracked {:>3}  acquiring {:>3}  {}",
         r.scan,
-        crate::display::utc_label(r.time_s),
+        crate::utc::scan_time_label(r.time_s, r.time_is_utc),
         r.plots.len(),
         r.tracked(),
         r.acquiring(),

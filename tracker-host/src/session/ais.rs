@@ -580,6 +580,7 @@ mod tests {
         let mut report = ScanReport {
             scan,
             time_s,
+            time_is_utc: true,
             own,
             plots: Vec::new(),
             plots_m: Vec::new(),

@@ -103,6 +103,9 @@ pub struct ScanReport {
     pub scan: u32,
     /// The scan's time on the source's clock, s.
     pub time_s: f64,
+    /// Whether that clock is UTC (s since 1970-01-01): a plots file's times may count from
+    /// any epoch, and are then shown as such, not as UTC.
+    pub time_is_utc: bool,
     /// Own ship the scan was tracked from.
     pub own: OwnShip,
     /// The scan's plots, as received.
@@ -408,6 +411,7 @@ impl Session {
                 return Ok(ScanReport {
                     scan: radar.scan,
                     time_s: radar.time_s,
+                    time_is_utc: true,
                     own: *own,
                     plots: radar.plots.clone(),
                     plots_m,
@@ -437,6 +441,7 @@ impl Session {
         Ok(ScanReport {
             scan: radar.scan,
             time_s: radar.time_s,
+            time_is_utc: true,
             own: *own,
             plots: radar.plots.clone(),
             plots_m,

@@ -62,6 +62,12 @@ pub trait PlotSource {
     /// that reads recorded data validates it when it is opened, so a bad file fails there.
     fn next_scan(&mut self) -> anyhow::Result<Option<SourceScan>>;
 
+    /// Whether the scans' times are UTC (s since 1970-01-01); a source whose times count
+    /// from an epoch of its own says not.
+    fn time_is_utc(&self) -> bool {
+        true
+    }
+
     /// The antenna period, s, when the source knows it (for pacing a run in real time).
     fn scan_period_s(&self) -> Option<f64>;
 

@@ -210,7 +210,13 @@ pub struct PlotsFileSource {
     previous: Option<FileScan>,
     truth: Option<TruthFile>,
     period_s: Option<f64>,
+    /// Whether the times are UTC ([`UTC_FROM_S`] on).
+    time_is_utc: bool,
 }
+
+/// A plots file's times from this on (2001-09-09, 10⁹ s) are taken as UTC: the file's epoch
+/// may be any, but elapsed times do not reach 31 years.
+pub const UTC_FROM_S: f64 = 1e9;
 
 impl PlotsFileSource {
     /// Opens and checks `path`.
@@ -243,6 +249,7 @@ impl PlotsFileSource {
             previous: None,
             truth: None,
             period_s,
+            time_is_utc: first_t.is_some_and(|t| t >= UTC_FROM_S),
         })
     }
 
@@ -266,6 +273,12 @@ impl PlotsFileSource {
 }
 
 impl PlotSource for PlotsFileSource {
+    /// A plots file's `t_s` counts from any epoch (docs/formats.md): UTC from
+    /// [`UTC_FROM_S`] on.
+    fn time_is_utc(&self) -> bool {
+        self.time_is_utc
+    }
+
     fn next_scan(&mut self) -> anyhow::Result<Option<SourceScan>> {
         let Some(scan) = self.read()? else {
             return Ok(None);
