@@ -746,3 +746,30 @@ fn echo_sizes_by_detections() {
         );
     }
 }
+
+/// The 4G capture ends part way through a rotation: its last scan still shows the whole
+/// harbour (each bearing as the sweep last painted it), not the sector the last rotation
+/// reached.
+#[test]
+fn the_last_partial_rotation_still_shows_the_whole_picture() {
+    let t = track("radar_pi-4g-noheading-merrimac.pcap.gz", None);
+    // Eighths of the circle holding echoes of half scale or more.
+    let sectors = |r: &ScanReport| -> usize {
+        let image = r.echoes.as_ref().expect("a radar scan carries its picture");
+        let mut seen = [false; 8];
+        for (bearing_rad, _, _) in image.echoes(0.5) {
+            seen[((bearing_rad / std::f32::consts::TAU * 8.0) as usize).min(7)] = true;
+        }
+        seen.iter().filter(|s| **s).count()
+    };
+    let n = t.reports.len();
+    let (whole, last) = (sectors(&t.reports[n - 2]), sectors(&t.reports[n - 1]));
+    assert!(
+        whole >= 6,
+        "a whole rotation's echoes in {whole} of 8 sectors"
+    );
+    assert!(
+        last >= whole,
+        "the last scan's picture in {last} of 8 sectors against {whole}"
+    );
+}

@@ -106,8 +106,7 @@ impl Run {
         }
         let mut report = self.session.scan(&scan.radar, &own)?;
         report.echoes = scan.echoes.clone();
-        // A plots file's times are UTC when own ship's NMEA, on the same clock, says so.
-        report.time_is_utc = self.plots.time_is_utc() || self.own_ship.nmea_counts().is_some();
+        report.time_is_utc = self.plots.time_is_utc();
         let mut heard = self.plots.take_ais();
         heard.extend(self.own_ship.take_ais());
         if !heard.is_empty() || self.ais.is_some() {

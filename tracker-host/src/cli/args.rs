@@ -293,8 +293,13 @@ impl RunArgs {
     /// # Errors
     /// The first output that cannot be written, with its option and the reason; a
     /// snapshot's name whose extension is not an image format the drawing writes; one file
-    /// named by two outputs.
-    pub fn check_outputs(&self, record_truth: Option<&Path>) -> anyhow::Result<()> {
+    /// named by two outputs, or an output naming one of the run's input files (`inputs`,
+    /// with `--nmea-in file:`), which it would overwrite.
+    pub fn check_outputs(
+        &self,
+        record_truth: Option<&Path>,
+        inputs: &[(&'static str, &Path)],
+    ) -> anyhow::Result<()> {
         if let Some(p) = &self.snapshot {
             crate::record::snapshot::check_path(p).context("--snapshot")?;
         }
@@ -306,18 +311,35 @@ impl RunArgs {
             ("--summary-json", self.summary_json.as_deref()),
             ("--snapshot", self.snapshot.as_deref()),
         ];
-        // One file for two outputs: the second would overwrite the first at the end.
-        let mut seen: Vec<(&str, PathBuf)> = Vec::new();
+        // One file for two outputs: the later would overwrite the earlier at the end; an
+        // output on an input would overwrite the recording being read.
+        let nmea_file = match &self.nmea_in {
+            Some(InSpec::File(p)) => Some(("--nmea-in", p.as_path())),
+            _ => None,
+        };
+        let read: Vec<(&str, PathBuf)> = inputs
+            .iter()
+            .copied()
+            .chain(nmea_file)
+            .filter_map(|(option, p)| Some((option, file_identity(p)?)))
+            .collect();
+        let mut written: Vec<(&str, PathBuf)> = Vec::new();
         for (option, path) in files {
             let Some(p) = path else { continue };
             if option != "--snapshot" {
                 crate::record::check_writable(p).context(option)?;
             }
-            let at = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
-            if let Some((first, _)) = seen.iter().find(|(_, q)| *q == at) {
+            let Some(at) = file_identity(p) else { continue };
+            if let Some((input, _)) = read.iter().find(|(_, q)| *q == at) {
+                anyhow::bail!(
+                    "{option} names {}, the file {input} reads: it would be overwritten",
+                    p.display()
+                );
+            }
+            if let Some((first, _)) = written.iter().find(|(_, q)| *q == at) {
                 anyhow::bail!("{first} and {option} both name {}", p.display());
             }
-            seen.push((option, at));
+            written.push((option, at));
         }
         Ok(())
     }
@@ -332,6 +354,24 @@ impl RunArgs {
             record_tracks: self.record_tracks.clone(),
             snapshot: self.snapshot.clone(),
             associated_symbol: self.associated_symbol.into(),
+        }
+    }
+}
+
+/// The file `p` names, to tell two names of one file (`o.csv`, `./sub/../o.csv`, a link to
+/// it) from two files: an existing regular file's canonical path, or a new file's name in
+/// its directory's canonical path; `None` for what is not a regular file (`/dev/null`, a
+/// FIFO), which two outputs may share.
+fn file_identity(p: &Path) -> Option<PathBuf> {
+    match std::fs::metadata(p) {
+        Ok(m) if m.is_file() => std::fs::canonicalize(p).ok(),
+        Ok(_) => None,
+        Err(_) => {
+            let dir = match p.parent() {
+                Some(d) if !d.as_os_str().is_empty() => d,
+                _ => Path::new("."),
+            };
+            Some(std::fs::canonicalize(dir).ok()?.join(p.file_name()?))
         }
     }
 }

@@ -390,7 +390,11 @@ where
                     tracker_core::sim::MAX_TARGETS
                 );
             }
-            run.check_outputs(record_truth.as_deref())?;
+            let read: Vec<(&'static str, &std::path::Path)> = ais_truth
+                .iter()
+                .map(|p| ("--ais-truth", p.as_path()))
+                .collect();
+            run.check_outputs(record_truth.as_deref(), &read)?;
             let options = demo::DemoOptions {
                 simulator: SimulatorOptions {
                     scenario: scenario.kind(),
@@ -443,7 +447,19 @@ where
                 }
                 (None, None) => anyhow::bail!("track: --plots or --radar"),
             };
-            run.check_outputs(None)?;
+            let capture = match radar {
+                Some(crate::radar::RadarSpec::Capture(p)) => Some(("--radar", p.as_path())),
+                _ => None,
+            };
+            let read: Vec<(&'static str, &std::path::Path)> = [
+                plots.as_deref().map(|p| ("--plots", p)),
+                truth.as_deref().map(|p| ("--truth", p)),
+                capture,
+            ]
+            .into_iter()
+            .flatten()
+            .collect();
+            run.check_outputs(None, &read)?;
             let options = track::TrackOptions {
                 input,
                 filter: run.filter,
@@ -788,6 +804,63 @@ mod tests {
             format!("{e:#}").starts_with("--record-plots and --record-tracks both name"),
             "{e:#}"
         );
+        // The same file by another name.
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let other_name = dir.path().join("sub/../out.csv").display().to_string();
+        let e = run([
+            "t",
+            "--link",
+            "inproc",
+            "demo",
+            "--record-plots",
+            &same,
+            "--summary-json",
+            &other_name,
+        ])
+        .unwrap_err();
+        assert!(format!("{e:#}").contains("both name"), "{e:#}");
+        std::fs::remove_dir(dir.path().join("sub")).unwrap();
+        // An output on the recording being read: refused, the recording left as it was.
+        let input = dir.path().join("in.csv");
+        std::fs::write(
+            &input,
+            "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m\n0,0,1500,45,0,0\n",
+        )
+        .unwrap();
+        let before = std::fs::read(&input).unwrap();
+        let e = run([
+            "t",
+            "--link",
+            "inproc",
+            "track",
+            "--plots",
+            input.to_str().unwrap(),
+            "--record-tracks",
+            input.to_str().unwrap(),
+        ])
+        .unwrap_err();
+        assert!(
+            format!("{e:#}").starts_with("--record-tracks names")
+                && format!("{e:#}").contains("the file --plots reads"),
+            "{e:#}"
+        );
+        assert_eq!(std::fs::read(&input).unwrap(), before);
+        std::fs::remove_file(&input).unwrap();
+        // Not regular files (a device) may take two outputs.
+        run([
+            "t",
+            "--link",
+            "inproc",
+            "demo",
+            "--duration",
+            "5",
+            "--plain",
+            "--record-plots",
+            "/dev/null",
+            "--record-tracks",
+            "/dev/null",
+        ])
+        .expect("two outputs to /dev/null");
         assert_eq!(
             std::fs::read_dir(dir.path()).unwrap().count(),
             0,

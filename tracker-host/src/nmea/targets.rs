@@ -124,11 +124,15 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
     // course.
     let sog_kn = own.sog_kn().map_or(String::new(), |kn| format!("{kn:.1}"));
     let cog = own.cog_deg().map_or(String::new(), |deg| angle_360(deg, 1));
+    // Before a first fix there is no position to send, only where the frame starts.
+    let (lat, lon) = if q.no_fix_yet {
+        (",".to_string(), ",".to_string())
+    } else {
+        (angle_field(lat, 2, 'N', 'S'), angle_field(lon, 3, 'E', 'W'))
+    };
     let mut out = vec![sentence(&format!(
-        "RARMC,{},{status},{},{},{sog_kn},{cog},{},,,{}",
+        "RARMC,{},{status},{lat},{lon},{sog_kn},{cog},{},,,{}",
         utc(time_s),
-        angle_field(lat, 2, 'N', 'S'),
-        angle_field(lon, 3, 'E', 'W'),
         date(time_s),
         // NMEA 0183 4.x mode: N no fix, E estimated (dead reckoning), A autonomous.
         if q.no_fix_yet {
@@ -320,6 +324,13 @@ mod tests {
         // Dead reckoning: the position is not a fix.
         own.quality.dead_reckoning_s = Some(12.0);
         assert!(rmc(&own).contains(",V,") && rmc(&own).contains(",,,E*"));
+        // No fix yet: no position either.
+        own.quality.no_fix_yet = true;
+        let none = rmc(&own);
+        assert!(
+            none.starts_with("$RARMC,000000.00,V,,,,,,,010170,,,N*"),
+            "{none}"
+        );
     }
 
     #[test]

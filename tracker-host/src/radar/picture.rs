@@ -70,8 +70,16 @@ impl EchoImage {
         }
     }
 
-    /// Starts the next rotation: the picture stays until the sweep repaints each bearing.
+    /// Starts the next rotation: the picture stays until the sweep repaints each bearing,
+    /// but a bearing the whole rotation just ended did not paint (spokes lost, a blanked
+    /// sector, head-up spokes without a heading) is cleared: nothing older than one rotation
+    /// is shown as if current.
     pub fn next_rotation(&mut self) {
+        for (b, painted) in self.painted_in.iter().enumerate() {
+            if *painted != self.rotation {
+                self.cells[b * RANGE_CELLS..(b + 1) * RANGE_CELLS].fill(0);
+            }
+        }
         self.rotation = self.rotation.wrapping_add(1);
         self.spokes = 0;
     }
@@ -139,6 +147,14 @@ mod tests {
         let e: Vec<_> = im.echoes(0.5).collect();
         assert_eq!(e.len(), 1);
         assert!((e[0].0 - west).abs() < 0.01, "{e:?}");
+        // A bearing the whole rotation did not reach is cleared as the next one starts:
+        // nothing older than one rotation stays.
+        im.next_rotation();
+        assert_eq!(
+            im.echoes(0.5).count(),
+            0,
+            "the west was last painted two rotations ago"
+        );
         // Two spokes in one bearing cell within a rotation keep the stronger.
         im.add(west, 1000.0, &echo_at(4), 15);
         im.add(west, 1000.0, &echo_at(12), 15);

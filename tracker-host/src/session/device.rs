@@ -236,8 +236,8 @@ impl DeviceLink {
                 (TrackCommand::Cancel { .. }, ErrorCode::InvalidValue) => {
                     "cancel refused: the target is no longer in the device's table".to_string()
                 }
-                (TrackCommand::Acquire { plot }, ErrorCode::InvalidValue) => {
-                    format!("acquire refused: no plot {plot} in the last scan")
+                (TrackCommand::Acquire { .. }, ErrorCode::InvalidValue) => {
+                    "acquire refused: the device cannot start a track on that plot".to_string()
                 }
                 (TrackCommand::Acquire { .. }, ErrorCode::CapacityExceeded) => {
                     "acquire refused: the device's track table is full".to_string()

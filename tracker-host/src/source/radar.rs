@@ -195,6 +195,8 @@ pub struct RadarPlotSource {
     samples: Vec<u8>,
     /// The radar picture, each bearing as the sweep last painted it, for the eye.
     image: EchoImage,
+    /// The picture at the last wrap, for the scan that wrap closes.
+    finished_picture: Option<EchoImage>,
     /// The capture's AIS sentences.
     ais: crate::ais::AisDecoder,
     heard: Vec<(f64, crate::ais::AisReport)>,
@@ -297,6 +299,7 @@ impl RadarPlotSource {
             finished: false,
             samples: Vec::new(),
             image: EchoImage::default(),
+            finished_picture: None,
             ais: crate::ais::AisDecoder::new(),
             heard: Vec::new(),
             heading_cache: None,
@@ -448,10 +451,6 @@ impl RadarPlotSource {
                 continue;
             };
             let spoke = header.with(heading_rad, &self.samples);
-            if let Some(b) = spoke.bearing_rad() {
-                self.image
-                    .add(b, spoke.range_m, spoke.samples, spoke.max_sample);
-            }
             let mut wrapped = None;
             let current = &mut self.current;
             extractor.push(&spoke, |e| match e {
@@ -459,6 +458,16 @@ impl RadarPlotSource {
                 Event::Extended(p) => current.extended.push(p),
                 Event::Wrap { time_ms, .. } => wrapped = Some(time_ms as f64 / 1000.0),
             });
+            if wrapped.is_some() {
+                // The picture of the rotation that ended, before this spoke (the next
+                // rotation's first) is painted into the next.
+                self.finished_picture = Some(self.image.clone());
+                self.image.next_rotation();
+            }
+            if let Some(b) = spoke.bearing_rad() {
+                self.image
+                    .add(b, spoke.range_m, spoke.samples, spoke.max_sample);
+            }
             let range_m = Some(spoke.range_m);
             if let Some(t) = wrapped {
                 // The wrap is reported before the spoke after it is processed: blobs closed
@@ -521,9 +530,13 @@ impl RadarPlotSource {
         // Whether the alarm stands (no heading for own ship at all) is the run's to say.
         own.quality.heading_needed = self.counts.plots_without_heading > without_heading;
         let own_ship = Some(own);
-        // The picture as the sweep left it; the next rotation repaints it bearing by bearing.
-        let echoes = self.image.clone();
-        self.image.next_rotation();
+        // The picture as the sweep left it (taken at the wrap; a capture's partial last
+        // rotation, now); the next rotation repaints it bearing by bearing.
+        let echoes = self.finished_picture.take().unwrap_or_else(|| {
+            let picture = self.image.clone();
+            self.image.next_rotation();
+            picture
+        });
         SourceScan {
             radar: RadarScan {
                 scan: self.scan,
