@@ -748,6 +748,8 @@ mod tests {
 
     #[test]
     fn every_output_path_is_checked_before_anything_runs() {
+        // The command line after `tracker-host --link inproc`.
+        let inproc = |args: &[&str]| run(["t", "--link", "inproc"].iter().chain(args));
         let dir = tempfile::tempdir().unwrap();
         let nowhere = dir.path().join("no-such-dir");
         let in_nowhere = |name: &str| nowhere.join(name).display().to_string();
@@ -768,17 +770,7 @@ mod tests {
         ] {
             // 10 000 s of demo: refused before it, by the check's words (a failure at the
             // end would say "writing …"), not by the clock.
-            let e = run([
-                "t",
-                "--link",
-                "inproc",
-                "demo",
-                "--duration",
-                "10000",
-                option,
-                path.as_str(),
-            ])
-            .unwrap_err();
+            let e = inproc(&["demo", "--duration", "10000", option, path.as_str()]).unwrap_err();
             let e = format!("{e:#}");
             assert!(
                 e.starts_with(option) && e.contains(told),
@@ -787,10 +779,7 @@ mod tests {
         }
         // One file named by two outputs: the later would overwrite the earlier.
         let same = dir.path().join("out.csv").display().to_string();
-        let e = run([
-            "t",
-            "--link",
-            "inproc",
+        let e = inproc(&[
             "demo",
             "--duration",
             "10000",
@@ -807,10 +796,7 @@ mod tests {
         // The same file by another name.
         std::fs::create_dir(dir.path().join("sub")).unwrap();
         let other_name = dir.path().join("sub/../out.csv").display().to_string();
-        let e = run([
-            "t",
-            "--link",
-            "inproc",
+        let e = inproc(&[
             "demo",
             "--record-plots",
             &same,
@@ -828,10 +814,7 @@ mod tests {
         )
         .unwrap();
         let before = std::fs::read(&input).unwrap();
-        let e = run([
-            "t",
-            "--link",
-            "inproc",
+        let e = inproc(&[
             "track",
             "--plots",
             input.to_str().unwrap(),
@@ -847,10 +830,7 @@ mod tests {
         assert_eq!(std::fs::read(&input).unwrap(), before);
         std::fs::remove_file(&input).unwrap();
         // Not regular files (a device) may take two outputs.
-        run([
-            "t",
-            "--link",
-            "inproc",
+        inproc(&[
             "demo",
             "--duration",
             "5",
@@ -866,10 +846,7 @@ mod tests {
             0,
             "no trace"
         );
-        let e = run([
-            "t",
-            "--link",
-            "inproc",
+        let e = inproc(&[
             "track",
             "--plots",
             "no-such.csv",
