@@ -1,10 +1,15 @@
 //! UTC as the operator reads it, and time differences, for the display, the plain table and the
 //! event log.
 
+/// `hh:mm:ss` of a time in s, the time of day it falls on.
+fn time_of_day(time_s: f64) -> String {
+    let t = time_s.rem_euclid(86_400.0) as u64;
+    format!("{:02}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
+}
+
 /// `hh:mm:ssZ` of a time in s since 1970-01-01 00:00 UTC.
 pub fn utc_label(time_s: f64) -> String {
-    let t = time_s.rem_euclid(86_400.0) as u64;
-    format!("{:02}:{:02}:{:02}Z", t / 3600, t / 60 % 60, t % 60)
+    format!("{}Z", time_of_day(time_s))
 }
 
 /// The scan time as the header shows it: [`utc_label`] when the clock is UTC, else the
@@ -13,8 +18,7 @@ pub fn scan_time_label(time_s: f64, is_utc: bool) -> String {
     if is_utc {
         utc_label(time_s)
     } else {
-        let t = time_s.rem_euclid(86_400.0) as u64;
-        format!("t {:02}:{:02}:{:02}", t / 3600, t / 60 % 60, t % 60)
+        format!("t {}", time_of_day(time_s))
     }
 }
 

@@ -22,7 +22,7 @@ pub mod sentences;
 use std::io::Write as _;
 
 use anyhow::Context;
-use tracker_core::geo::EastNorth;
+use tracker_core::geo::{self, EastNorth};
 
 use crate::nmea::bridge::own_ship_sentences;
 use crate::nmea::{InSpec, NmeaIn};
@@ -107,22 +107,19 @@ impl OwnShip {
     /// Speed over ground, kn; `None` while the motion is unknown
     /// ([`OwnShipQuality::motion_known`]).
     pub fn sog_kn(&self) -> Option<f64> {
-        let v = self.velocity_mps;
+        let (_, speed_mps) = geo::course_speed(self.velocity_mps);
         self.quality
             .motion_known
-            .then(|| f64::from(v[0].hypot(v[1])) / f64::from(tracker_core::geo::MPS_PER_KNOT))
+            .then(|| f64::from(speed_mps / geo::MPS_PER_KNOT))
     }
 
     /// Course over ground, degrees true in [0, 360); `None` while the motion is unknown or
     /// the speed shows as 0.0 kn (under [`COG_FROM_KN`]), where a course means nothing.
     pub fn cog_deg(&self) -> Option<f64> {
-        let v = self.velocity_mps;
-        self.sog_kn().filter(|&kn| kn >= COG_FROM_KN).map(|_| {
-            f64::from(v[0])
-                .atan2(f64::from(v[1]))
-                .to_degrees()
-                .rem_euclid(360.0)
-        })
+        let (course_rad, _) = geo::course_speed(self.velocity_mps);
+        self.sog_kn()
+            .filter(|&kn| kn >= COG_FROM_KN)
+            .map(|_| f64::from(course_rad).to_degrees())
     }
 
     /// The alarms own ship raises, as the operator reads them.
@@ -339,34 +336,24 @@ impl NmeaOwnShip {
             return;
         };
         while let Some(line) = file.peek(0) {
-            let Some(t) = self.nav.time_of(line) else {
-                if let Some(line) = file.next_line() {
-                    take(
-                        &mut self.nav,
-                        &mut self.ais,
-                        &mut self.heard,
-                        &line,
-                        (time_s, time_s),
-                        None,
-                    );
+            // Untimed lines are taken as they come; a timed one is checked first.
+            if let Some(t) = self.nav.time_of(line) {
+                let reference = self.nav.newest_s().unwrap_or(t).min(time_s);
+                if t > reference + OUT_OF_SEQUENCE_S {
+                    let back = (1..LOOK_AHEAD_LINES)
+                        .filter_map(|i| file.peek(i).map(|l| self.nav.time_of(l)))
+                        .flatten()
+                        .next()
+                        .is_some_and(|next| next < t - 1.0);
+                    if back {
+                        file.next_line();
+                        self.nav.refuse_out_of_sequence();
+                        continue;
+                    }
                 }
-                continue;
-            };
-            let reference = self.nav.newest_s().unwrap_or(t).min(time_s);
-            if t > reference + OUT_OF_SEQUENCE_S {
-                let back = (1..LOOK_AHEAD_LINES)
-                    .filter_map(|i| file.peek(i).map(|l| self.nav.time_of(l)))
-                    .flatten()
-                    .next()
-                    .is_some_and(|next| next < t - 1.0);
-                if back {
-                    file.next_line();
-                    self.nav.refuse_out_of_sequence();
-                    continue;
+                if t > time_s + 1e-6 {
+                    break;
                 }
-            }
-            if t > time_s + 1e-6 {
-                break;
             }
             if let Some(line) = file.next_line() {
                 take(
