@@ -1,6 +1,13 @@
 //! UTC as the operator reads it, and time differences, for the display, the plain table and the
 //! event log.
 
+/// Now by this host's clock, s since 1970-01-01 00:00 UTC (0 for a clock set before 1970).
+pub fn now_s() -> f64 {
+    std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0.0, |d| d.as_secs_f64())
+}
+
 /// `hh:mm:ss` of a time in s, the time of day it falls on.
 fn time_of_day(time_s: f64) -> String {
     let t = time_s.rem_euclid(86_400.0) as u64;

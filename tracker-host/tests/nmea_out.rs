@@ -291,3 +291,59 @@ fn tracker_host_tools_check() {
         String::from_utf8_lossy(&out.stderr)
     );
 }
+
+/// A source whose clock is its own (a plots file counting from 0 s) has its targets and own
+/// ship sent at this host's time and date (OpenCPN draws nothing from sentences without
+/// them), not at 1970's; a UTC source is sent at its own.
+#[test]
+fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
+    let options = DemoOptions::new(ScenarioKind::OpenSea, 8, 1, 60.0, FilterKind::KalmanCv);
+    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+    let mut out = TargetsOut::new(sink(), Origin::default(), true);
+    let mut last = None;
+    while let Some(report) = run.step().unwrap() {
+        last = Some(report);
+    }
+    let mut report = last.expect("scans");
+    assert!(report.time_is_utc, "the simulator's clock is UTC");
+    // TTM's UTC, TLL's UTC, RMC's time and date, of one scan's sentences.
+    let times = |out: &mut TargetsOut, report: &tracker_host::session::ScanReport| {
+        let sentences = out.scan_sentences(report);
+        let of = |kind: &str, at: usize| -> String {
+            let f = sentences
+                .iter()
+                .map(|s| fields(s))
+                .find(|f| f[0] == kind)
+                .unwrap_or_else(|| panic!("no {kind} in {sentences:?}"));
+            f[at].clone()
+        };
+        [
+            of("RATTM", 14),
+            of("RATLL", 7),
+            of("RARMC", 1),
+            of("RARMC", 9),
+        ]
+    };
+    // hhmmss.ss and ddmmyy of a time.
+    let utc = |t: f64| {
+        let d = chrono::DateTime::from_timestamp_millis((t * 1000.0).round() as i64).unwrap();
+        (
+            d.format("%H%M%S").to_string(),
+            d.format("%d%m%y").to_string(),
+        )
+    };
+    let (time, date) = utc(report.time_s);
+    let [ttm, tll, rmc, rmc_date] = times(&mut out, &report);
+    assert!(ttm.starts_with(&time) && tll == ttm && rmc == ttm && rmc_date == date);
+    report.time_is_utc = false;
+    report.time_s = 42.0;
+    let before = tracker_host::utc::now_s();
+    let [ttm, tll, rmc, rmc_date] = times(&mut out, &report);
+    let after = tracker_host::utc::now_s();
+    assert!(tll == ttm && rmc == ttm, "{ttm} {tll} {rmc}");
+    let at = |t: f64| utc(t.floor());
+    assert!(
+        [at(before), at(after)].contains(&(ttm[..6].to_string(), rmc_date.clone())),
+        "{ttm} {rmc_date}: sent between {before} and {after}"
+    );
+}

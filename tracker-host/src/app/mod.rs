@@ -89,10 +89,7 @@ pub fn own_ship_source(
 
 /// Today, as days since 1970 (a live source's sentences before their first date).
 pub fn today() -> i64 {
-    let now = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    (now / 86_400) as i64
+    (crate::utc::now_s() / 86_400.0).floor() as i64
 }
 
 /// The sinks `o` asks for.

@@ -402,7 +402,7 @@ where
                     seed: *seed,
                     duration_s: duration.unwrap_or(600.0),
                     // Live: the scans' UTC is now.
-                    epoch_s: (wall_clock_s() * 1000.0).round() / 1000.0,
+                    epoch_s: (crate::utc::now_s() * 1000.0).round() / 1000.0,
                 },
                 duration_from_recording: duration.is_none(),
                 filter: run.filter,
@@ -585,13 +585,6 @@ pub fn say(text: &str) {
     use std::io::Write;
     let mut out = std::io::stdout().lock();
     let _ = out.write_all(text.as_bytes()).and_then(|()| out.flush());
-}
-
-/// Now, s since 1970 UTC.
-fn wall_clock_s() -> f64 {
-    std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0.0, |d| d.as_secs_f64())
 }
 
 fn exit(ok: bool) -> ExitCode {

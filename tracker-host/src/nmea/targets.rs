@@ -209,8 +209,17 @@ impl TargetsOut {
     /// One scan's sentences: ends first, then tracked and acquiring targets (a confirmed
     /// target whose motion's trend is not known yet is sent as acquiring, `Q`, as IEC 62388
     /// draws it); targets still waiting for a number are not sent.
+    ///
+    /// Times are the scan's when its clock is UTC. A source whose clock counts from an
+    /// epoch of its own (a plots file from 0 s) is sent with the time it is sent at, this
+    /// host's clock: 1970 would be false, and OpenCPN 5.10 draws neither targets nor own
+    /// ship from sentences whose UTC and date are empty (tried).
     pub fn scan_sentences(&mut self, report: &ScanReport) -> Vec<String> {
-        let time_s = report.time_s;
+        let time_s = if report.time_is_utc {
+            report.time_s
+        } else {
+            crate::utc::now_s()
+        };
         let mut out = Vec::new();
         let groups = [
             (&report.ended, 'L'),
