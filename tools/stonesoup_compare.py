@@ -122,7 +122,7 @@ def load_plots(path):
         rng, brg = float(r["range_m"]), math.radians(float(r["bearing_deg"]))
         e = float(r["own_east_m"]) + rng * math.sin(brg)
         n = float(r["own_north_m"]) + rng * math.cos(brg)
-        by_t[int(r["scan"])].append((e, n))
+        by_t[int(r["scan"])].append((e, n, rng, brg))
     return by_t
 
 
@@ -293,9 +293,9 @@ def keep_m_of_n_deleter(m, n):
     return KeepMofNDeleter(hits_m=m, window_n=n)
 
 
-def stonesoup_tracker(scans, measure_name, deleter_name):
-    """A Stone Soup MultiTargetTracker with our models; `scans` is a list of
-    (datetime, set of Detection)."""
+def stonesoup_tracker(scans, measure_name, deleter_name, q=Q_M2_S3):
+    """A Stone Soup MultiTargetTracker with our models (process noise `q`, m^2/s^3);
+    `scans` is a list of (datetime, set of Detection), each with its measurement model."""
     from stonesoup.dataassociator.neighbour import GNNWith2DAssignment
     from stonesoup.deleter.time import UpdateTimeStepsDeleter
     from stonesoup.hypothesiser.distance import DistanceHypothesiser
@@ -306,7 +306,7 @@ def stonesoup_tracker(scans, measure_name, deleter_name):
     from stonesoup.types.state import GaussianState
     from stonesoup.updater.kalman import KalmanUpdater
 
-    transition = _transition_model()
+    transition = _transition_model(q)
     measurement = _measurement_model()
     predictor = KalmanPredictor(transition)
     updater = KalmanUpdater(measurement)
@@ -341,11 +341,10 @@ def stonesoup_tracker(scans, measure_name, deleter_name):
         updater=updater)
 
 
-def _transition_model():
+def _transition_model(q):
     from stonesoup.models.transition.linear import (
         CombinedLinearGaussianTransitionModel, ConstantVelocity)
-    return CombinedLinearGaussianTransitionModel([ConstantVelocity(Q_M2_S3),
-                                                  ConstantVelocity(Q_M2_S3)])
+    return CombinedLinearGaussianTransitionModel([ConstantVelocity(q), ConstantVelocity(q)])
 
 
 _MEAS = None
@@ -360,20 +359,41 @@ def _measurement_model():
     return _MEAS
 
 
+# The simulator's radar accuracy (tracker-core/src/sim.rs SensorModel::imo, range_sigma_m and
+# bearing_sigma_rad): range errors 20 and 30 m with a uniform 0.01 NM quantisation; bearing
+# 0.05 and 0.03 deg with uniform +-0.05 and +-0.1 deg.
+RANGE_SIGMA_M = math.sqrt(20.0**2 + 30.0**2 + (0.01 * NM_M)**2 / 3.0)
+BEARING_SIGMA_RAD = math.radians(math.sqrt(0.05**2 + 0.03**2 + (0.05**2 + 0.1**2) / 3.0))
+
+
+def polar_model(range_m, bearing_rad):
+    """The plot's own accuracy in the local frame (`--polar`): the range sigma along the
+    line of sight, range x bearing sigma across it (a converted measurement; Lerro &
+    Bar-Shalom 1993 without the debiasing, negligible at these bearing errors)."""
+    from stonesoup.models.measurement.linear import LinearGaussian
+    s, c = math.sin(bearing_rad), math.cos(bearing_rad)
+    vr, vc = RANGE_SIGMA_M**2, (range_m * BEARING_SIGMA_RAD)**2
+    cov = np.array([[vr * s * s + vc * c * c, (vr - vc) * s * c],
+                    [(vr - vc) * s * c, vr * c * c + vc * s * s]])
+    return LinearGaussian(ndim_state=4, mapping=(0, 2), noise_covar=cov)
+
+
 def epoch(t_s):
     return dt.datetime(1970, 1, 1) + dt.timedelta(seconds=float(t_s))
 
 
-def run_stonesoup(times, plots_by_scan, tracks_csv, measure_name, deleter_name):
+def run_stonesoup(times, plots_by_scan, tracks_csv, measure_name, deleter_name, polar=False,
+                  q=Q_M2_S3):
     from stonesoup.types.detection import Detection
 
     model = _measurement_model()
     scans = []
     for scan, t in enumerate(times):
         ts = epoch(t)
-        scans.append((ts, {Detection(np.array([[e], [n]]), timestamp=ts, measurement_model=model)
-                           for e, n in plots_by_scan.get(scan, [])}))
-    tracker = stonesoup_tracker(scans, measure_name, deleter_name)
+        scans.append((ts, {Detection(np.array([[e], [n]]), timestamp=ts,
+                                     measurement_model=polar_model(r, b) if polar else model)
+                           for e, n, r, b in plots_by_scan.get(scan, [])}))
+    tracker = stonesoup_tracker(scans, measure_name, deleter_name, q)
     ids = {}
     tracks_by_t = {}
     t0 = time.perf_counter()
@@ -414,12 +434,18 @@ def main():
     ap.add_argument("--markdown", help="also write the results table here")
     ap.add_argument("--second", choices=["joint", "two-stage-unresolved"], default="joint",
                     help="our second association rule, run beside two-stage (its column)")
+    ap.add_argument("--polar", action="store_true",
+                    help="give Stone Soup each plot's own polar accuracy (the simulator's range "
+                         "and bearing sigmas) in place of our 40 m a side: an experiment, not "
+                         "our models (docs/tracking.md)")
+    ap.add_argument("--q", type=float, default=Q_M2_S3,
+                    help="Stone Soup's process noise, m^2/s^3 (ours: 0.05)")
     args = ap.parse_args()
 
     import stonesoup
     second = args.second
     results = {"stonesoup_version": stonesoup.__version__, "measure": args.measure,
-               "deleter": args.deleter, "second": second,
+               "deleter": args.deleter, "second": second, "polar": args.polar, "q": args.q,
                "tracker": os.path.abspath(args.tracker), "runs": []}
     for scenario in args.scenarios:
         for seed in args.seeds:
@@ -458,7 +484,7 @@ def main():
             plots = load_plots(ref["plots"])
             ss_by_t, ss_n, ss_time = run_stonesoup(
                 times, plots, os.path.join(base, f"stonesoup-{args.deleter}-tracks.csv"),
-                args.measure, args.deleter)
+                args.measure, args.deleter, args.polar, args.q)
             s = score(truth, ss_by_t)
             run["stonesoup"] = {"ospa_mean_m": s["ospa_mean_m"],
                                 "gospa_mean_m": s["gospa_mean_m"],
@@ -484,7 +510,10 @@ def markdown(results):
     names = ("two-stage", second, "stonesoup")
     lines = [
         f"Stone Soup {results['stonesoup_version']}, measure {results['measure']}, "
-        f"deleter {results['deleter']}. "
+        f"deleter {results['deleter']}"
+        + (", each plot's polar accuracy" if results.get("polar") else "")
+        + (f", q {results['q']} m^2/s^3" if results.get("q", Q_M2_S3) != Q_M2_S3 else "")
+        + ". "
         f"Each cell: ours two-stage / ours {second} / Stone Soup.",
         "",
         "| scenario | seed | OSPA mean, m | GOSPA mean, m | untracked target-scans "
