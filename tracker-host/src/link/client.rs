@@ -371,7 +371,7 @@ impl Client {
                 PROTOCOL_VERSION
             ),
             Reply::Error(e) => bail!("device refused the handshake: {e}"),
-            other => bail!("unexpected handshake reply: {other:?}"),
+            other => bail!("unexpected handshake reply: {other}"),
         }
     }
 }

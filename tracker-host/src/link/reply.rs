@@ -67,6 +67,22 @@ impl Reply {
     }
 }
 
+/// What the reply is, in words, for an error that names an answer the request did not
+/// expect (a peer's bug, not the operator's): its kind and part, not its bytes.
+impl std::fmt::Display for Reply {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Reply::HelloAck(_) => f.write_str("a handshake reply"),
+            Reply::Echo(bytes) => write!(f, "an echo of {} B", bytes.len()),
+            Reply::Stats(_) => f.write_str("the link's counters"),
+            Reply::Ack => f.write_str("an acknowledgement"),
+            Reply::Gated(p) => write!(f, "part {} of a scan's rough gates", p.part),
+            Reply::Tracks(p) => write!(f, "part {} of a track report", p.part),
+            Reply::Error(code) => write!(f, "a refusal ({code})"),
+        }
+    }
+}
+
 impl From<DeviceToHost<'_>> for Reply {
     fn from(m: DeviceToHost<'_>) -> Self {
         match m {
@@ -99,5 +115,35 @@ impl From<DeviceToHost<'_>> for Reply {
             }),
             DeviceToHost::Error(e) => Reply::Error(e),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_reply_is_told_in_words_not_bytes() {
+        let part = ReportPart {
+            scan: 7,
+            part: 2,
+            last: false,
+            base_scan: None,
+            live_tracks: 3,
+            records: vec![0; 900],
+        };
+        assert_eq!(
+            Reply::Tracks(part.clone()).to_string(),
+            "part 2 of a track report"
+        );
+        assert_eq!(
+            Reply::Gated(part).to_string(),
+            "part 2 of a scan's rough gates"
+        );
+        assert_eq!(Reply::Echo(vec![1; 16]).to_string(), "an echo of 16 B");
+        assert_eq!(
+            Reply::Error(ErrorCode::CapacityExceeded).to_string(),
+            format!("a refusal ({})", ErrorCode::CapacityExceeded)
+        );
     }
 }

@@ -334,7 +334,7 @@ impl DeviceLink {
                         }
                         .into())
                     }
-                    other => bail!("plots of scan {scan} answered {other:?}"),
+                    other => bail!("plots of scan {scan} answered {other}"),
                 }
             }
         }
@@ -392,7 +392,7 @@ impl DeviceLink {
                         }
                         .into())
                     }
-                    other => bail!("assignments of scan {scan} answered {other:?}"),
+                    other => bail!("assignments of scan {scan} answered {other}"),
                 }
             }
         }
@@ -449,7 +449,7 @@ impl DeviceLink {
         for reply in client.request_all(&HostToDevice::GetTracks)? {
             match reply {
                 Reply::Tracks(t) => parts.push(t),
-                other => bail!("track report answered {other:?}"),
+                other => bail!("track report answered {other}"),
             }
         }
         self.client = client;
@@ -535,6 +535,6 @@ fn expect_ack(reply: Reply, what: &'static str) -> anyhow::Result<()> {
     match reply {
         Reply::Ack => Ok(()),
         Reply::Error(code) => Err(Refused { what, code }.into()),
-        other => bail!("{what}: the device answered {other:?}"),
+        other => bail!("{what}: the device answered {other}"),
     }
 }
