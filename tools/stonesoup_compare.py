@@ -116,7 +116,8 @@ def load_tracks(path):
 
 
 def load_plots(path):
-    """Per scan: list of (east, north) in the local frame."""
+    """Per scan: list of (east, north, range_m, bearing_rad): the plot in the local frame
+    and as the radar measured it."""
     by_t = defaultdict(list)
     for r in read_csv(path):
         rng, brg = float(r["range_m"]), math.radians(float(r["bearing_deg"]))
@@ -444,6 +445,9 @@ def main():
 
     import stonesoup
     second = args.second
+    # An experiment's files beside the comparison's, not over them.
+    variant = args.deleter + ("-polar" if args.polar else "") + \
+        (f"-q{args.q:g}" if args.q != Q_M2_S3 else "")
     results = {"stonesoup_version": stonesoup.__version__, "measure": args.measure,
                "deleter": args.deleter, "second": second, "polar": args.polar, "q": args.q,
                "tracker": os.path.abspath(args.tracker), "runs": []}
@@ -483,7 +487,7 @@ def main():
                 }
             plots = load_plots(ref["plots"])
             ss_by_t, ss_n, ss_time = run_stonesoup(
-                times, plots, os.path.join(base, f"stonesoup-{args.deleter}-tracks.csv"),
+                times, plots, os.path.join(base, f"stonesoup-{variant}-tracks.csv"),
                 args.measure, args.deleter, args.polar, args.q)
             s = score(truth, ss_by_t)
             run["stonesoup"] = {"ospa_mean_m": s["ospa_mean_m"],
@@ -496,7 +500,7 @@ def main():
                   f"{run[second]['ospa_mean_m']:.1f} / {run['stonesoup']['ospa_mean_m']:.1f} m, "
                   f"Stone Soup {ss_time:.1f} s", file=sys.stderr, flush=True)
     os.makedirs(args.workdir, exist_ok=True)
-    with open(os.path.join(args.workdir, f"results-{args.deleter}.json"), "w") as f:
+    with open(os.path.join(args.workdir, f"results-{variant}.json"), "w") as f:
         json.dump(results, f, indent=1)
     table = markdown(results)
     print(table)

@@ -332,18 +332,38 @@ fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
             d.format("%d%m%y").to_string(),
         )
     };
+    // The time a `hhmmss.ss` and a `ddmmyy` stand for, s since 1970.
+    let sent = |hms: &str, dmy: &str| -> f64 {
+        let n = |s: &str| -> u32 { s.parse().unwrap_or_else(|_| panic!("{hms} {dmy}")) };
+        assert!(hms.len() == 9 && dmy.len() == 6, "{hms} {dmy}");
+        let day = chrono::NaiveDate::from_ymd_opt(
+            2000 + n(&dmy[4..]) as i32,
+            n(&dmy[2..4]),
+            n(&dmy[..2]),
+        )
+        .unwrap_or_else(|| panic!("{dmy}"));
+        let s: f64 = hms[4..].parse().unwrap_or_else(|_| panic!("{hms}"));
+        day.and_hms_opt(0, 0, 0).unwrap().and_utc().timestamp() as f64
+            + f64::from(n(&hms[..2]) * 3600 + n(&hms[2..4]) * 60)
+            + s
+    };
     let (time, date) = utc(report.time_s);
     let [ttm, tll, rmc, rmc_date] = times(&mut out, &report);
-    assert!(ttm.starts_with(&time) && tll == ttm && rmc == ttm && rmc_date == date);
+    assert!(
+        ttm.starts_with(&time) && tll == ttm && rmc == ttm && rmc_date == date,
+        "{ttm} {tll} {rmc} {rmc_date}: the scan's time is {} s",
+        report.time_s
+    );
     report.time_is_utc = false;
     report.time_s = 42.0;
     let before = tracker_host::utc::now_s();
     let [ttm, tll, rmc, rmc_date] = times(&mut out, &report);
     let after = tracker_host::utc::now_s();
     assert!(tll == ttm && rmc == ttm, "{ttm} {tll} {rmc}");
-    let at = |t: f64| utc(t.floor());
+    // Sent to the hundredth, rounded.
+    let at = sent(&ttm, &rmc_date);
     assert!(
-        [at(before), at(after)].contains(&(ttm[..6].to_string(), rmc_date.clone())),
-        "{ttm} {rmc_date}: sent between {before} and {after}"
+        before - 0.006 <= at && at <= after + 0.006,
+        "{ttm} {rmc_date} ({at} s): sent between {before} and {after}"
     );
 }

@@ -263,7 +263,9 @@ impl RunArgs {
             nmea: NmeaOptions {
                 priority: self.nmea_source.iter().cloned().collect(),
                 variation_deg: self.magnetic_variation,
-                provisional_day: 0,
+                // Times before a first date are today's: a live source's, and a recording's
+                // that has no date at all (one with a date takes its own first date's).
+                provisional_day: crate::app::today(),
             },
         }
     }

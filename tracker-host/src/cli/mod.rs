@@ -649,6 +649,7 @@ pub fn main() -> ExitCode {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::io::Write as _;
 
     #[test]
     fn link_is_accepted_before_or_after_the_command() {
@@ -669,6 +670,29 @@ mod tests {
         let c = Cli::try_parse_from(["t", "track", "--plots", "p.csv", "--filter", "sswt"]);
         assert!(c.is_ok());
         assert!(Cli::try_parse_from(["t", "demo", "--filter", "kalman"]).is_err());
+    }
+
+    #[test]
+    fn a_recording_without_a_date_is_taken_as_today() {
+        // GGA alone: times of day, no date.
+        let mut file = tempfile::NamedTempFile::new().unwrap();
+        for t in ["123519", "123520", "123521"] {
+            let gga = format!("GPGGA,{t},4807.038,N,01131.000,E,1,08,0.9,545.4,M,46.9,M,,");
+            writeln!(file, "{}", crate::nmea::sentence(&gga).trim_end()).unwrap();
+        }
+        let spec = format!("file:{}", file.path().display());
+        let c = Cli::try_parse_from(["t", "demo", "--nmea-in", &spec]).unwrap();
+        let Command::Demo { run, .. } = c.command else {
+            panic!("{:?}", c.command)
+        };
+        let today = crate::app::today();
+        let track =
+            crate::own_ship::recording::RecordedTrack::read(file.path(), &run.own_ship().nmea)
+                .unwrap();
+        // (Or tomorrow, had midnight passed since `today`.)
+        let day = (track.start_s() / 86_400.0).floor() as i64;
+        assert!(day == today || day == today + 1, "day {day}, today {today}");
+        assert_eq!(track.start_s().rem_euclid(86_400.0).round(), 45_319.0);
     }
 
     #[test]

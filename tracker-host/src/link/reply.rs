@@ -76,8 +76,8 @@ impl std::fmt::Display for Reply {
             Reply::Echo(bytes) => write!(f, "an echo of {} B", bytes.len()),
             Reply::Stats(_) => f.write_str("the link's counters"),
             Reply::Ack => f.write_str("an acknowledgement"),
-            Reply::Gated(p) => write!(f, "part {} of a scan's rough gates", p.part),
-            Reply::Tracks(p) => write!(f, "part {} of a track report", p.part),
+            Reply::Gated(p) => write!(f, "part {} of scan {}'s rough gates", p.part, p.scan),
+            Reply::Tracks(p) => write!(f, "part {} of scan {}'s track report", p.part, p.scan),
             Reply::Error(code) => write!(f, "a refusal ({code})"),
         }
     }
@@ -134,11 +134,11 @@ mod tests {
         };
         assert_eq!(
             Reply::Tracks(part.clone()).to_string(),
-            "part 2 of a track report"
+            "part 2 of scan 7's track report"
         );
         assert_eq!(
             Reply::Gated(part).to_string(),
-            "part 2 of a scan's rough gates"
+            "part 2 of scan 7's rough gates"
         );
         assert_eq!(Reply::Echo(vec![1; 16]).to_string(), "an echo of 16 B");
         assert_eq!(

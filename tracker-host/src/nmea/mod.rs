@@ -17,12 +17,20 @@ pub use out::{NmeaOut, OutSpec};
 pub use sentence::{checksum, sentence};
 pub use targets::{targets_sentences, tll, ttm};
 
+/// Hundredths of a second in a day.
+const CENTIS_A_DAY: i64 = 8_640_000;
+
+/// A time in s since 1970 in whole hundredths, rounded once, so that [`utc`] and [`date`]
+/// agree: 23:59:59.996 is 00:00:00.00 of the next day, not of the day ending.
+fn centis(time_s: f64) -> i64 {
+    (time_s * 100.0).round() as i64
+}
+
 /// UTC `hhmmss.ss` of a time in s since 1970-01-01 00:00 UTC.
 pub(crate) fn utc(time_s: f64) -> String {
-    let t = time_s.rem_euclid(86_400.0);
-    let centis = (t * 100.0).round() as u64 % 8_640_000;
-    let (h, m) = (centis / 360_000, centis / 6_000 % 60);
-    format!("{h:02}{m:02}{:02}.{:02}", centis / 100 % 60, centis % 100)
+    let c = centis(time_s).rem_euclid(CENTIS_A_DAY);
+    let (h, m) = (c / 360_000, c / 6_000 % 60);
+    format!("{h:02}{m:02}{:02}.{:02}", c / 100 % 60, c % 100)
 }
 
 /// `ddmm.mmmmm,N` (or `dddmm.mmmmm,E` with `degree_digits` 3).
@@ -45,7 +53,7 @@ pub(crate) fn angle_field(v: f64, degree_digits: usize, pos: char, neg: char) ->
 
 /// UTC date `ddmmyy` of a time in s since 1970-01-01 00:00 UTC.
 pub(crate) fn date(time_s: f64) -> String {
-    let day = (time_s / 86_400.0).floor() as i64;
+    let day = centis(time_s).div_euclid(CENTIS_A_DAY);
     chrono::DateTime::from_timestamp(day * 86_400, 0)
         .map_or_else(|| "010170".to_string(), |d| d.format("%d%m%y").to_string())
 }
@@ -64,4 +72,29 @@ pub(crate) fn angle_360(deg: f64, decimals: usize) -> String {
 /// Degrees of an angle in radians.
 pub(crate) fn degrees(rad: f32) -> f64 {
     f64::from(rad).to_degrees()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn time_and_date_are_rounded_together() {
+        // 2026-12-03 00:00 UTC.
+        let day = 1_796_256_000.0;
+        assert_eq!(
+            (utc(day + 45_296.5), date(day + 45_296.5)),
+            ("123456.50".into(), "031226".into())
+        );
+        // The last few milliseconds of a day are the next one's first hundredth, date too.
+        let late = day - 0.004;
+        assert_eq!(
+            (utc(late), date(late)),
+            ("000000.00".into(), "031226".into())
+        );
+        assert_eq!(
+            (utc(day - 0.006), date(day - 0.006)),
+            ("235959.99".into(), "021226".into())
+        );
+    }
 }
