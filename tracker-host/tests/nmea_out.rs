@@ -306,7 +306,7 @@ fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
     }
     let mut report = last.expect("scans");
     assert!(report.time_is_utc, "the simulator's clock is UTC");
-    // TTM's UTC, TLL's UTC, RMC's time and date, of one scan's sentences.
+    // TTM's UTC, TLL's UTC, RMC's time and date, of one scan's sentences; and the RMC.
     let times = |out: &mut TargetsOut, report: &tracker_host::session::ScanReport| {
         let sentences = out.scan_sentences(report);
         let of = |kind: &str, at: usize| -> String {
@@ -317,12 +317,16 @@ fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
                 .unwrap_or_else(|| panic!("no {kind} in {sentences:?}"));
             f[at].clone()
         };
-        [
-            of("RATTM", 14),
-            of("RATLL", 7),
-            of("RARMC", 1),
-            of("RARMC", 9),
-        ]
+        let rmc = sentences.iter().find(|s| s.starts_with("$RARMC")).cloned();
+        (
+            [
+                of("RATTM", 14),
+                of("RATLL", 7),
+                of("RARMC", 1),
+                of("RARMC", 9),
+            ],
+            rmc.expect("RMC"),
+        )
     };
     // hhmmss.ss and ddmmyy of a time.
     let utc = |t: f64| {
@@ -332,23 +336,23 @@ fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
             d.format("%d%m%y").to_string(),
         )
     };
-    // The time a `hhmmss.ss` and a `ddmmyy` stand for, s since 1970.
-    let sent = |hms: &str, dmy: &str| -> f64 {
-        let n = |s: &str| -> u32 { s.parse().unwrap_or_else(|_| panic!("{hms} {dmy}")) };
-        assert!(hms.len() == 9 && dmy.len() == 6, "{hms} {dmy}");
-        let day = chrono::NaiveDate::from_ymd_opt(
-            2000 + n(&dmy[4..]) as i32,
-            n(&dmy[2..4]),
-            n(&dmy[..2]),
-        )
-        .unwrap_or_else(|| panic!("{dmy}"));
-        let s: f64 = hms[4..].parse().unwrap_or_else(|_| panic!("{hms}"));
-        day.and_hms_opt(0, 0, 0).unwrap().and_utc().timestamp() as f64
-            + f64::from(n(&hms[..2]) * 3600 + n(&hms[2..4]) * 60)
-            + s
+    // The time an RMC stands for, s since 1970, as own ship's reader takes it.
+    let sent = |rmc: &str| -> f64 {
+        use tracker_host::nmea::sentence::{parse, Line};
+        use tracker_host::own_ship::sentences::{decode, Decoded};
+        let Ok(Line::Sentence(s)) = parse(rmc) else {
+            panic!("{rmc}")
+        };
+        let Decoded::Readings(stamp, _) = decode(&s, rmc) else {
+            panic!("{rmc}")
+        };
+        let (Some(day), Some(time_of_day_s)) = (stamp.day, stamp.time_of_day_s) else {
+            panic!("{rmc}: no time or date")
+        };
+        day as f64 * 86_400.0 + time_of_day_s
     };
     let (time, date) = utc(report.time_s);
-    let [ttm, tll, rmc, rmc_date] = times(&mut out, &report);
+    let ([ttm, tll, rmc, rmc_date], _) = times(&mut out, &report);
     assert!(
         ttm.starts_with(&time) && tll == ttm && rmc == ttm && rmc_date == date,
         "{ttm} {tll} {rmc} {rmc_date}: the scan's time is {} s",
@@ -357,11 +361,11 @@ fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
     report.time_is_utc = false;
     report.time_s = 42.0;
     let before = tracker_host::utc::now_s();
-    let [ttm, tll, rmc, rmc_date] = times(&mut out, &report);
+    let ([ttm, tll, rmc, rmc_date], rmc_line) = times(&mut out, &report);
     let after = tracker_host::utc::now_s();
     assert!(tll == ttm && rmc == ttm, "{ttm} {tll} {rmc}");
     // Sent to the hundredth, rounded.
-    let at = sent(&ttm, &rmc_date);
+    let at = sent(&rmc_line);
     assert!(
         before - 0.006 <= at && at <= after + 0.006,
         "{ttm} {rmc_date} ({at} s): sent between {before} and {after}"
