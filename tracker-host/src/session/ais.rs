@@ -224,6 +224,9 @@ pub struct AisPicture {
     streaks: BTreeMap<(u16, u32), u32>,
     events: Vec<String>,
     counts: PairingCounts,
+    /// The scans' clock is UTC ([`ScanReport::time_is_utc`]): the log's times are written
+    /// with a `Z` only then.
+    clock_is_utc: bool,
 }
 
 impl AisPicture {
@@ -236,6 +239,7 @@ impl AisPicture {
             streaks: BTreeMap::new(),
             events: Vec::new(),
             counts: PairingCounts::default(),
+            clock_is_utc: true,
         }
     }
 
@@ -254,6 +258,11 @@ impl AisPicture {
         &self.events
     }
 
+    /// The time of an event at `t` as the log writes it.
+    fn when(&self, t: f64) -> String {
+        crate::utc::scan_time_label(t, self.clock_is_utc)
+    }
+
     fn log(&mut self, event: String) {
         if self.events.len() >= MAX_EVENTS {
             self.events.drain(..MAX_EVENTS / 10);
@@ -265,6 +274,7 @@ impl AisPicture {
     /// `report.ais` and `report.paired` for the scan.
     pub fn scan(&mut self, report: &mut ScanReport, heard: &[(f64, AisReport)]) {
         let t = report.time_s;
+        self.clock_is_utc = report.time_is_utc;
         for (time_s, r) in heard {
             self.table.report(*time_s, r);
         }
@@ -403,7 +413,7 @@ impl AisPicture {
                 let number = targets.get(&track).map_or("--".to_string(), |x| x.label());
                 self.log(format!(
                     "{}: radar target {number} (track {track}) paired with AIS {label}",
-                    crate::utc::utc_label(t)
+                    self.when(t)
                 ));
             } else {
                 streaks.insert((track, mmsi), n);
@@ -508,7 +518,7 @@ impl AisPicture {
             self.counts.parted += 1;
             self.log(format!(
                 "{}: track {track} and AIS {mmsi} parted ({why})",
-                crate::utc::utc_label(t)
+                self.when(t)
             ));
         }
     }
@@ -520,7 +530,7 @@ impl AisPicture {
                 self.counts.parted += 1;
                 self.log(format!(
                     "{}: track {track} and AIS {} parted (track lost or out of the gates)",
-                    crate::utc::utc_label(t),
+                    self.when(t),
                     p.mmsi
                 ));
             }
@@ -554,6 +564,19 @@ mod tests {
     /// One scan with one radar target `age_scans` old, 20 m east of an AIS target heard
     /// that scan, whose velocity (8 m/s south) is far off the ship's (10 kn east).
     fn scan_one(picture: &mut AisPicture, origin: Origin, scan: u32, age_scans: u16) -> ScanReport {
+        scan_with(picture, origin, scan, age_scans, [0.0, -8.0], true)
+    }
+
+    /// As [`scan_one`], the radar target's velocity `velocity_mps`, the scans' clock UTC
+    /// or not.
+    fn scan_with(
+        picture: &mut AisPicture,
+        origin: Origin,
+        scan: u32,
+        age_scans: u16,
+        velocity_mps: [f32; 2],
+        time_is_utc: bool,
+    ) -> ScanReport {
         use crate::session::target::TargetData;
         use tracker_core::icd::{TrackState, TrackStatus};
         let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
@@ -572,7 +595,7 @@ mod tests {
             track: 7,
             status: TrackStatus::Confirmed,
             position_m: [20.0, 1_000.0],
-            velocity_mps: [0.0, -8.0],
+            velocity_mps,
             age_scans,
             hit_history: 0b111,
         };
@@ -580,7 +603,7 @@ mod tests {
         let mut report = ScanReport {
             scan,
             time_s,
-            time_is_utc: true,
+            time_is_utc,
             own,
             plots: Vec::new(),
             plots_m: Vec::new(),
@@ -617,5 +640,21 @@ mod tests {
         let mut settled = AisPicture::new(origin, PairingGates::default());
         let r = scan_one(&mut settled, origin, 0, 20);
         assert!(r.merged.is_empty() && r.paired.is_empty(), "{r:?}");
+    }
+
+    #[test]
+    fn the_log_writes_utc_only_for_a_utc_clock() {
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        // The ship's velocity, 10 kn east: paired after the gates' scans in a row.
+        let east = [10.0 * 1852.0 / 3600.0, 0.0];
+        for (utc, time) in [(true, "00:16:45Z"), (false, "t 00:16:45")] {
+            let mut picture = AisPicture::new(origin, PairingGates::default());
+            for scan in 0..PairingGates::default().scans_to_pair + 1 {
+                scan_with(&mut picture, origin, scan, 20, east, utc);
+            }
+            let paired = picture.events().first().expect("paired");
+            assert!(paired.starts_with(&format!("{time}: ")), "{paired}");
+            assert!(paired.contains("paired with AIS"), "{paired}");
+        }
     }
 }
