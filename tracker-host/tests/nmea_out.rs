@@ -371,3 +371,38 @@ fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
         "{ttm} {rmc_date} ({at} s): sent between {before} and {after}"
     );
 }
+
+/// Before own ship's first fix (a radar with no GNSS yet) targets go as TTM alone: their
+/// range and bearing are measured, their latitude and longitude are not, and a TLL would
+/// put them where the frame starts.
+#[test]
+fn without_a_fix_targets_go_without_a_position() {
+    let options = DemoOptions::new(ScenarioKind::OpenSea, 8, 1, 60.0, FilterKind::KalmanCv);
+    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+    let mut out = TargetsOut::new(sink(), Origin::default(), true);
+    let mut last = None;
+    while let Some(report) = run.step().unwrap() {
+        last = Some(report);
+    }
+    let mut report = last.expect("scans");
+    let kinds = |out: &mut TargetsOut, report: &tracker_host::session::ScanReport| {
+        let mut n: BTreeMap<String, usize> = BTreeMap::new();
+        for s in out.scan_sentences(report) {
+            *n.entry(fields(&s)[0].clone()).or_default() += 1;
+        }
+        n
+    };
+    let fixed = kinds(&mut out, &report);
+    let targets = fixed.get("RATTM").copied().unwrap_or(0);
+    assert!(targets > 0, "{fixed:?}");
+    assert_eq!(fixed.get("RATLL"), Some(&targets), "{fixed:?}");
+    report.own.quality.no_fix_yet = true;
+    let unfixed = kinds(&mut out, &report);
+    assert_eq!(unfixed.get("RATTM"), Some(&targets), "{unfixed:?}");
+    assert_eq!(unfixed.get("RATLL"), None, "{unfixed:?}");
+    assert_eq!(
+        unfixed.get("RARMC"),
+        Some(&1),
+        "own ship still goes, without a fix"
+    );
+}

@@ -17,8 +17,13 @@
 //! *sleeping* (a small triangle, no vector) until the operator activates it or it comes
 //! within the activation range ([`AIS_ACTIVATION_RANGE_M`]); CPA/TCPA are computed for all.
 //!
-//! Memory is bounded: at most [`MAX_AIS_TARGETS`]; a report from a new MMSI when the table
-//! is full pushes out the target heard from longest ago (counted).
+//! A ship's static and voyage data (messages 5 and 24) heard before its first position
+//! is kept for it, up to [`STATIC_WAIT_S`]: it sends them every 6 minutes, and a ship first
+//! heard by its name would otherwise go unnamed until the next.
+//!
+//! Memory is bounded: at most [`MAX_AIS_TARGETS`], and as many ships' static data waiting
+//! for a position; a report from a new MMSI when either is full pushes out the one heard
+//! from longest ago (counted).
 
 use std::collections::BTreeMap;
 
@@ -30,6 +35,10 @@ use crate::own_ship::OwnShip;
 
 /// Most AIS targets held.
 pub const MAX_AIS_TARGETS: usize = 2_000;
+
+/// A ship's static data heard before any position of it is kept this long for it, s
+/// (18 min, the longest lost time above).
+pub const STATIC_WAIT_S: f64 = 1_080.0;
 
 /// AIS targets nearer than this are activated (shown with vector and CPA), m: 6 NM.
 pub const AIS_ACTIVATION_RANGE_M: f32 = 6.0 * 1852.0;
@@ -119,6 +128,15 @@ impl AisTarget {
     }
 }
 
+/// Takes the static and voyage data `r` carries into `last` (fields `r` lacks are kept).
+fn keep_static(last: &mut AisReport, r: &AisReport) {
+    last.nav_status = r.nav_status.clone().or(last.nav_status.take());
+    last.name = r.name.clone().or(last.name.take());
+    last.call_sign = r.call_sign.clone().or(last.call_sign.take());
+    last.ship_type = r.ship_type.or(last.ship_type);
+    last.size_m = r.size_m.or(last.size_m);
+}
+
 /// An AIS target as seen from own ship at one time.
 #[derive(Clone, Debug, PartialEq)]
 pub struct AisTargetData {
@@ -134,10 +152,11 @@ pub struct AisTargetData {
     pub range_m: f32,
     /// True bearing from own ship, rad.
     pub bearing_rad: f32,
-    /// Closest point of approach, m.
-    pub cpa_m: f32,
-    /// Time to it, s (negative: passed).
-    pub tcpa_s: f32,
+    /// Closest point of approach and the time to it; `None` while own ship's motion is
+    /// not known ([`crate::own_ship::OwnShipQuality::motion_known`]): an AIS target's
+    /// motion relative to own ship needs own ship's, which the radar measures for its
+    /// targets and AIS cannot.
+    pub cpa: Option<geo::Cpa>,
     /// Heading, rad true.
     pub heading_rad: Option<f32>,
     /// Age of its last position, s.
@@ -153,7 +172,8 @@ pub struct AisTableCounts {
     pub targets: u64,
     /// Targets lost (IEC 62388 times).
     pub lost: u64,
-    /// Targets pushed out because the table was full.
+    /// Targets pushed out because the table was full, and ships' static data waiting for a
+    /// position pushed out because as many were waiting.
     pub crowded_out: u64,
     /// Own ship's own reports (`VDO`), not targets.
     pub own_reports: u64,
@@ -164,6 +184,8 @@ pub struct AisTableCounts {
 pub struct AisTargets {
     origin: Origin,
     targets: BTreeMap<u32, AisTarget>,
+    /// Static data of ships with no position yet, by MMSI, with when it was last heard.
+    waiting: BTreeMap<u32, (f64, AisReport)>,
     counts: AisTableCounts,
 }
 
@@ -173,6 +195,7 @@ impl AisTargets {
         AisTargets {
             origin,
             targets: BTreeMap::new(),
+            waiting: BTreeMap::new(),
             counts: AisTableCounts::default(),
         }
     }
@@ -211,6 +234,7 @@ impl AisTargets {
         if !self.targets.contains_key(&r.mmsi) {
             // A target exists once it has a position; static data alone waits for one.
             let Some((lat, lon)) = r.position_deg else {
+                self.wait(time_s, r);
                 return;
             };
             if self.targets.len() >= MAX_AIS_TARGETS {
@@ -225,6 +249,7 @@ impl AisTargets {
                 }
             }
             self.counts.targets += 1;
+            let known = self.waiting.remove(&r.mmsi).map(|(_, k)| k);
             self.targets.insert(
                 r.mmsi,
                 AisTarget {
@@ -232,7 +257,7 @@ impl AisTargets {
                     last: AisReport {
                         mmsi: r.mmsi,
                         position_deg: Some((lat, lon)),
-                        ..AisReport::default()
+                        ..known.unwrap_or_default()
                     },
                     position_m: self.origin.to_local(lat, lon),
                     position_time_s: time_s,
@@ -263,11 +288,34 @@ impl AisTargets {
             t.position_time_s = time_s;
             t.reports += 1;
         }
-        last.nav_status = r.nav_status.clone().or(last.nav_status.take());
-        last.name = r.name.clone().or(last.name.take());
-        last.call_sign = r.call_sign.clone().or(last.call_sign.take());
-        last.ship_type = r.ship_type.or(last.ship_type);
-        last.size_m = r.size_m.or(last.size_m);
+        keep_static(last, r);
+    }
+
+    /// Keeps the static data of a ship with no position yet ([`STATIC_WAIT_S`]).
+    fn wait(&mut self, time_s: f64, r: &AisReport) {
+        if !self.waiting.contains_key(&r.mmsi) && self.waiting.len() >= MAX_AIS_TARGETS {
+            if let Some(oldest) = self
+                .waiting
+                .iter()
+                .min_by(|a, b| a.1 .0.total_cmp(&b.1 .0))
+                .map(|(m, _)| *m)
+            {
+                self.waiting.remove(&oldest);
+                self.counts.crowded_out += 1;
+            }
+        }
+        let (heard, known) = self.waiting.entry(r.mmsi).or_insert_with(|| {
+            (
+                time_s,
+                AisReport {
+                    mmsi: r.mmsi,
+                    ..AisReport::default()
+                },
+            )
+        });
+        *heard = time_s;
+        known.class = r.class.or(known.class);
+        keep_static(known, r);
     }
 
     /// Drops the targets lost by `time_s` (no position report for their lost time: static
@@ -282,6 +330,8 @@ impl AisTargets {
         for m in &lost {
             self.targets.remove(m);
         }
+        self.waiting
+            .retain(|_, (heard, _)| time_s - *heard <= STATIC_WAIT_S);
         self.counts.lost += lost.len() as u64;
         lost
     }
@@ -296,7 +346,10 @@ impl AisTargets {
                 let p = f(t.position_at(time_s));
                 let vel = f(t.velocity_mps());
                 let (range_m, bearing_rad) = geo::range_bearing(own.position_m, p);
-                let c = geo::cpa(own.position_m, own.velocity_mps, p, vel);
+                let cpa = own
+                    .quality
+                    .motion_known
+                    .then(|| geo::cpa(own.position_m, own.velocity_mps, p, vel));
                 AisTargetData {
                     mmsi: t.mmsi,
                     label: t.label(),
@@ -304,8 +357,7 @@ impl AisTargets {
                     velocity_mps: vel,
                     range_m,
                     bearing_rad,
-                    cpa_m: c.cpa_m,
-                    tcpa_s: c.tcpa_s,
+                    cpa,
                     heading_rad: t.last.heading_deg.map(|h| f32::from(h).to_radians()),
                     age_s: (time_s - t.position_time_s) as f32,
                     active: range_m <= AIS_ACTIVATION_RANGE_M,
@@ -391,5 +443,56 @@ mod tests {
         let target = t.get(311_855_000).unwrap();
         assert_eq!(target.described(), "KESTREL (MMSI 311855000)");
         assert_eq!(target.label(), "KESTREL");
+    }
+
+    /// A ship's name heard before its first position names it once the position comes;
+    /// static data waits at most [`STATIC_WAIT_S`], and a flood of it is bounded.
+    #[test]
+    fn static_data_heard_first_names_the_target_its_position_makes() {
+        let mut t = AisTargets::new(Origin {
+            lat_deg: 50.0,
+            lon_deg: -1.0,
+        });
+        let named = |mmsi: u32, name: &str| AisReport {
+            mmsi,
+            msg_type: 24,
+            name: Some(name.into()),
+            ..AisReport::default()
+        };
+        t.report(0.0, &named(211_736_530, "LIBERTAS"));
+        assert!(t.is_empty(), "no position: no target yet");
+        t.report(600.0, &report(211_736_530, 50.0, 5.0, StationClass::ClassB));
+        assert_eq!(t.get(211_736_530).unwrap().label(), "LIBERTAS");
+        // Static data older than the wait is forgotten.
+        t.report(0.0, &named(5, "OLD"));
+        t.expire(STATIC_WAIT_S + 1.0);
+        t.report(
+            STATIC_WAIT_S + 2.0,
+            &report(5, 50.0, 5.0, StationClass::ClassB),
+        );
+        assert_eq!(t.get(5).unwrap().label(), "5");
+        // A flood of names is bounded.
+        for m in 0..10_000u32 {
+            t.report(f64::from(m), &named(1_000_000 + m, "X"));
+        }
+        assert!(t.waiting.len() <= MAX_AIS_TARGETS);
+        assert_eq!(t.counts().crowded_out, 10_000 - MAX_AIS_TARGETS as u64);
+    }
+
+    /// While own ship's motion is not known no AIS target has a CPA (it would be taken
+    /// from own ship stopped); once known, every one has.
+    #[test]
+    fn cpa_waits_for_own_ships_motion() {
+        let mut t = AisTargets::new(Origin {
+            lat_deg: 50.0,
+            lon_deg: -1.0,
+        });
+        t.report(0.0, &report(1, 50.01, 0.0, StationClass::ClassA));
+        let unknown = OwnShip::unknown();
+        assert!(t.picture(&unknown, 1.0).iter().all(|a| a.cpa.is_none()));
+        let known = OwnShip::at([0.0, 0.0], [0.0, 5.0]);
+        let seen = t.picture(&known, 1.0);
+        let c = seen[0].cpa.expect("a CPA");
+        assert!(c.tcpa_s > 0.0 && c.cpa_m < 1.0, "{c:?}");
     }
 }

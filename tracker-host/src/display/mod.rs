@@ -231,9 +231,11 @@ impl DisplayState {
     }
 }
 
-/// True when an AIS target will pass closer than the alarm limits, as for radar targets.
+/// True when an AIS target will pass closer than the alarm limits, as for radar targets;
+/// false while its CPA is not known (own ship's motion unknown).
 pub fn ais_dangerous(a: &crate::ais::AisTargetData, limits: &AlarmLimits) -> bool {
-    a.cpa_m < limits.cpa_m && a.tcpa_s >= 0.0 && a.tcpa_s < limits.tcpa_s
+    a.cpa
+        .is_some_and(|c| c.cpa_m < limits.cpa_m && c.tcpa_s >= 0.0 && c.tcpa_s < limits.tcpa_s)
 }
 
 /// The AIS targets that raise their own CPA/TCPA alarm: activated, dangerous, and paired
@@ -638,16 +640,17 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
             )
         })
         .collect();
-    approaching.extend(ais_alarms(view, &state.limits).map(|a| {
-        (
-            a.tcpa_s,
+    approaching.extend(ais_alarms(view, &state.limits).filter_map(|a| {
+        let c = a.cpa?;
+        Some((
+            c.tcpa_s,
             format!(
                 "CPA/TCPA ALARM: AIS {} CPA {:.2} NM in {:.1} min",
                 a.label,
-                a.cpa_m / METRES_PER_NM,
-                a.tcpa_s / 60.0
+                c.cpa_m / METRES_PER_NM,
+                c.tcpa_s / 60.0
             ),
-        )
+        ))
     }));
     approaching.sort_by(|a, b| a.0.total_cmp(&b.0));
     lines.extend(
@@ -860,8 +863,10 @@ pub(crate) mod tests {
             velocity_mps: t.velocity_mps,
             range_m: t.range_m,
             bearing_rad: t.bearing_rad,
-            cpa_m: t.cpa_m,
-            tcpa_s: t.tcpa_s,
+            cpa: Some(tracker_core::geo::Cpa {
+                cpa_m: t.cpa_m,
+                tcpa_s: t.tcpa_s,
+            }),
             heading_rad: None,
             age_s: 0.0,
             active: true,

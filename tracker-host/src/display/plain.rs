@@ -66,11 +66,12 @@ impl Plain {
         let column = |track: u16| crate::display::ais_column(r, track);
         let mut s = table_with_ais(&r.targets, &self.limits, Some(&column));
         for a in crate::display::ais_alarms(r, &self.limits) {
+            let Some(c) = a.cpa else { continue };
             s += &format!(
                 "  AIS {} CPA {:.2} NM in {:.1} min  ALARM CPA/TCPA\n",
                 a.label,
-                a.cpa_m / tracker_core::geo::METRES_PER_NM,
-                a.tcpa_s / 60.0
+                c.cpa_m / tracker_core::geo::METRES_PER_NM,
+                c.tcpa_s / 60.0
             );
         }
         s

@@ -208,7 +208,8 @@ impl TargetsOut {
 
     /// One scan's sentences: ends first, then tracked and acquiring targets (a confirmed
     /// target whose motion's trend is not known yet is sent as acquiring, `Q`, as IEC 62388
-    /// draws it); targets still waiting for a number are not sent.
+    /// draws it); targets still waiting for a number are not sent. Each target goes as
+    /// `TTM` and `TLL`, `TTM` alone while own ship has had no position fix.
     ///
     /// Times are the scan's when its clock is UTC. A source whose clock counts from an
     /// epoch of its own (a plots file from 0 s) is sent with the time it is sent at, this
@@ -220,6 +221,10 @@ impl TargetsOut {
         } else {
             crate::utc::now_s()
         };
+        // Before own ship's first fix a target's range and bearing are known (TTM), its
+        // latitude and longitude are not: TLL would put it where the frame starts, in
+        // another sea.
+        let position_unknown = report.own.quality.no_fix_yet;
         let mut out = Vec::new();
         let groups = [
             (&report.ended, 'L'),
@@ -241,7 +246,9 @@ impl TargetsOut {
                     data: *d,
                 };
                 out.push(ttm(&t, time_s));
-                out.push(tll(&t, &self.origin, time_s));
+                if !position_unknown {
+                    out.push(tll(&t, &self.origin, time_s));
+                }
                 if status == 'L' {
                     self.counts.lost_sent += 1;
                 } else {
