@@ -222,7 +222,7 @@ fn every_real_recording_drives_own_ship_and_the_picture() {
         errors.sort_by(f64::total_cmp);
         let median = errors[errors.len() / 2];
         table += &format!(
-            "{name}: {} lines, {} used, {} ignored, {rejected} rejected; own ship vs fixes: median {median:.1} m, max {:.1} m over {} scans\n",
+            "{name}: {} lines, {} used, {} ignored, {rejected} rejected, {ais_lines} AIS; own ship vs fixes: median {median:.1} m, max {:.1} m over {} scans\n",
             lines,
             n("used"),
             n("ignored"),

@@ -5,8 +5,12 @@
 //! ignored; when two disagree the disagreement is reported once per pair.
 //!
 //! The choice: the first talker of the operator's priority list (`--nmea-source
-//! heading=HE,GP`) that is delivering; without a list, the first talker heard. A chosen talker
-//! silent for [`SILENT_S`] gives way to the next one heard.
+//! heading=HE,GP`) that is delivering; without a list, the first talker heard, but the AIS
+//! transponder (`AI`, its `VDO` reports) gives way to any other talker heard: its
+//! position is from its internal GNSS receiver, there for its own reports, and its heading
+//! from a sensor the bridge sends as well. A chosen talker silent for [`SILENT_S`] gives way
+//! to the next
+//! one heard.
 
 use std::collections::BTreeMap;
 
@@ -14,6 +18,9 @@ use super::sentences::{Quantity, Reading};
 
 /// A chosen talker silent this long gives way, s.
 pub const SILENT_S: f64 = 10.0;
+
+/// The AIS transponder's talker: chosen only while no other talker delivers.
+pub const AIS_TALKER: &str = "AI";
 
 /// Two readings this close in time are compared, s.
 const COMPARE_WITHIN_S: f64 = 2.0;
@@ -161,6 +168,13 @@ impl Selector {
                 true
             }
             Some((c, _)) if c == talker => true,
+            Some((c, _)) if c == AIS_TALKER => {
+                self.events.push(format!(
+                    "{} source: {talker} (not the AIS transponder's {c})",
+                    q.name()
+                ));
+                true
+            }
             Some((c, last_s)) if now_s - last_s > SILENT_S => {
                 self.events.push(format!(
                     "{} source: {c} silent for {:.0} s, now {talker}",
@@ -275,5 +289,24 @@ mod tests {
         assert!(!s.admit("AP", &h, None, 1.0), "HE delivers: AP is not used");
         assert!(!s.admit("XX", &h, None, 1.0), "not on the list");
         assert!(s.admit("AP", &h, None, 20.0), "HE silent: AP again");
+    }
+
+    /// The AIS transponder's own reports (`AIVDO`) give way to a bridge sensor whichever is
+    /// heard first, and are used only while no other talker delivers.
+    #[test]
+    fn the_ais_transponder_gives_way_to_the_bridges_sensors() {
+        let mut s = Selector::default();
+        assert!(s.admit("AI", &sog(5.0), None, 0.0), "the only talker heard");
+        assert!(s.admit("GP", &sog(5.1), None, 0.5), "GP takes over at once");
+        assert!(!s.admit("AI", &sog(5.0), None, 1.0));
+        assert!(s.admit("GP", &sog(5.1), None, 1.5));
+        assert_eq!(s.chosen(Quantity::GroundVelocity), Some("GP"));
+        // GP silent: AI waits as long as any talker would, then stands in...
+        assert!(!s.admit("AI", &sog(5.0), None, 5.0));
+        assert!(s.admit("AI", &sog(5.0), None, 1.6 + SILENT_S));
+        assert_eq!(s.chosen(Quantity::GroundVelocity), Some("AI"));
+        // ...until GP is heard again.
+        assert!(s.admit("GP", &sog(5.1), None, 2.0 + SILENT_S));
+        assert!(!s.admit("AI", &sog(5.0), None, 2.5 + SILENT_S));
     }
 }
