@@ -197,6 +197,12 @@ fn velocity_known(d: &Drkf<f64>) -> bool {
     mean_variance <= MOTION_KNOWN_SIGMA_MPS * MOTION_KNOWN_SIGMA_MPS
 }
 
+/// How late a live line's arrival time may be, s: a live source's lines are read together
+/// once a scan and taken as heard then, up to a scan after they came. A bridge clock
+/// behind the arrival time by more than this (a PC clock not set) restarts the filter on
+/// the bridge's time (below); by less it is the reading's delay, not the clock's error.
+pub const HEARD_LATE_S: f64 = 10.0;
+
 /// Own ship from NMEA.
 pub struct OwnShipNav {
     origin: Origin,
@@ -207,9 +213,10 @@ pub struct OwnShipNav {
     time_s: f64,
     /// The filter has known own ship's velocity since it started ([`MOTION_KNOWN_SIGMA_MPS`]).
     motion_measured: bool,
-    /// Readings were taken at their arrival ([`OwnShipNav::feed_heard`]) before any timed
-    /// sentence: the arrival clock may not be the bridge's.
-    heard_before_clock: bool,
+    /// The arrival time (s) of the last reading taken at its arrival
+    /// ([`OwnShipNav::feed_heard`]) before any timed sentence: the arrival clock may not be
+    /// the bridge's.
+    heard_before_clock_s: Option<f64>,
     /// Velocity over ground from before the first position.
     velocity: Option<[f64; 2]>,
     variation_deg: Option<f64>,
@@ -247,7 +254,7 @@ impl OwnShipNav {
             drkf: None,
             time_s: 0.0,
             motion_measured: false,
-            heard_before_clock: false,
+            heard_before_clock_s: None,
             velocity: None,
             variation_deg: None,
             operator_variation_deg: variation_deg,
@@ -368,14 +375,16 @@ impl OwnShipNav {
                 // arrival; a bridge clock behind that (a PC clock not set) would leave the
                 // filter ahead of every later reading, one far ahead would fly it on: start
                 // it again on the bridge's time, forgetting the arrival clock's times.
-                let ahead_s = t - self.time_s;
+                // (Against the arrival time of those readings, not the filter's: a heading
+                // before any position starts no filter and leaves its time unset.)
+                let ahead_s = self.heard_before_clock_s.map_or(0.0, |h| t - h);
                 if first_time
-                    && self.heard_before_clock
-                    && !(-1.0..=clock::MAX_JUMP_S).contains(&ahead_s)
+                    && self.heard_before_clock_s.is_some()
+                    && !(-HEARD_LATE_S..=clock::MAX_JUMP_S).contains(&ahead_s)
                 {
                     self.events.push(format!(
                         "own-ship filter restarted: the bridge's UTC is {} the time its first sentences were heard",
-                        crate::utc::offset_label(t - self.time_s)
+                        crate::utc::offset_label(ahead_s)
                     ));
                     self.drkf = None;
                     self.last_position_s = None;
@@ -390,8 +399,11 @@ impl OwnShipNav {
             }
             Ok(None) => match heard_s {
                 Some(heard) => {
-                    self.heard_before_clock |= self.clock.newest_s().is_none();
-                    self.heard_time(heard)
+                    let at = self.heard_time(heard);
+                    if self.clock.newest_s().is_none() {
+                        self.heard_before_clock_s = Some(at);
+                    }
+                    at
                 }
                 None => self.clock.newest_s().unwrap_or(self.time_s),
             },
@@ -777,6 +789,32 @@ mod tests {
         let own = nav.own_ship_at(t + 5.0).unwrap();
         assert_eq!(own.quality.dead_reckoning_s, None, "{own:?}");
         assert!((own.velocity_mps[1] - 3.0).abs() < 0.1, "{own:?}");
+    }
+
+    /// A heading heard before any position (a gyro talks before the GNSS has a fix) starts
+    /// no filter; a bridge clock that then agrees with its arrival (within a scan's
+    /// lateness) restarts nothing. It was compared with the unset filter's time, 1970: a
+    /// live feed with correct times announced its UTC 57 years ahead and started again.
+    #[test]
+    fn a_heading_before_the_first_fix_restarts_nothing() {
+        let mut nav = OwnShipNav::new(Origin::default(), DAY0, None);
+        let t = T0 + 12.0 * 3600.0;
+        nav.feed_heard(&sentence("HCHDG,101.0,,,1.0,W"), t);
+        // Read at the next scan, 2.5 s after it came: its arrival time is late, not the
+        // bridge's clock wrong.
+        for k in 0..5 {
+            let at = t - 2.0 + f64::from(k);
+            for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &Origin::default(), at) {
+                nav.feed_heard(&l, at + 2.5);
+            }
+        }
+        assert!(
+            !nav.events().iter().any(|e| e.contains("restarted")),
+            "{:?}",
+            nav.events()
+        );
+        assert_eq!(nav.counts().rejected(), 0, "{}", nav.counts());
+        assert!(nav.own_ship_at(t + 3.0).is_some());
     }
 
     #[test]
