@@ -784,6 +784,17 @@ fn damaged_files_end_or_fail_without_panic() {
     let (got, stats) = datagrams(&path, CaptureOptions::default());
     assert!(got.len() > 100);
     assert!(stats.truncated_file);
+    // ...and the user is told, in the radar's summary (it was counted, never said).
+    let options = tracker_host::source::radar::RadarOptions::new(RadarSpec::Capture(path.clone()));
+    let mut radar =
+        tracker_host::source::radar::RadarPlotSource::open(&options, Default::default()).unwrap();
+    while tracker_host::source::PlotSource::next_scan(&mut radar)
+        .unwrap()
+        .is_some()
+    {}
+    let counts = radar.counts();
+    assert!(counts.capture_truncated && counts.scans > 0, "{counts}");
+    assert!(counts.to_string().contains("cut short"), "{counts}");
     // A cut gzip stream: the same, read up to where it stops.
     let path = write_temp(dir.path(), "cut.pcap.gz", &real[..real.len() / 2]);
     let (got, stats) = datagrams(&path, CaptureOptions::default());

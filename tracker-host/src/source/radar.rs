@@ -114,6 +114,9 @@ pub struct RadarCounts {
     pub yaw_unmatched: u64,
     /// Own ship's heading change measured from the picture since the first rotation, °.
     pub yaw_deg: f32,
+    /// The capture file ends in the middle of a record, or its gzip stream is cut short:
+    /// read up to there ([`crate::radar::CaptureStats::truncated_file`]).
+    pub capture_truncated: bool,
     /// The plots against the truth, when the radar is the simulator's (`demo --video`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plot_scores: Option<super::video::PlotScores>,
@@ -155,6 +158,12 @@ impl std::fmt::Display for RadarCounts {
         }
         if let Some(p) = &self.plot_scores {
             write!(f, "; plots against truth: {p}")?;
+        }
+        if self.capture_truncated {
+            write!(
+                f,
+                "; the capture file is cut short (it ends in the middle of a record): read up to there"
+            )?;
         }
         Ok(())
     }
@@ -323,6 +332,11 @@ impl RadarPlotSource {
             c.blobs_dropped = s.blobs_dropped;
             c.restarts = s.range_changes + s.out_of_order + s.format_changes;
         }
+        c.capture_truncated = self
+            .spokes
+            .stats()
+            .capture
+            .is_some_and(|x| x.truncated_file);
         (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
         c
