@@ -693,6 +693,15 @@ mod tests {
         let day = (track.start_s() / 86_400.0).floor() as i64;
         assert!(day == today || day == today + 1, "day {day}, today {today}");
         assert_eq!(track.start_s().rem_euclid(86_400.0).round(), 45_319.0);
+        // GLL without a time (the HALO network's recording): today's too, at its start.
+        let mut untimed = tempfile::NamedTempFile::new().unwrap();
+        let gll = crate::nmea::sentence("GPGLL,4807.038,N,01131.000,E,,A,A");
+        writeln!(untimed, "{}", gll.trim_end()).unwrap();
+        let track =
+            crate::own_ship::recording::RecordedTrack::read(untimed.path(), &run.own_ship().nmea)
+                .unwrap();
+        let day = (track.start_s() / 86_400.0).floor() as i64;
+        assert!(day == today || day == today + 1, "day {day}, today {today}");
     }
 
     #[test]

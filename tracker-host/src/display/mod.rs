@@ -341,16 +341,19 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
 /// known.
 pub fn own_ship_line(own: &crate::own_ship::OwnShip) -> String {
     let heading = own.heading_rad.map_or("---".to_string(), |h| {
-        format!("{:05.1}", f64::from(h).to_degrees().rem_euclid(360.0))
+        format!(
+            "{:0>5}",
+            crate::nmea::angle_360(f64::from(h).to_degrees(), 1)
+        )
     });
     let q = own.quality;
     // Unknown motion is not a ship stopped, and a ship stopped has no course.
     let sog = own
         .sog_kn()
         .map_or("---- kn".to_string(), |kn| format!("{kn:4.1} kn"));
-    let cog = own
-        .cog_deg()
-        .map_or("---.-".to_string(), |deg| format!("{deg:05.1}"));
+    let cog = own.cog_deg().map_or("---.-".to_string(), |deg| {
+        format!("{:0>5}", crate::nmea::angle_360(deg, 1))
+    });
     let state = if q.no_fix_yet {
         "NO FIX".to_string()
     } else if let Some(age) = q.dead_reckoning_s {
@@ -527,8 +530,11 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             t.label(),
             shown_status(t).to_string(),
             format!("{:.2}", t.range_m / METRES_PER_NM),
-            format!("{:.1}", t.bearing_rad.to_degrees()),
-            motion(t.course_rad.to_degrees(), 1),
+            crate::nmea::angle_360(f64::from(t.bearing_rad).to_degrees(), 1),
+            motion(
+                crate::nmea::shown_angle_deg(f64::from(t.course_rad).to_degrees(), 1) as f32,
+                1,
+            ),
             motion(t.speed_mps / MPS_PER_KNOT, 1),
             motion(t.cpa_m / METRES_PER_NM, 2),
             motion(t.tcpa_s / 60.0, 1),
@@ -815,6 +821,20 @@ pub fn run_tui(
 pub(crate) mod tests {
     use super::*;
     use crate::app::demo::{self, DemoOptions};
+
+    /// A course or heading a hair under 360° shows as 000.0, not 360.0 (rounded first,
+    /// then wrapped, as NMEA out sends it).
+    #[test]
+    fn own_course_and_heading_never_show_360() {
+        let a = (359.97f32).to_radians();
+        let mut own = crate::own_ship::OwnShip::at([0.0, 0.0], [5.0 * a.sin(), 5.0 * a.cos()]);
+        own.heading_rad = Some(a);
+        let line = own_ship_line(&own);
+        assert!(
+            line.contains("COG 000.0") && line.contains("HDG 000.0"),
+            "{line}"
+        );
+    }
     use crate::link::{Client, InprocTransport};
     use ratatui::backend::TestBackend;
     use ratatui::Terminal;

@@ -61,12 +61,19 @@ pub(crate) fn date(time_s: f64) -> String {
 /// An angle in degrees as `decimals` decimals in 0 ≤ a < 360: rounded first, then wrapped,
 /// so 359.96 is `0.0`, never `360.0`.
 pub(crate) fn angle_360(deg: f64, decimals: usize) -> String {
+    format!("{:.decimals$}", shown_angle_deg(deg, decimals))
+}
+
+/// An angle as it is shown with `decimals` places, degrees: rounded first, then wrapped
+/// into 0–360 (359.96° shows as 0.0, never as 360.0).
+pub(crate) fn shown_angle_deg(deg: f64, decimals: usize) -> f64 {
     let scale = 10f64.powi(decimals as i32);
-    let mut a = (deg.rem_euclid(360.0) * scale).round() / scale;
+    let a = (deg.rem_euclid(360.0) * scale).round() / scale;
     if a >= 360.0 {
-        a -= 360.0;
+        a - 360.0
+    } else {
+        a
     }
-    format!("{a:.decimals$}")
 }
 
 /// Degrees of an angle in radians.

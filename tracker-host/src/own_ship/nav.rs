@@ -211,6 +211,10 @@ pub struct OwnShipNav {
     drkf: Option<Drkf<f64>>,
     /// Time of the filter's state, s.
     time_s: f64,
+    /// A recording's line with no time, before any timed one, is taken at this time at
+    /// the earliest (s): the start of the provisional day (today's, unless the recording
+    /// has a date), so a recording with no time in any sentence is today's, not 1970's.
+    untimed_from_s: f64,
     /// The filter has known own ship's velocity since it started ([`MOTION_KNOWN_SIGMA_MPS`]).
     motion_measured: bool,
     /// The arrival time (s) of the last reading taken at its arrival
@@ -253,6 +257,7 @@ impl OwnShipNav {
             selector,
             drkf: None,
             time_s: 0.0,
+            untimed_from_s: provisional_day as f64 * clock::DAY_S,
             motion_measured: false,
             heard_before_clock_s: None,
             velocity: None,
@@ -405,7 +410,10 @@ impl OwnShipNav {
                     }
                     at
                 }
-                None => self.clock.newest_s().unwrap_or(self.time_s),
+                None => self
+                    .clock
+                    .newest_s()
+                    .unwrap_or(self.time_s.max(self.untimed_from_s)),
             },
             Err(clock::Refused::Backwards { .. }) => {
                 self.counts.stale += 1;
@@ -755,11 +763,15 @@ mod tests {
         let own = nav.own_ship_at(T0 + 101.5).unwrap();
         assert!(own.quality.motion_known, "{own:?}");
         assert!((own.velocity_mps[0] - 2.572).abs() < 0.1, "{own:?}");
-        // The same GLL fed as a recording's line (no arrival time) takes the filter's.
+        // The same GLL fed as a recording's line (no arrival time, no timed sentence
+        // before it) is taken at the start of the provisional day, not in 1970.
         let mut replay = OwnShipNav::new(Origin::default(), DAY0, None);
         replay.feed(&sentence("GPGLL,5040.0000,N,00100.0000,W,,A,D"));
         assert!(replay
             .own_ship_at(T0)
+            .is_some_and(|o| o.quality.dead_reckoning_s.is_none()));
+        assert!(replay
+            .own_ship_at(T0 + 600.0)
             .is_some_and(|o| o.quality.dead_reckoning_s.is_some()));
     }
 

@@ -130,7 +130,8 @@ pub fn table_with_ais(
     limits: &AlarmLimits,
     ais: Option<&dyn Fn(u16) -> String>,
 ) -> String {
-    let deg = |r: f32| r.to_degrees();
+    // Rounded, then wrapped: 359.96° is 0.0, never 360.0.
+    let deg = |r: f32| crate::nmea::shown_angle_deg(f64::from(r).to_degrees(), 1) as f32;
     let mut s = String::from(
         " TGT STATUS     RNG NM  BRG °T  CRS °T   SPD kn  CPA NM  TCPA min  RCRS °T  RSPD kn  AGE",
     );
