@@ -24,6 +24,9 @@ pub struct OwnShipOptions {
     /// Own ship from these NMEA sentences (through the dead-reckoning filter) instead of the
     /// plot source's.
     pub nmea_in: Option<InSpec>,
+    /// Further live NMEA sources whose lines are taken with `nmea_in`'s (the AIS
+    /// transponder on a port of its own); `nmea_in` must then be live too.
+    pub nmea_in_more: Vec<InSpec>,
     /// Own ship from the plot source's own ship sent as NMEA sentences through the
     /// dead-reckoning filter, the sentences recorded to this file (`nmea_in: file:…`
     /// replays them with the same result).
@@ -80,7 +83,7 @@ pub fn own_ship_source(
             if spec.is_live() {
                 nmea.provisional_day = today();
             }
-            Box::new(NmeaOwnShip::open(spec, origin, &nmea)?)
+            Box::new(NmeaOwnShip::open(spec, origin, &nmea)?.with_more(&o.nmea_in_more)?)
         }
         (None, Some(path)) => Box::new(SimulatedBridge::create(path, origin)?),
         (None, None) => Box::new(FromPlotSource),

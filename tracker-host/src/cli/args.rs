@@ -134,11 +134,13 @@ pub struct RunArgs {
     /// (`HDM`, `HDG`) when neither the sentence nor an `RMC` gives one.
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = magnetic_variation)]
     pub magnetic_variation: Option<f64>,
-    /// Take own ship from NMEA 0183 (GGA/RMC, VTG, HDT, VHW) through the dead-reckoning
-    /// filter: `file:PATH` (a recording, replayed scan by scan), `udp:PORT`,
-    /// `tcp:HOST:PORT`, `serial:DEVICE@BAUD`.
+    /// Take own ship (and AIS) from NMEA 0183 (GGA/RMC, VTG, HDT, VHW; AIVDM/AIVDO)
+    /// through the dead-reckoning filter: `file:PATH` (a recording, replayed scan by scan),
+    /// `udp:PORT`, `tcp:HOST:PORT`, `serial:DEVICE@BAUD`. Live sources may be given more
+    /// than once (the GNSS and gyro on one port, the AIS transponder on another): their
+    /// lines are taken together.
     #[arg(long, value_name = "SOURCE", conflicts_with = "nmea_record")]
-    pub nmea_in: Option<InSpec>,
+    pub nmea_in: Vec<InSpec>,
     /// Take own ship from the plot source's own ship sent as NMEA through the
     /// dead-reckoning filter, and record the sentences to this file (`--nmea-in
     /// file:PATH` replays it with the same result).
@@ -257,7 +259,8 @@ impl RunArgs {
     /// Own ship as these arguments choose it.
     pub fn own_ship(&self) -> OwnShipOptions {
         OwnShipOptions {
-            nmea_in: self.nmea_in.clone(),
+            nmea_in: self.nmea_in.first().cloned(),
+            nmea_in_more: self.nmea_in.iter().skip(1).cloned().collect(),
             nmea_record: self.nmea_record.clone(),
             origin: self.origin,
             nmea: NmeaOptions {
@@ -273,7 +276,7 @@ impl RunArgs {
     /// Source seconds per real second: as given; else real time with a live NMEA source
     /// (its sentences arrive in real time), as fast as possible otherwise.
     pub fn speedup(&self) -> Option<f64> {
-        match (self.speedup, &self.nmea_in) {
+        match (self.speedup, self.nmea_in.first()) {
             (Some(s), _) => s.0,
             (None, Some(InSpec::File(_)) | None) => None,
             (None, Some(_)) => Some(1.0),
@@ -315,7 +318,7 @@ impl RunArgs {
         ];
         // One file for two outputs: the later would overwrite the earlier at the end; an
         // output on an input would overwrite the recording being read.
-        let nmea_file = match &self.nmea_in {
+        let nmea_file = match self.nmea_in.first() {
             Some(InSpec::File(p)) => Some(("--nmea-in", p.as_path())),
             _ => None,
         };

@@ -375,7 +375,7 @@ where
             // A recording's first fix is the origin; a live source's is not known yet.
             let live_nmea = run
                 .nmea_in
-                .as_ref()
+                .first()
                 .is_some_and(crate::nmea::InSpec::is_live);
             if live_nmea && run.origin.is_none() && ais_truth.is_none() {
                 let o = crate::origin::Origin::default();
@@ -670,6 +670,29 @@ mod tests {
         let c = Cli::try_parse_from(["t", "track", "--plots", "p.csv", "--filter", "sswt"]);
         assert!(c.is_ok());
         assert!(Cli::try_parse_from(["t", "demo", "--filter", "kalman"]).is_err());
+    }
+
+    #[test]
+    fn nmea_in_may_be_given_more_than_once() {
+        let c = Cli::try_parse_from([
+            "t",
+            "demo",
+            "--nmea-in",
+            "udp:10110",
+            "--nmea-in",
+            "serial:/dev/ttyUSB1@38400",
+        ])
+        .unwrap();
+        let Command::Demo { run, .. } = c.command else {
+            panic!("{:?}", c.command)
+        };
+        let own = run.own_ship();
+        assert_eq!(own.nmea_in, Some(crate::nmea::InSpec::Udp(10110)));
+        assert_eq!(
+            own.nmea_in_more,
+            [crate::nmea::InSpec::Serial("/dev/ttyUSB1".into(), 38400)]
+        );
+        assert_eq!(run.speedup(), Some(1.0), "live: real time");
     }
 
     #[test]

@@ -232,6 +232,8 @@ const LOOK_AHEAD_LINES: usize = 64;
 /// step with the scans by its sentences' UTC; a live source gives what has arrived.
 pub struct NmeaOwnShip {
     input: NmeaIn,
+    /// Further live sources, read with `input` (which is live then).
+    more: Vec<crate::nmea::input::LiveLines>,
     nav: OwnShipNav,
     ais: crate::ais::AisDecoder,
     heard: Vec<(f64, crate::ais::AisReport)>,
@@ -262,6 +264,7 @@ impl NmeaOwnShip {
     pub fn open(spec: &InSpec, origin: Origin, o: &NmeaOptions) -> anyhow::Result<Self> {
         Ok(NmeaOwnShip {
             input: NmeaIn::open(spec)?,
+            more: Vec::new(),
             nav: OwnShipNav::with_selector(
                 origin,
                 o.provisional_day,
@@ -275,6 +278,31 @@ impl NmeaOwnShip {
             offset_told_s: None,
             clock_events: Vec::new(),
         })
+    }
+
+    /// Adds further live sources whose lines are taken with the first's (a bridge that
+    /// sends its GNSS and gyro on one port and its AIS transponder on another).
+    ///
+    /// # Errors
+    /// One of `more` is a recording, or the first source is (a recording is replayed on its
+    /// own times, live lines on their arrival: the two do not mix); a socket or port does
+    /// not open.
+    pub fn with_more(mut self, more: &[InSpec]) -> anyhow::Result<Self> {
+        if more.is_empty() {
+            return Ok(self);
+        }
+        if matches!(self.input, NmeaIn::File(_)) || more.iter().any(|m| !m.is_live()) {
+            anyhow::bail!(
+                "--nmea-in given more than once: every source must then be live (udp:, tcp:, serial:), not a file"
+            );
+        }
+        for spec in more {
+            match NmeaIn::open(spec)? {
+                NmeaIn::Live(live) => self.more.push(live),
+                NmeaIn::File(_) => anyhow::bail!("{spec:?} is not a live source"),
+            }
+        }
+        Ok(self)
     }
 
     /// The offset own ship is asked for at: the bridge's UTC less this computer's clock
@@ -375,7 +403,10 @@ impl OwnShipSource for NmeaOwnShip {
         match &mut self.input {
             NmeaIn::File(_) => self.replay_until(t),
             NmeaIn::Live(live) => {
-                let lines = live.available();
+                let mut lines = live.available();
+                for more in &mut self.more {
+                    lines.extend(more.available());
+                }
                 self.take_live(lines, t);
             }
         }
@@ -412,11 +443,17 @@ impl OwnShipSource for NmeaOwnShip {
     fn events(&self) -> Vec<String> {
         let mut e = self.nav.events();
         e.extend(self.clock_events.iter().cloned());
-        if let NmeaIn::Live(live) = &self.input {
+        let first = match &self.input {
+            NmeaIn::Live(live) => Some(live),
+            NmeaIn::File(_) => None,
+        };
+        for (i, live) in first.into_iter().chain(&self.more).enumerate() {
             if live.drops > 0 {
                 e.push(format!(
-                    "NMEA source dropped {} times, reconnected {} times",
-                    live.drops, live.reconnects
+                    "NMEA source {} dropped {} times, reconnected {} times",
+                    i + 1,
+                    live.drops,
+                    live.reconnects
                 ));
             }
         }
@@ -567,6 +604,58 @@ mod tests {
         assert!(c
             .to_string()
             .ends_with(&format!("; {per_epoch} after the last scan, not read")));
+    }
+
+    /// Two live sources, the GNSS on one UDP port and the AIS transponder on another (the
+    /// usual bridge layout): own ship from the first, AIS targets from the second, read
+    /// together. A recording with another source is refused.
+    #[test]
+    fn two_live_sources_are_read_together() {
+        use std::net::UdpSocket;
+        let origin = Origin::default();
+        let mut own = NmeaOwnShip::open(&InSpec::Udp(0), origin, &NmeaOptions::default())
+            .unwrap()
+            .with_more(&[InSpec::Udp(0)])
+            .unwrap();
+        let port = |input: &crate::nmea::input::LiveLines| input.udp_addr().unwrap().port();
+        let NmeaIn::Live(first) = &own.input else {
+            panic!("live")
+        };
+        let (gnss, ais) = (port(first), port(&own.more[0]));
+        let tx = UdpSocket::bind("127.0.0.1:0").unwrap();
+        let now = crate::utc::now_s();
+        for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, now) {
+            tx.send_to(l.as_bytes(), ("127.0.0.1", gnss)).unwrap();
+        }
+        // A class A position report (pyais's sample).
+        let vdm = "!AIVDM,1,1,,B,15M67FC000G?ufbE`FepT@3n00Sa,0*5C\r\n";
+        tx.send_to(vdm.as_bytes(), ("127.0.0.1", ais)).unwrap();
+        let scan = SourceScan {
+            radar: crate::source::RadarScan {
+                scan: 0,
+                time_s: now + 0.5,
+                plots: Vec::new(),
+            },
+            ..SourceScan::default()
+        };
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
+        let (mut fixed, mut heard) = (false, Vec::new());
+        while !(fixed && !heard.is_empty()) && std::time::Instant::now() < deadline {
+            std::thread::sleep(std::time::Duration::from_millis(20));
+            fixed |= !own.own_ship(&scan).unwrap().quality.no_fix_yet;
+            heard.extend(own.take_ais());
+        }
+        assert!(fixed, "own ship from the first source");
+        assert_eq!(heard.len(), 1, "the AIS report from the second");
+        // A recording does not mix with a live source.
+        let file = tempfile::NamedTempFile::new().unwrap();
+        let recording = InSpec::File(file.path().to_path_buf());
+        let e = NmeaOwnShip::open(&recording, origin, &NmeaOptions::default())
+            .unwrap()
+            .with_more(&[InSpec::Udp(0)])
+            .err()
+            .unwrap();
+        assert!(e.to_string().contains("must then be live"), "{e}");
     }
 
     #[test]
