@@ -98,7 +98,11 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
             own_ship.nmea.provisional_day = (track.start_s() / 86_400.0).floor() as i64;
             simulator.epoch_s = track.start_s();
             if o.duration_from_recording {
-                simulator.duration_s = track.span_s().max(1.0);
+                // Through the last fix: the last scan at or after it, so the recording is
+                // read to its end (scans every period from the first fix; a span of 4 s
+                // ended at the scan of 2.5 s, a third of a 10 Hz recording unread).
+                let scan_s = f64::from(tracker_core::sim::ScenarioConfig::open_sea(0, 0).scan_s);
+                simulator.duration_s = track.span_s().max(1.0) + scan_s;
             }
             OwnShipTruth::Recorded(track, origin)
         }
@@ -124,4 +128,38 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
     };
     let session = Session::start(client, config)?;
     Ok(Run::new(source, own, session, sinks(&o.outputs, origin)?).with_origin(origin))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::link::InprocTransport;
+    use crate::nmea::bridge::own_ship_sentences;
+    use crate::origin::Origin;
+    use std::io::Write as _;
+
+    /// Run for a recording's length, the demo reads it to its end: the last scan comes at
+    /// or after the last fix (a 4 s recording at 10 Hz ended at the scan of 2.5 s, its last
+    /// third unread).
+    #[test]
+    fn a_recording_is_read_to_its_end() {
+        let origin = Origin::default();
+        let mut file = tempfile::NamedTempFile::new().unwrap();
+        for k in 0..=40 {
+            let t = DEFAULT_EPOCH_S + 0.1 * f64::from(k);
+            for l in own_ship_sentences([0.0, 0.3 * f64::from(k)], [0.0, 3.0], &origin, t) {
+                file.write_all(l.as_bytes()).unwrap();
+            }
+        }
+        file.flush().unwrap();
+        let mut o = DemoOptions::new(ScenarioKind::OpenSea, 2, 1, 600.0, FilterKind::KalmanCv);
+        o.duration_from_recording = true;
+        o.own_ship.nmea_in = Some(InSpec::File(file.path().to_path_buf()));
+        let mut run = start(Client::new(Box::new(InprocTransport::new())), &o).unwrap();
+        while run.step().unwrap().is_some() {}
+        run.finish().unwrap();
+        let c = run.nmea_counts().unwrap();
+        assert_eq!(c.after_last_scan, 0, "{c}");
+        assert!(c.used > 0, "{c}");
+    }
 }
