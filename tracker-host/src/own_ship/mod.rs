@@ -640,7 +640,7 @@ mod tests {
         };
         let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
         let (mut fixed, mut heard) = (false, Vec::new());
-        while !(fixed && !heard.is_empty()) && std::time::Instant::now() < deadline {
+        while (!fixed || heard.is_empty()) && std::time::Instant::now() < deadline {
             std::thread::sleep(std::time::Duration::from_millis(20));
             fixed |= !own.own_ship(&scan).unwrap().quality.no_fix_yet;
             heard.extend(own.take_ais());
