@@ -292,19 +292,24 @@ fn tracker_host_tools_check() {
     );
 }
 
+/// The last scan of a minute of the open-sea demo (8 targets, seed 1).
+fn a_minutes_last_scan() -> tracker_host::session::ScanReport {
+    let options = DemoOptions::new(ScenarioKind::OpenSea, 8, 1, 60.0, FilterKind::KalmanCv);
+    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+    let mut last = None;
+    while let Some(report) = run.step().unwrap() {
+        last = Some(report);
+    }
+    last.expect("scans")
+}
+
 /// A source whose clock is its own (a plots file counting from 0 s) has its targets and own
 /// ship sent at this host's time and date (OpenCPN draws nothing from sentences without
 /// them), not at 1970's; a UTC source is sent at its own.
 #[test]
 fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
-    let options = DemoOptions::new(ScenarioKind::OpenSea, 8, 1, 60.0, FilterKind::KalmanCv);
-    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
     let mut out = TargetsOut::new(sink(), Origin::default(), true);
-    let mut last = None;
-    while let Some(report) = run.step().unwrap() {
-        last = Some(report);
-    }
-    let mut report = last.expect("scans");
+    let mut report = a_minutes_last_scan();
     assert!(report.time_is_utc, "the simulator's clock is UTC");
     // TTM's UTC, TLL's UTC, RMC's time and date, of one scan's sentences; and the RMC.
     let times = |out: &mut TargetsOut, report: &tracker_host::session::ScanReport| {
@@ -377,14 +382,8 @@ fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
 /// put them where the frame starts.
 #[test]
 fn without_a_fix_targets_go_without_a_position() {
-    let options = DemoOptions::new(ScenarioKind::OpenSea, 8, 1, 60.0, FilterKind::KalmanCv);
-    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
     let mut out = TargetsOut::new(sink(), Origin::default(), true);
-    let mut last = None;
-    while let Some(report) = run.step().unwrap() {
-        last = Some(report);
-    }
-    let mut report = last.expect("scans");
+    let mut report = a_minutes_last_scan();
     let kinds = |out: &mut TargetsOut, report: &tracker_host::session::ScanReport| {
         let mut n: BTreeMap<String, usize> = BTreeMap::new();
         for s in out.scan_sentences(report) {
