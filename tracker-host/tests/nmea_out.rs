@@ -404,4 +404,8 @@ fn without_a_fix_targets_go_without_a_position() {
         Some(&1),
         "own ship still goes, without a fix"
     );
+    // Unless the operator gave own ship's position as the origin (`--origin`).
+    let mut placed = TargetsOut::new(sink(), Origin::default(), true).with_origin_known(true);
+    let given = kinds(&mut placed, &report);
+    assert_eq!(given.get("RATLL"), Some(&targets), "{given:?}");
 }

@@ -15,7 +15,8 @@
 //! (IEC 62388 Ed. 2, annex on AIS target presentation; the same table is printed in
 //! chart plotters' manuals, e.g. Icom IC-M510's "lost target" criteria.) A target is
 //! *sleeping* (a small triangle, no vector) until the operator activates it or it comes
-//! within the activation range ([`AIS_ACTIVATION_RANGE_M`]); CPA/TCPA are computed for all.
+//! within the activation range ([`AIS_ACTIVATION_RANGE_M`]); CPA/TCPA are computed for all
+//! once own ship's motion is known.
 //!
 //! A ship's static and voyage data (messages 5 and 24) heard before its first position
 //! is kept for it, up to [`STATIC_WAIT_S`]: it sends them every 6 minutes, and a ship first

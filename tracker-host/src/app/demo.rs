@@ -127,7 +127,10 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
         ..SessionConfig::tracking(o.filter)
     };
     let session = Session::start(client, config)?;
-    Ok(Run::new(source, own, session, sinks(&o.outputs, origin)?).with_origin(origin))
+    // The origin is own ship's when given or a recording's first fix (the simulator's own
+    // ship always has a fix).
+    let sinks = sinks(&o.outputs, origin, own_ship.origin.is_some())?;
+    Ok(Run::new(source, own, session, sinks).with_origin(origin))
 }
 
 #[cfg(test)]

@@ -99,14 +99,17 @@ pub fn today() -> i64 {
 ///
 /// # Errors
 /// A file cannot be created or a socket not opened.
-pub fn sinks(o: &Outputs, origin: Origin) -> anyhow::Result<Vec<Box<dyn ScanSink>>> {
+pub fn sinks(
+    o: &Outputs,
+    origin: Origin,
+    origin_known: bool,
+) -> anyhow::Result<Vec<Box<dyn ScanSink>>> {
     let mut sinks: Vec<Box<dyn ScanSink>> = Vec::new();
     if let Some(spec) = &o.nmea_out {
-        sinks.push(Box::new(crate::nmea::targets::TargetsOut::open(
-            spec,
-            origin,
-            o.nmea_out_own_ship,
-        )?));
+        sinks.push(Box::new(
+            crate::nmea::targets::TargetsOut::open(spec, origin, o.nmea_out_own_ship)?
+                .with_origin_known(origin_known),
+        ));
     }
     if let Some(p) = &o.record_plots {
         sinks.push(Box::new(PlotsRecorder::create(p)?));

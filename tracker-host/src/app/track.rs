@@ -55,6 +55,9 @@ pub struct TrackOptions {
 /// A file breaks its format (the error names the line and column), a capture does not
 /// open, the device does not attach, or an own-ship source or output does not open.
 pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
+    // The origin is a position of own ship's (the operator's, or a capture's first fix),
+    // not the default: targets' latitudes and longitudes can be sent before a fix.
+    let mut origin_known = o.own_ship.origin.is_some();
     let (source, origin, sigma_m): (Box<dyn PlotSource>, Origin, f32) = match &o.input {
         TrackInput::Plots { plots, truth } => {
             let mut source = PlotsFileSource::open(plots)?;
@@ -70,6 +73,7 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
                 RadarSpec::Capture(path) => CaptureSurvey::of(path)?,
                 RadarSpec::Live { .. } => CaptureSurvey::default(),
             };
+            origin_known |= survey.first_fix.is_some();
             let origin = o.own_ship.origin.or(survey.first_fix).unwrap_or_default();
             let sigma_m = radar
                 .plot_sigma_on(survey.first_range_m)
@@ -88,5 +92,6 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
         ..SessionConfig::tracking_plots_of(o.filter, sigma_m)
     };
     let session = Session::start(client, config)?;
-    Ok(Run::new(source, own_ship, session, sinks(&o.outputs, origin)?).with_origin(origin))
+    let sinks = sinks(&o.outputs, origin, origin_known)?;
+    Ok(Run::new(source, own_ship, session, sinks).with_origin(origin))
 }

@@ -169,6 +169,9 @@ pub struct TargetsOutCounts {
 pub struct TargetsOut {
     out: NmeaOut,
     origin: Origin,
+    /// The origin is own ship's position (given by the operator, or a recording's first
+    /// fix), so targets can be placed on the chart before own ship's first fix.
+    origin_known: bool,
     own_ship: bool,
     counts: TargetsOutCounts,
 }
@@ -188,9 +191,17 @@ impl TargetsOut {
         TargetsOut {
             out,
             origin,
+            origin_known: false,
             own_ship,
             counts: TargetsOutCounts::default(),
         }
+    }
+
+    /// With `known`, the origin is own ship's position (`--origin`, a recording's first
+    /// fix): targets go with `TLL` before own ship's first fix too, placed from it.
+    pub fn with_origin_known(mut self, known: bool) -> Self {
+        self.origin_known = known;
+        self
     }
 
     /// The socket's local address (for a TCP server: the port plotters connect to).
@@ -209,7 +220,8 @@ impl TargetsOut {
     /// One scan's sentences: ends first, then tracked and acquiring targets (a confirmed
     /// target whose motion's trend is not known yet is sent as acquiring, `Q`, as IEC 62388
     /// draws it); targets still waiting for a number are not sent. Each target goes as
-    /// `TTM` and `TLL`, `TTM` alone while own ship has had no position fix.
+    /// `TTM` and `TLL`, `TTM` alone while own ship has had no position fix and the origin
+    /// is not its position ([`TargetsOut::with_origin_known`]).
     ///
     /// Times are the scan's when its clock is UTC. A source whose clock counts from an
     /// epoch of its own (a plots file from 0 s) is sent with the time it is sent at, this
@@ -222,9 +234,10 @@ impl TargetsOut {
             crate::utc::now_s()
         };
         // Before own ship's first fix a target's range and bearing are known (TTM), its
-        // latitude and longitude are not: TLL would put it where the frame starts, in
-        // another sea.
-        let position_unknown = report.own.quality.no_fix_yet;
+        // latitude and longitude are not, unless the operator said where own ship is: TLL
+        // would put it where the default frame starts, in another sea. (Dead reckoning goes
+        // on sending TLL, from own ship's estimate, as RMC's status `V` tells.)
+        let position_unknown = report.own.quality.no_fix_yet && !self.origin_known;
         let mut out = Vec::new();
         let groups = [
             (&report.ended, 'L'),

@@ -297,9 +297,8 @@ impl NmeaOwnShip {
             );
         }
         for spec in more {
-            match NmeaIn::open(spec)? {
-                NmeaIn::Live(live) => self.more.push(live),
-                NmeaIn::File(_) => anyhow::bail!("{spec:?} is not a live source"),
+            if let NmeaIn::Live(live) = NmeaIn::open(spec)? {
+                self.more.push(live);
             }
         }
         Ok(self)
@@ -403,10 +402,9 @@ impl OwnShipSource for NmeaOwnShip {
         match &mut self.input {
             NmeaIn::File(_) => self.replay_until(t),
             NmeaIn::Live(live) => {
-                let mut lines = live.available();
-                for more in &mut self.more {
-                    lines.extend(more.available());
-                }
+                let mut batches = vec![live.available()];
+                batches.extend(self.more.iter_mut().map(|m| m.available()));
+                let lines = interleave(&self.nav, batches);
                 self.take_live(lines, t);
             }
         }
@@ -447,18 +445,61 @@ impl OwnShipSource for NmeaOwnShip {
             NmeaIn::Live(live) => Some(live),
             NmeaIn::File(_) => None,
         };
+        let several = !self.more.is_empty();
         for (i, live) in first.into_iter().chain(&self.more).enumerate() {
             if live.drops > 0 {
+                let which = if several {
+                    format!(" {}", i + 1)
+                } else {
+                    String::new()
+                };
                 e.push(format!(
-                    "NMEA source {} dropped {} times, reconnected {} times",
-                    i + 1,
-                    live.drops,
-                    live.reconnects
+                    "NMEA source{which} dropped {} times, reconnected {} times",
+                    live.drops, live.reconnects
                 ));
             }
         }
         e
     }
+}
+
+/// The lines several live sources gave in one read, as one stream in time order: each
+/// source's lines in their own order, cut before each timed sentence, the pieces merged by
+/// their times (a piece before any timed sentence first). Taken one source after the other,
+/// a second source's timed sentences older than the first's newest would be refused as
+/// steps back.
+fn interleave(nav: &OwnShipNav, mut batches: Vec<Vec<String>>) -> Vec<String> {
+    if batches.len() <= 1 {
+        return batches.pop().unwrap_or_default();
+    }
+    // Per source: (time, lines) pieces.
+    let mut pieces: Vec<std::collections::VecDeque<(f64, Vec<String>)>> = batches
+        .into_iter()
+        .map(|lines| {
+            let mut out: std::collections::VecDeque<(f64, Vec<String>)> = Default::default();
+            for line in lines {
+                match (nav.time_of(&line), out.back_mut()) {
+                    (None, Some((_, piece))) => piece.push(line),
+                    (None, None) => out.push_back((f64::NEG_INFINITY, vec![line])),
+                    (Some(t), _) => out.push_back((t, vec![line])),
+                }
+            }
+            out
+        })
+        .collect();
+    let mut merged = Vec::new();
+    // The source whose next piece is earliest (the first source on a tie), until all are
+    // empty: each source's order is kept.
+    while let Some(i) = (0..pieces.len())
+        .filter_map(|i| pieces[i].front().map(|(t, _)| (i, *t)))
+        .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))
+        .map(|(i, _)| i)
+    {
+        if let Some((_, lines)) = pieces[i].pop_front() {
+            merged.extend(lines);
+        }
+    }
+    merged
 }
 
 /// One line: AIS sentences to the AIS decoder (heard at `session_s`; own ship's `AIVDO`
@@ -604,6 +645,36 @@ mod tests {
         assert!(c
             .to_string()
             .ends_with(&format!("; {per_epoch} after the last scan, not read")));
+    }
+
+    /// Two sources' timed sentences read in one go are taken in time order, each source's
+    /// untimed lines after its timed one before them: one source after the other, the
+    /// second's older sentences were refused as steps back.
+    #[test]
+    fn several_sources_lines_are_interleaved_in_time() {
+        let origin = Origin::default();
+        let nav = OwnShipNav::new(origin, 20_454, None);
+        let t0 = 1_767_225_600.0 + 3600.0;
+        let at = |t: f64| {
+            own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t)
+                .into_iter()
+                .find(|l| l.starts_with("$GPRMC") || l.starts_with("$RARMC"))
+                .expect("an RMC")
+        };
+        let hdt = crate::nmea::sentence::sentence("HEHDT,010.0,T");
+        let first = vec![hdt.clone(), at(t0), at(t0 + 2.0)];
+        let second = vec![at(t0 + 1.0), hdt.clone(), at(t0 + 3.0)];
+        let merged = interleave(&nav, vec![first, second]);
+        let times: Vec<f64> = merged.iter().filter_map(|l| nav.time_of(l)).collect();
+        assert_eq!(times, [t0, t0 + 1.0, t0 + 2.0, t0 + 3.0], "{merged:?}");
+        // The first source's leading heading first; the second's after its own RMC.
+        assert_eq!(merged[0], hdt);
+        assert_eq!(merged[3], hdt, "{merged:?}");
+        let mut fed = OwnShipNav::new(origin, 20_454, None);
+        for l in &merged {
+            fed.feed(l);
+        }
+        assert_eq!(fed.counts().stale, 0, "{}", fed.counts());
     }
 
     /// Two live sources, the GNSS on one UDP port and the AIS transponder on another (the

@@ -198,9 +198,10 @@ fn velocity_known(d: &Drkf<f64>) -> bool {
 }
 
 /// How late a live line's arrival time may be, s: a live source's lines are read together
-/// once a scan and taken as heard then, up to a scan after they came. A bridge clock
-/// behind the arrival time by more than this (a PC clock not set) restarts the filter on
-/// the bridge's time (below); by less it is the reading's delay, not the clock's error.
+/// once a scan and taken as heard then, up to a scan after they came. Before the first
+/// timed sentence, readings heard without a position (a heading) are restarted on the
+/// bridge's time only when it is behind their arrival by more than this (a PC clock not
+/// set); by less it is the reading's delay, not the clock's error.
 pub const HEARD_LATE_S: f64 = 10.0;
 
 /// Own ship from NMEA.
@@ -382,13 +383,21 @@ impl OwnShipNav {
                 // it again on the bridge's time, forgetting the arrival clock's times.
                 // (Against the arrival time of those readings, not the filter's: a heading
                 // before any position starts no filter and leaves its time unset.)
+                // A filter started on arrival times is restarted on any offset beyond a
+                // second (its fixes would be mistimed); headings alone only beyond a scan's
+                // lateness ([`HEARD_LATE_S`]).
                 let ahead_s = self.heard_before_clock_s.map_or(0.0, |h| t - h);
+                let behind_s = if self.drkf.is_some() {
+                    1.0
+                } else {
+                    HEARD_LATE_S
+                };
                 if first_time
                     && self.heard_before_clock_s.is_some()
-                    && !(-HEARD_LATE_S..=clock::MAX_JUMP_S).contains(&ahead_s)
+                    && !(-behind_s..=clock::MAX_JUMP_S).contains(&ahead_s)
                 {
                     self.events.push(format!(
-                        "own-ship filter restarted: the bridge's UTC is {} the time its first sentences were heard",
+                        "own-ship filter restarted: the bridge's UTC is {} the time the sentences before it were heard",
                         crate::utc::offset_label(ahead_s)
                     ));
                     self.drkf = None;
@@ -435,8 +444,8 @@ impl OwnShipNav {
     /// Takes own ship's AIS transponder's report (`AIVDO`: its GNSS position, SOG, COG and
     /// heading) as one more own-ship sensor, talker `AI`, at `heard_s` (s since 1970, the
     /// time the line was read: AIS carries no date or hour), or the clock's newest time if
-    /// that is later. The talker choice applies: with `GP` heard first, `AI` stands in only
-    /// for what `GP` stops giving.
+    /// that is later. The talker choice applies: `AI` gives way to another talker that
+    /// delivers ([`super::select`]), and stands in for what it stops giving.
     pub fn feed_ais_own(&mut self, r: &crate::ais::AisReport, heard_s: f64) {
         if !r.own_ship {
             return;
@@ -460,9 +469,13 @@ impl OwnShipNav {
         // Timed by when it was heard: with GNSS silent the clock stands still, and readings
         // stamped with its time would be flown on from there as if old.
         let now = self.heard_time(heard_s);
+        if self.clock.newest_s().is_none() {
+            // Taken at its arrival before any timed sentence, as an untimed line heard.
+            self.heard_before_clock_s = Some(now);
+        }
         // The sentence counts are the lines'; an AIS report is not a line of this reader.
         let before = self.counts.clone();
-        self.apply_readings("AI", &readings, now);
+        self.apply_readings(super::select::AIS_TALKER, &readings, now);
         let used = self.counts.used > before.used;
         self.counts = before;
         self.counts.ais_own += 1;
@@ -801,6 +814,34 @@ mod tests {
         let own = nav.own_ship_at(t + 5.0).unwrap();
         assert_eq!(own.quality.dead_reckoning_s, None, "{own:?}");
         assert!((own.velocity_mps[1] - 3.0).abs() < 0.1, "{own:?}");
+    }
+
+    /// Own ship's `AIVDO` heard before any timed sentence starts the filter on its arrival
+    /// time, as an untimed line does: a bridge clock hours from it restarts the filter.
+    #[test]
+    fn an_aivdo_before_the_bridge_clock_is_restarted_like_a_heard_line() {
+        let mut nav = OwnShipNav::new(Origin::default(), DAY0, None);
+        let vdo = crate::ais::AisReport {
+            own_ship: true,
+            position_deg: Some((50.67, -1.0)),
+            sog_kn: Some(6.0),
+            cog_deg: Some(0.0),
+            ..crate::ais::AisReport::default()
+        };
+        nav.feed_ais_own(&vdo, T0 + 17.0 * 3600.0);
+        let t = T0 + 12.0 * 3600.0;
+        for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &Origin::default(), t) {
+            nav.feed_heard(&l, t);
+        }
+        assert!(
+            nav.events().iter().any(|e| e.contains("restarted")),
+            "{:?}",
+            nav.events()
+        );
+        assert_eq!(
+            nav.own_ship_at(t + 1.0).unwrap().quality.dead_reckoning_s,
+            None
+        );
     }
 
     /// A heading heard before any position (a gyro talks before the GNSS has a fix) starts

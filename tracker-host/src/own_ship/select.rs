@@ -6,11 +6,11 @@
 //!
 //! The choice: the first talker of the operator's priority list (`--nmea-source
 //! heading=HE,GP`) that is delivering; without a list, the first talker heard, but the AIS
-//! transponder (`AI`, its `VDO` reports) gives way to any other talker heard: its
-//! position is from its internal GNSS receiver, there for its own reports, and its heading
-//! from a sensor the bridge sends as well. A chosen talker silent for [`SILENT_S`] gives way
-//! to the next
-//! one heard.
+//! transponder (`AI`, its `VDO` reports) gives way to another talker delivering (heard
+//! twice within [`SILENT_S`]): its position is from its internal GNSS receiver, there for
+//! its own reports, and its heading from a sensor the bridge sends as well. A chosen talker
+//! silent for [`SILENT_S`] gives way to the next one heard. The operator's list, when
+//! given, decides alone.
 
 use std::collections::BTreeMap;
 
@@ -120,6 +120,8 @@ impl Selector {
         let Some(q) = reading.quantity() else {
             return true;
         };
+        // When this talker was heard before, for the AIS transponder's rule.
+        let before_s = self.last.get(&(q, talker.to_string())).map(|l| l.time_s);
         let value = match (reading, east_north) {
             (Reading::Position { .. }, Some(p)) => Value::Position(p),
             (Reading::GroundVelocity { sog_mps, cog_deg }, _) => Value::Motion(*sog_mps, *cog_deg),
@@ -136,7 +138,8 @@ impl Selector {
                 value,
             },
         );
-        let take = self.choose(q, talker, now_s);
+        let delivering = before_s.is_some_and(|b| now_s - b <= SILENT_S);
+        let take = self.choose(q, talker, now_s, delivering);
         if take {
             self.chosen.insert(q, (talker.to_string(), now_s));
         } else {
@@ -145,7 +148,9 @@ impl Selector {
         take
     }
 
-    fn choose(&mut self, q: Quantity, talker: &str, now_s: f64) -> bool {
+    /// Whether `talker` is to be used for `q` now; `delivering`: it was heard within
+    /// [`SILENT_S`] before this reading.
+    fn choose(&mut self, q: Quantity, talker: &str, now_s: f64, delivering: bool) -> bool {
         let current = self.chosen.get(&q).cloned();
         if let Some(list) = self.priority.get(&q) {
             let rank = |t: &str| list.iter().position(|x| x == t);
@@ -168,7 +173,9 @@ impl Selector {
                 true
             }
             Some((c, _)) if c == talker => true,
-            Some((c, _)) if c == AIS_TALKER => {
+            // A talker heard once and then silent would flip the choice back and forth with
+            // a steady transponder: it must be delivering.
+            Some((c, _)) if c == AIS_TALKER && delivering => {
                 self.events.push(format!(
                     "{} source: {talker} (not the AIS transponder's {c})",
                     q.name()
@@ -297,7 +304,14 @@ mod tests {
     fn the_ais_transponder_gives_way_to_the_bridges_sensors() {
         let mut s = Selector::default();
         assert!(s.admit("AI", &sog(5.0), None, 0.0), "the only talker heard");
-        assert!(s.admit("GP", &sog(5.1), None, 0.5), "GP takes over at once");
+        assert!(
+            !s.admit("GP", &sog(5.1), None, 0.5),
+            "heard once: not delivering yet"
+        );
+        assert!(
+            s.admit("GP", &sog(5.1), None, 0.9),
+            "GP takes over, delivering"
+        );
         assert!(!s.admit("AI", &sog(5.0), None, 1.0));
         assert!(s.admit("GP", &sog(5.1), None, 1.5));
         assert_eq!(s.chosen(Quantity::GroundVelocity), Some("GP"));
@@ -305,8 +319,26 @@ mod tests {
         assert!(!s.admit("AI", &sog(5.0), None, 5.0));
         assert!(s.admit("AI", &sog(5.0), None, 1.6 + SILENT_S));
         assert_eq!(s.chosen(Quantity::GroundVelocity), Some("AI"));
-        // ...until GP is heard again.
-        assert!(s.admit("GP", &sog(5.1), None, 2.0 + SILENT_S));
-        assert!(!s.admit("AI", &sog(5.0), None, 2.5 + SILENT_S));
+        // ...until GP delivers again (a second reading within SILENT_S).
+        assert!(!s.admit("GP", &sog(5.1), None, 2.0 + SILENT_S));
+        assert!(s.admit("GP", &sog(5.1), None, 3.0 + SILENT_S));
+        assert!(!s.admit("AI", &sog(5.0), None, 3.5 + SILENT_S));
+    }
+
+    /// A talker that reports less often than every [`SILENT_S`] does not flip the choice
+    /// back and forth with a steady transponder (two events a cycle, the position moving
+    /// between two antennas).
+    #[test]
+    fn a_slow_talker_does_not_flip_the_transponder_back_and_forth() {
+        let mut s = Selector::default();
+        for k in 0..60 {
+            let t = f64::from(k);
+            s.admit("AI", &sog(5.0), None, t);
+            if k % 12 == 0 {
+                s.admit("GP", &sog(5.1), None, t + 0.5);
+            }
+        }
+        assert_eq!(s.chosen(Quantity::GroundVelocity), Some("AI"));
+        assert_eq!(s.events().len(), 1, "{:?}", s.events());
     }
 }
