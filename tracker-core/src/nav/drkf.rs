@@ -192,6 +192,19 @@ pub enum SpeedlogMode {
     ThroughWater,
 }
 
+/// What the gyro's bearing measures (eq. 7b).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GyroMode {
+    /// The course over ground, atan2(v_x + c_x, v_y + c_y): eq. 7b's H as printed (the
+    /// paper's experiments).
+    CourseOverGround,
+    /// The heading: the direction of the hull's velocity through the water,
+    /// atan2(v_x, v_y). What a gyro or a `HDT` reads: a ship crabbing in a current or set
+    /// by the wind heads one way and makes good another, and the current states take the
+    /// difference, so own ship's course over ground stays the GNSS's.
+    HeadingThroughWater,
+}
+
 /// DRKF parameters: the models of Table I and the sensors' noise.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DrkfConfig {
@@ -215,6 +228,8 @@ pub struct DrkfConfig {
     pub gyro_var: f64,
     /// Speedlog mode.
     pub speedlog_mode: SpeedlogMode,
+    /// Gyro mode.
+    pub gyro_mode: GyroMode,
 }
 
 impl DrkfConfig {
@@ -242,6 +257,7 @@ impl DrkfConfig {
             speedlog_var: 0.01,
             gyro_var: (1.0f64).to_radians() * (1.0f64).to_radians(),
             speedlog_mode: SpeedlogMode::OverGround,
+            gyro_mode: GyroMode::CourseOverGround,
         })
     }
 
@@ -547,11 +563,23 @@ pub(crate) fn sensor_rows<T: RealField + Copy, const N: usize>(
         }
     }
     if let Some(b) = fix.gyro_rad {
-        if ground2 > min2 {
-            // Eq. 7b: H82 = (x6+x7)/|v|², H86 = (x2+x3)/|v|², as printed.
-            let (h82, h86) = (gy / ground2, gx / ground2);
-            let h = [(ix::CX, h82), (ix::VX, h82), (ix::CY, -h86), (ix::VY, -h86)];
-            push(wrap_pi(c::<T>(b) - gx.atan2(gy)), &h, noise.gyro);
+        match cfg.gyro_mode {
+            GyroMode::CourseOverGround if ground2 > min2 => {
+                // Eq. 7b: H82 = (x6+x7)/|v|², H86 = (x2+x3)/|v|², as printed.
+                let (h82, h86) = (gy / ground2, gx / ground2);
+                let h = [(ix::CX, h82), (ix::VX, h82), (ix::CY, -h86), (ix::VY, -h86)];
+                push(wrap_pi(c::<T>(b) - gx.atan2(gy)), &h, noise.gyro);
+            }
+            GyroMode::HeadingThroughWater => {
+                // Eq. 7b's row on the velocity through the water alone.
+                let (vx, vy) = (x[ix::VX], x[ix::VY]);
+                let water2 = vx * vx + vy * vy;
+                if water2 > min2 {
+                    let h = [(ix::VX, vy / water2), (ix::VY, -vx / water2)];
+                    push(wrap_pi(c::<T>(b) - vx.atan2(vy)), &h, noise.gyro);
+                }
+            }
+            GyroMode::CourseOverGround => {}
         }
     }
     Ok(())
@@ -662,6 +690,47 @@ mod tests {
         );
         let e = f.position_m();
         assert!((e[0] - x[0]).abs() < 30.0 && (e[1] - x[1]).abs() < 30.0);
+    }
+
+    #[test]
+    fn a_heading_through_the_water_leaves_the_course_over_ground_to_gps() {
+        // Making good 045° at 5 m/s heading 065°: as printed (eq. 7b on the course over
+        // ground) the gyro turns the course towards itself; as a heading, the current states
+        // take the 20° and the course over ground is the GPS's.
+        let run = |mode: GyroMode| {
+            let mut cfg = DrkfConfig::table_1(1).unwrap();
+            cfg.gps_velocity_var = 0.01;
+            cfg.gyro_var = 0.5f64.to_radians().powi(2);
+            cfg.current = GaussMarkov::with_variance(1.0, 1.0 / 60.0);
+            cfg.gyro_mode = mode;
+            let v = [
+                5.0 * 45f64.to_radians().sin(),
+                5.0 * 45f64.to_radians().cos(),
+            ];
+            let mut f = Drkf::<f64>::new(cfg, [0.0, 0.0], v, 50.0, 2.0).unwrap();
+            for k in 1..=120 {
+                f.predict(1.0).unwrap();
+                let t = f64::from(k);
+                f.update(&NavFix {
+                    gps_position_m: Some([v[0] * t, v[1] * t]),
+                    gps_velocity_mps: Some(v),
+                    gyro_rad: Some(65f64.to_radians()),
+                    ..NavFix::default()
+                })
+                .unwrap();
+            }
+            let [e, n] = f.velocity_over_ground_mps();
+            let x = f.state();
+            (
+                e.atan2(n).to_degrees(),
+                x[ix::VX].atan2(x[ix::VY]).to_degrees(),
+            )
+        };
+        let (cog, water) = run(GyroMode::HeadingThroughWater);
+        assert!((cog - 45.0).abs() < 0.2, "COG {cog}");
+        assert!((water - 65.0).abs() < 1.0, "through the water {water}");
+        let (cog, _) = run(GyroMode::CourseOverGround);
+        assert!(cog > 46.0, "as printed, the gyro turns the course: {cog}");
     }
 
     #[test]
