@@ -185,7 +185,7 @@ fn positions_are_valid_in_every_hemisphere_and_across_the_antimeridian() {
             status: 'T',
             data: target(east, north),
         };
-        let s = tracker_host::nmea::tll(&t, &origin, 1_767_225_600.0 + 45_296.5);
+        let s = tracker_host::nmea::tll(&t, &origin, [0.0, 0.0], 1_767_225_600.0 + 45_296.5);
         let f = fields(&s);
         assert_eq!(
             (f[3].chars().next(), f[5].chars().next()),
@@ -271,7 +271,7 @@ fn tracker_host_tools_check() {
             };
             let (tlat, tlon) = origin.to_lat_lon([f64::from(e), f64::from(n)]);
             text += &tracker_host::nmea::ttm(&p, 1_767_225_600.0);
-            text += &tracker_host::nmea::tll(&p, &origin, 1_767_225_600.0);
+            text += &tracker_host::nmea::tll(&p, &origin, own.position_m, 1_767_225_600.0);
             text += &format!("# expect {tlat:.6} {tlon:.6}\n");
             text +=
                 &tracker_host::nmea::targets::own_ship_sentences(&own, &origin, 1_767_225_600.0)

@@ -59,8 +59,6 @@ pub struct AisTarget {
     /// rate of turn, and the newest of each static and voyage field from any message
     /// (name, call sign, type, size, status); its class once a message tells.
     pub last: AisReport,
-    /// The last position in the local frame, m.
-    pub position_m: [f64; 2],
     /// When its last position came, s (the session's clock).
     pub position_time_s: f64,
     /// When anything from it came last, s.
@@ -81,15 +79,16 @@ impl AisTarget {
         }
     }
 
-    /// Position at `time_s`, extrapolated along COG at SOG from the last report (at most
-    /// 180 s on), m.
-    pub fn position_at(&self, time_s: f64) -> [f64; 2] {
+    /// Position at `time_s` in the local frame of `origin`, m, seen from own ship at `own_m`
+    /// (local, m; [`Origin::to_local_near`]: the offset in metres at own ship's latitude,
+    /// as the radar measures it), extrapolated along COG at SOG from the last report (at
+    /// most 180 s on). `None` before a position report.
+    pub fn position_at(&self, origin: &Origin, own_m: [f64; 2], time_s: f64) -> Option<[f64; 2]> {
+        let (lat, lon) = self.last.position_deg?;
+        let p = origin.to_local_near(lat, lon, own_m);
         let dt = (time_s - self.position_time_s).clamp(0.0, MAX_EXTRAPOLATION_S);
         let v = self.velocity_mps();
-        [
-            self.position_m[0] + v[0] * dt,
-            self.position_m[1] + v[1] * dt,
-        ]
+        Some([p[0] + v[0] * dt, p[1] + v[1] * dt])
     }
 
     /// IEC 62388's lost-target time for this target, s (see the module documentation).
@@ -260,7 +259,6 @@ impl AisTargets {
                         position_deg: Some((lat, lon)),
                         ..known.unwrap_or_default()
                     },
-                    position_m: self.origin.to_local(lat, lon),
                     position_time_s: time_s,
                     heard_s: time_s,
                     reports: 0,
@@ -285,7 +283,6 @@ impl AisTargets {
             last.cog_deg = r.cog_deg;
             last.heading_deg = r.heading_deg;
             last.rot_deg_min = r.rot_deg_min;
-            t.position_m = self.origin.to_local(lat, lon);
             t.position_time_s = time_s;
             t.reports += 1;
         }
@@ -340,18 +337,19 @@ impl AisTargets {
     /// Every target seen from `own` at `time_s`, nearest first.
     pub fn picture(&self, own: &OwnShip, time_s: f64) -> Vec<AisTargetData> {
         let f = |x: [f64; 2]| [x[0] as f32, x[1] as f32];
+        let own_m = [f64::from(own.position_m[0]), f64::from(own.position_m[1])];
         let mut v: Vec<AisTargetData> = self
             .targets
             .values()
-            .map(|t| {
-                let p = f(t.position_at(time_s));
+            .filter_map(|t| {
+                let p = f(t.position_at(&self.origin, own_m, time_s)?);
                 let vel = f(t.velocity_mps());
                 let (range_m, bearing_rad) = geo::range_bearing(own.position_m, p);
                 let cpa = own
                     .quality
                     .motion_known
                     .then(|| geo::cpa(own.position_m, own.velocity_mps, p, vel));
-                AisTargetData {
+                Some(AisTargetData {
                     mmsi: t.mmsi,
                     label: t.label(),
                     position_m: p,
@@ -362,7 +360,7 @@ impl AisTargets {
                     heading_rad: t.last.heading_deg.map(|h| f32::from(h).to_radians()),
                     age_s: (time_s - t.position_time_s) as f32,
                     active: range_m <= AIS_ACTIVATION_RANGE_M,
-                }
+                })
             })
             .collect();
         v.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
@@ -387,6 +385,32 @@ mod tests {
     }
 
     #[test]
+    fn a_target_far_from_the_origin_is_placed_about_own_ship() {
+        // Own ship 60 NM north of the origin; an AIS target 6 NM due east of it (0.1° of
+        // latitude's length at 51°N): 11,112 m at 090°, not the 240 m short the origin's
+        // east metres would make it.
+        let origin = Origin {
+            lat_deg: 50.0,
+            lon_deg: -1.0,
+        };
+        let mut t = AisTargets::new(origin);
+        let lon = -1.0 + 0.1 / 51f64.to_radians().cos();
+        t.report(
+            0.0,
+            &AisReport {
+                position_deg: Some((51.0, lon)),
+                sog_kn: Some(0.0),
+                ..report(1, 51.0, 0.0, StationClass::ClassA)
+            },
+        );
+        let own_m = origin.to_local(51.0, -1.0);
+        let own = OwnShip::at([own_m[0] as f32, own_m[1] as f32], [0.0, 0.0]);
+        let a = &t.picture(&own, 0.0)[0];
+        assert!((a.range_m - 11_112.0).abs() < 1.0, "{}", a.range_m);
+        assert!((a.bearing_rad.to_degrees() - 90.0).abs() < 0.01);
+    }
+
+    #[test]
     fn targets_are_extrapolated_lost_on_time_and_bounded() {
         let origin = Origin {
             lat_deg: 50.0,
@@ -396,7 +420,11 @@ mod tests {
         t.report(0.0, &report(1, 50.0, 10.0, StationClass::ClassA));
         t.report(0.0, &report(2, 50.0, 1.0, StationClass::ClassB));
         // 10 kn north for 30 s: 154 m.
-        let p = t.get(1).unwrap().position_at(30.0);
+        let p = t
+            .get(1)
+            .unwrap()
+            .position_at(&origin, [0.0, 0.0], 30.0)
+            .unwrap();
         assert!((p[1] - 10.0 * KNOT_MPS * 30.0).abs() < 1e-6);
         // Class A at 10 kn lost after 60 s, class B at 1 kn after 18 min.
         assert!(t.expire(59.0).is_empty());

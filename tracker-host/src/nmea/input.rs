@@ -443,6 +443,7 @@ mod tests {
         let sentences = targets_sentences(
             &[crate::session::target::example()],
             &Origin::default(),
+            [0.0, 0.0],
             1.0,
         );
         out.send(&sentences);

@@ -91,10 +91,13 @@ fn name_field(t: &PlotterTarget<'_>) -> String {
 }
 
 /// `TLL` for one target: number, latitude and longitude (longitude wrapped to ±180°),
-/// name, UTC, status, no reference target.
-pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, time_s: f64) -> String {
+/// name, UTC, status, no reference target. The position is taken about own ship at `own_m`
+/// (local, m; [`Origin::to_lat_lon_near`]), where the target's range and bearing put it,
+/// however far own ship has come from the origin.
+pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64) -> String {
     let d = &t.data;
-    let (lat, lon) = origin.to_lat_lon([f64::from(d.position_m[0]), f64::from(d.position_m[1])]);
+    let f = |x: [f32; 2]| [f64::from(x[0]), f64::from(x[1])];
+    let (lat, lon) = origin.to_lat_lon_near(f(d.position_m), f(own_m));
     let number = t.number;
     sentence(&format!(
         "RATLL,{number:02},{},{},{},{},{},",
@@ -260,7 +263,7 @@ impl TargetsOut {
                 };
                 out.push(ttm(&t, time_s));
                 if !position_unknown {
-                    out.push(tll(&t, &self.origin, time_s));
+                    out.push(tll(&t, &self.origin, report.own.position_m, time_s));
                 }
                 if status == 'L' {
                     self.counts.lost_sent += 1;
@@ -295,9 +298,15 @@ fn plotter_status(group: char, d: &TargetData) -> char {
     }
 }
 
-/// The sentences for `targets` as they stand, numbered by their track numbers (for tests
-/// and one-off use: [`TargetsOut`] keeps plotter numbers over a run).
-pub fn targets_sentences(targets: &[TargetData], origin: &Origin, time_s: f64) -> Vec<String> {
+/// The sentences for `targets` seen from own ship at `own_m` (local, m) as they stand,
+/// numbered by their track numbers (for tests and one-off use: [`TargetsOut`] keeps plotter
+/// numbers over a run).
+pub fn targets_sentences(
+    targets: &[TargetData],
+    origin: &Origin,
+    own_m: [f32; 2],
+    time_s: f64,
+) -> Vec<String> {
     targets
         .iter()
         .flat_map(|d| {
@@ -307,7 +316,7 @@ pub fn targets_sentences(targets: &[TargetData], origin: &Origin, time_s: f64) -
                 status: 'T',
                 data: *d,
             };
-            [ttm(&t, time_s), tll(&t, origin, time_s)]
+            [ttm(&t, time_s), tll(&t, origin, own_m, time_s)]
         })
         .collect()
 }
@@ -374,7 +383,7 @@ mod tests {
             format!("{:02X}", checksum(&s[1..s.find('*').unwrap()]))
         );
         t.name = Some(" ,*");
-        assert!(tll(&t, &Origin::default(), 0.0).contains(",TGT07,"));
+        assert!(tll(&t, &Origin::default(), [0.0, 0.0], 0.0).contains(",TGT07,"));
     }
 
     #[test]
@@ -426,7 +435,7 @@ mod tests {
             lat_deg: 50.0,
             lon_deg: -1.0,
         };
-        let s = tll(&plotter(t), &origin, 0.0);
+        let s = tll(&plotter(t), &origin, [0.0, 0.0], 0.0);
         // The nmea crate checks the frame and checksum (it has no TLL field parser).
         let frame = nmea::parse_nmea_sentence(s.trim()).unwrap();
         assert_eq!(frame.checksum, checksum(&s[1..s.find('*').unwrap()]));
@@ -439,6 +448,34 @@ mod tests {
         let lon_min: f64 = f[4][3..].parse().unwrap();
         assert!((lon_min - (60.0 - 3000.0 / (1852.0 * 50f64.to_radians().cos()))).abs() < 1e-3);
         assert_eq!((f[6], f[7], f[8]), ("TGT07", "000000.00", "T"));
+    }
+
+    #[test]
+    fn tll_is_where_range_and_bearing_put_the_target_far_from_the_origin() {
+        // Own ship 60 NM north of the origin, a target 6 NM due east of it: TLL on own
+        // ship's latitude, 6 NM of longitude there east of own ship (within a metre), not
+        // the 240 m short that the origin's east metres would put it.
+        let origin = Origin {
+            lat_deg: 50.0,
+            lon_deg: -1.0,
+        };
+        let own_m = origin.to_local(51.0, -1.0);
+        let own = OwnShip::at([own_m[0] as f32, own_m[1] as f32], [0.0, 5.0]);
+        let track = tracker_core::icd::TrackState {
+            position_m: [own.position_m[0] + 11_112.0, own.position_m[1]],
+            ..crate::session::target::example_track()
+        };
+        let d = TargetData::new(&own, &track);
+        assert!((d.range_m - 11_112.0).abs() < 0.01);
+        let s = tll(&plotter(d), &origin, own.position_m, 0.0);
+        let f: Vec<&str> = s.trim()[1..s.find('*').unwrap()].split(',').collect();
+        let minutes = |field: &str, deg_digits: usize| -> f64 {
+            let deg: f64 = field[..deg_digits].parse().unwrap();
+            deg * 60.0 + field[deg_digits..].parse::<f64>().unwrap()
+        };
+        assert!((minutes(f[2], 2) - 51.0 * 60.0).abs() * 1852.0 < 1.0, "{s}");
+        let east_m = (60.0 - minutes(f[4], 3)) * 1852.0 * 51f64.to_radians().cos();
+        assert!((east_m - 11_112.0).abs() < 1.0, "{east_m} m: {s}");
     }
 
     #[test]

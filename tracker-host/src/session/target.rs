@@ -209,15 +209,20 @@ pub fn status_name(s: TrackStatus) -> &'static str {
 #[cfg(test)]
 pub(crate) fn example() -> TargetData {
     let own = OwnShip::at([0.0, 0.0], [0.0, 6.0]);
-    let track = TrackState {
+    TargetData::new(&own, &example_track())
+}
+
+/// The track of [`example`].
+#[cfg(test)]
+pub(crate) fn example_track() -> TrackState {
+    TrackState {
         track: 7,
         status: TrackStatus::Confirmed,
         position_m: [3000.0, 4000.0],
         velocity_mps: [-5.0, 0.0],
         age_scans: 12,
         hit_history: 0xFFF,
-    };
-    TargetData::new(&own, &track)
+    }
 }
 
 #[cfg(test)]
