@@ -106,3 +106,23 @@ fn a_ship_without_a_name_is_paired_by_its_mmsi_once() {
         assert!(e.ends_with("paired with AIS 235000002"), "{e}");
     }
 }
+
+#[test]
+fn without_a_firmware_to_run_the_default_link_falls_back_to_in_process() {
+    // The default link is QEMU where it is installed; with no firmware to start (here no
+    // cargo to build it) the run goes on in-process and says so, and its summary names the
+    // link it ran on. (Without QEMU it is in-process from the start.)
+    let dir = tempfile::tempdir().unwrap();
+    let summary = dir.path().join("s.json");
+    let out = Command::new(env!("CARGO_BIN_EXE_tracker-host"))
+        .args(["demo", "--plain", "--duration", "5", "--summary-json"])
+        .arg(&summary)
+        .env("CARGO", "/bin/false")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&summary).unwrap()).unwrap();
+    assert_eq!(json["link"], "inproc", "{stderr}");
+}

@@ -32,6 +32,11 @@ pub struct Cli {
     #[arg(long, global = true, value_name = "LINK")]
     pub link: Option<LinkSpec>,
 
+    /// The link the run fell back to (in-process, when QEMU was chosen, not asked for, and
+    /// its firmware could not be started).
+    #[arg(skip)]
+    fell_back: std::cell::Cell<bool>,
+
     /// Firmware ELF for `--link qemu` (default: the workspace's release build).
     #[arg(long, global = true, value_name = "ELF")]
     pub firmware: Option<PathBuf>,
@@ -286,6 +291,7 @@ impl Cli {
     fn resolve_link(&self) -> LinkSpec {
         match &self.link {
             Some(l) => l.clone(),
+            None if self.fell_back.get() => LinkSpec::Inproc,
             None if qemu::qemu_available() => LinkSpec::Qemu,
             None => LinkSpec::Inproc,
         }
@@ -299,7 +305,20 @@ impl Cli {
             _ => "",
         };
         eprintln!("link: {spec}{how}");
-        let mut transport = link::open(&spec, &self.qemu_options())?;
+        let mut transport = match link::open(&spec, &self.qemu_options()) {
+            Ok(t) => t,
+            // QEMU chosen because it is installed, not asked for: without a firmware to run
+            // (no toolchain to build it, no source tree) the demo still runs, in-process.
+            Err(e) if self.link.is_none() => {
+                eprintln!(
+                    "link: the firmware could not be started in QEMU ({e:#}); running the \
+                     core in-process instead (--link qemu --firmware ELF to insist)"
+                );
+                self.fell_back.set(true);
+                link::open(&LinkSpec::Inproc, &self.qemu_options())?
+            }
+            Err(e) => return Err(e),
+        };
         let mut client_timeout = None;
         if let Some(rate) = self.byte_errors {
             eprintln!("link: damaging {rate} of the bytes on purpose");
