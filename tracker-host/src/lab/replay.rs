@@ -732,11 +732,35 @@ pub fn run(
     match scalar {
         ScalarKind::F64 => run_real::<f64>(spec, input),
         ScalarKind::F32 => run_real::<f32>(spec, input),
-        ScalarKind::Fixed => run_gh::<Fix>(spec, input).unwrap_or_else(|| {
-            bail!("option --scalar fixed: the Kalman and GRNN filters run in f32 or f64 only")
-        }),
+        ScalarKind::Fixed => {
+            // The state word holds ±131,072 m: beyond, its arithmetic saturates (as the MCU's
+            // must, never wrapping), and a replay would write the saturated values as if they
+            // were estimates.
+            let limit = FIXED_POSITION_LIMIT_M;
+            if let Some((i, p)) = input
+                .iter()
+                .enumerate()
+                .find(|(_, p)| p.x.abs() > limit || p.y.abs() > limit)
+            {
+                bail!(
+                    "option --scalar fixed: measurement {} at ({}, {}) m is beyond the fixed-point \
+                     state's ±{limit:.0} m (I18F14); use --scalar f32 or f64, or positions \
+                     relative to a nearer origin",
+                    i + 1,
+                    p.x,
+                    p.y
+                );
+            }
+            run_gh::<Fix>(spec, input).unwrap_or_else(|| {
+                bail!("option --scalar fixed: the Kalman and GRNN filters run in f32 or f64 only")
+            })
+        }
     }
 }
+
+/// The largest position `--scalar fixed` takes, m: the `I18F14` state word's range
+/// (±131,072 m) less room for the prediction and the innovation.
+pub const FIXED_POSITION_LIMIT_M: f64 = 100_000.0;
 
 /// Writes the output CSV atomically: a temporary file beside `path`, renamed when complete.
 /// With `manoeuvre_column` a last column `manoeuvre` (0 or 1) is written, for filters with a
@@ -873,5 +897,18 @@ mod tests {
         );
         assert_eq!((rows[1].px, rows[1].py), (10.0, 20.0));
         assert!(run(&spec, ScalarKind::Fixed, &input).is_err());
+        // Beyond the fixed-point state's range: refused, not saturated.
+        let far = [TimedPosition {
+            t: 0.0,
+            x: 150_000.0,
+            y: 0.0,
+        }];
+        let ab = FilterConfig::AlphaBeta(AlphaBetaGains::Fixed {
+            alpha: 0.5,
+            beta: 0.2,
+        });
+        let e = run(&ab, ScalarKind::Fixed, &far).unwrap_err().to_string();
+        assert!(e.contains("beyond the fixed-point"), "{e}");
+        assert!(run(&ab, ScalarKind::F32, &far).is_ok());
     }
 }
