@@ -269,6 +269,10 @@ pub fn nearest_untracked_plot(view: &ScanReport) -> Option<u16> {
         .and_then(|(i, _)| u16::try_from(i).ok())
 }
 
+/// A pane narrower than this has its alarms in short words ([`alarm_lines`]): "CPA/TCPA
+/// ALARM: target 35 CPA 0.83 NM in 3.4 min" is 46 characters with the borders.
+const NARROW_ALARM_COLUMNS: u16 = 50;
+
 /// Draws one frame: PPI on the left, header, table and alarms on the right.
 pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
     let area = frame.area();
@@ -278,11 +282,12 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
         .split(area);
     render_ppi(frame, columns[0], state, view);
     // Made once: the box's height depends on them.
-    let alarms = alarm_lines(state, view);
+    let alarms = alarm_lines(state, view, columns[1].width < NARROW_ALARM_COLUMNS);
     let right = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
-            Constraint::Length(5),
+            // A narrow pane's header lines wrap, each onto a second row.
+            Constraint::Length(if columns[1].width < 80 { 7 } else { 5 }),
             Constraint::Min(5),
             Constraint::Length(alarm_box_rows(&alarms, state)),
         ])
@@ -293,6 +298,9 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
 }
 
 fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
+    // In a narrow pane (an 80-column terminal's is 44) the words are cut, not the figures.
+    let narrow = area.width < 80;
+    let gap = if narrow { " " } else { "  " };
     // The run's state first, where a narrow terminal cannot cut it off.
     let run_state = if state.ended {
         "END OF INPUT: q to quit "
@@ -308,31 +316,51 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
                 run_state,
                 Style::default().add_modifier(Modifier::REVERSED | Modifier::BOLD),
             ),
-            Span::raw(format!(
-                "scan {}  {}  link {}  plots {}  targets tracked {}  acquiring {}",
-                view.scan,
-                crate::utc::scan_time_label(view.time_s, view.time_is_utc),
-                state.link,
-                view.plots.len(),
-                view.tracked(),
-                view.acquiring(),
-            )),
+            Span::raw(if narrow {
+                format!(
+                    "scan {} {} {} plots {} trk {} acq {}",
+                    view.scan,
+                    crate::utc::scan_time_label(view.time_s, view.time_is_utc),
+                    state.link,
+                    view.plots.len(),
+                    view.tracked(),
+                    view.acquiring(),
+                )
+            } else {
+                format!(
+                    "scan {}  {}  link {}  plots {}  targets tracked {}  acquiring {}",
+                    view.scan,
+                    crate::utc::scan_time_label(view.time_s, view.time_is_utc),
+                    state.link,
+                    view.plots.len(),
+                    view.tracked(),
+                    view.acquiring(),
+                )
+            }),
         ]),
-        Line::raw(own_ship_line(&view.own)),
+        Line::raw(if narrow {
+            own_ship_line(&view.own).replace("  ", " ")
+        } else {
+            own_ship_line(&view.own)
+        }),
         Line::raw(format!(
-            "{} NM  {} vectors {} min  CPA/TCPA alarm {:.2} NM / {:.0} min",
+            "{} NM{gap}{} vectors {} min{gap}{} {:.2} NM / {:.0} min",
             RANGE_SCALES_NM[state.range_scale],
-            match state.vectors {
-                VectorMode::Relative => "relative",
-                VectorMode::True => "true",
+            match (state.vectors, narrow) {
+                (VectorMode::Relative, false) => "relative",
+                (VectorMode::Relative, true) => "rel",
+                (VectorMode::True, _) => "true",
             },
             VECTOR_MINUTES[state.vector_length],
+            if narrow { "alarm" } else { "CPA/TCPA alarm" },
             state.limits.cpa_m / METRES_PER_NM,
             state.limits.tcpa_s / 60.0,
         )),
     ];
     frame.render_widget(
-        Paragraph::new(text).block(Block::default().borders(Borders::ALL)),
+        Paragraph::new(text)
+            .wrap(ratatui::widgets::Wrap { trim: true })
+            .block(Block::default().borders(Borders::ALL)),
         area,
     );
 }
@@ -503,13 +531,44 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
     frame.render_widget(canvas, area);
 }
 
+/// The table's columns at full width, characters: wider than this (with the borders and a
+/// space between columns) it is drawn in full, narrower in its compact form
+/// ([`render_table`]).
+const TABLE_WIDTHS: [u16; 9] = [5, 9, 7, 7, 7, 7, 7, 9, AIS_COLUMN_WIDTH];
+
+/// The compact table's columns (the AIS name takes what is left): in an 80-column terminal
+/// the full table's columns were cut short, `279.` for a course of 279.4° and a target
+/// number to one digit at 40 columns.
+const COMPACT_WIDTHS: [u16; 8] = [3, 4, 5, 3, 3, 4, 4, 5];
+
+/// A target's status in four characters, for the compact table.
+fn short_status(t: &TargetData) -> &'static str {
+    match shown_status(t) {
+        "tracked" => "trk",
+        "acquiring" => "acq",
+        "coasting" => "cst",
+        _ => "LOST",
+    }
+}
+
+/// The target table: full (units in the header, a decimal of a degree) where the pane is
+/// wide enough, else compact (whole degrees, units left to the header's names), so that no
+/// figure is ever cut short.
 fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
-    let header = Row::new(
+    let full: u16 = TABLE_WIDTHS.iter().sum::<u16>() + TABLE_WIDTHS.len() as u16 - 1 + 2;
+    let compact = area.width < full;
+    let names = if compact {
+        [
+            "TGT", "ST", "RNG", "BRG", "CRS", "SPD", "CPA", "TCPA", "AIS",
+        ]
+    } else {
         [
             "TGT", "STATUS", "RNG NM", "BRG °T", "CRS °T", "SPD kn", "CPA NM", "TCPA min", "AIS",
         ]
-        .map(|h| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD))),
-    );
+    };
+    let header =
+        Row::new(names.map(|h| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD))));
+    let places = usize::from(!compact);
     let rows = view.targets.iter().map(|t: &TargetData| {
         let style = if t.dangerous(&state.limits) {
             Style::default().fg(Color::Red)
@@ -526,15 +585,29 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
                 "---".to_string()
             }
         };
+        let angle = |deg: f32| {
+            let shown = crate::nmea::shown_angle_deg(f64::from(deg), places) as f32;
+            if compact {
+                format!("{shown:03.0}")
+            } else {
+                format!("{shown:.1}")
+            }
+        };
+        let course = if t.trend_known {
+            angle(t.course_rad.to_degrees())
+        } else {
+            "---".to_string()
+        };
         Row::new(vec![
             t.label(),
-            shown_status(t).to_string(),
+            if compact {
+                short_status(t).to_string()
+            } else {
+                shown_status(t).to_string()
+            },
             format!("{:.2}", t.range_m / METRES_PER_NM),
-            crate::nmea::angle_360(f64::from(t.bearing_rad).to_degrees(), 1),
-            motion(
-                crate::nmea::shown_angle_deg(f64::from(t.course_rad).to_degrees(), 1) as f32,
-                1,
-            ),
+            angle(t.bearing_rad.to_degrees()),
+            course,
             motion(t.speed_mps / MPS_PER_KNOT, 1),
             motion(t.cpa_m / METRES_PER_NM, 2),
             motion(t.tcpa_s / 60.0, 1),
@@ -542,7 +615,18 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
         ])
         .style(style)
     });
-    let widths = [5, 10, 7, 7, 7, 7, 7, 9, AIS_COLUMN_WIDTH].map(Constraint::Length);
+    let widths: Vec<Constraint> = if compact {
+        COMPACT_WIDTHS
+            .iter()
+            .map(|w| Constraint::Length(*w))
+            .chain([Constraint::Min(0)])
+            .collect()
+    } else {
+        TABLE_WIDTHS
+            .iter()
+            .map(|w| Constraint::Length(*w))
+            .collect()
+    };
     let table = Table::new(rows, widths).header(header).block(
         Block::default()
             .borders(Borders::ALL)
@@ -622,7 +706,14 @@ const ALARM_BOX_MAX_ROWS: u16 = 14;
 /// has the operator see every alarm; the soonest is the one to act on), lost targets, the
 /// track table's capacity, then skipped scans. (The answer to the operator's last command is
 /// drawn apart, always: see [`render_alarms`].)
-fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
+fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Line<'static>> {
+    // In a narrow pane the words go, not the figures.
+    let head = if narrow { "ALARM" } else { "CPA/TCPA ALARM:" };
+    let (of, cpa, within) = if narrow {
+        ("", "", "")
+    } else {
+        ("target ", "CPA ", "in ")
+    };
     let alarm = Style::default().fg(Color::Red).add_modifier(Modifier::BOLD);
     let mut lines: Vec<Line> = view
         .own
@@ -638,7 +729,7 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
             (
                 t.tcpa_s,
                 format!(
-                    "CPA/TCPA ALARM: target {} CPA {:.2} NM in {:.1} min",
+                    "{head} {of}{} {cpa}{:.2} NM {within}{:.1} min",
                     t.label(),
                     t.cpa_m / METRES_PER_NM,
                     t.tcpa_s / 60.0
@@ -651,7 +742,7 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport) -> Vec<Line<'static>> {
         Some((
             c.tcpa_s,
             format!(
-                "CPA/TCPA ALARM: AIS {} CPA {:.2} NM in {:.1} min",
+                "{head} AIS {} {cpa}{:.2} NM {within}{:.1} min",
                 a.label,
                 c.cpa_m / METRES_PER_NM,
                 c.tcpa_s / 60.0
@@ -1051,6 +1142,61 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn an_80_by_24_terminal_cuts_words_not_figures() {
+        let options = DemoOptions::new(
+            tracker_core::sim::ScenarioKind::OpenSea,
+            12,
+            3,
+            200.0,
+            FilterKind::KalmanCv,
+        );
+        let mut d = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+        let mut state = DisplayState::new("inproc".into());
+        let mut view = step(&mut d);
+        // By scan 50 the demo's targets' trends are known and some alarm.
+        for _ in 0..50 {
+            view = step(&mut d);
+            state.observe(&view);
+        }
+        assert!(view.targets.iter().any(|t| t.dangerous(&state.limits)));
+        let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
+        terminal.draw(|f| render(f, &state, &view)).unwrap();
+        let buffer = terminal.backend().buffer().clone();
+        let rows: Vec<String> = (0..buffer.area.height)
+            .map(|y| {
+                (0..buffer.area.width)
+                    .map(|x| buffer[(x, y)].symbol())
+                    .collect()
+            })
+            .collect();
+        let text = rows.join("\n");
+        // The compact table: whole degrees in three digits, every figure whole.
+        assert!(text.contains("TGT ST"), "{text}");
+        let first = &view.targets[0];
+        let row = rows
+            .iter()
+            .find(|r| r.contains(&format!("│{} ", first.label())))
+            .unwrap_or_else(|| panic!("{text}"));
+        let bearing = crate::nmea::shown_angle_deg(f64::from(first.bearing_rad.to_degrees()), 0);
+        assert!(row.contains(&format!(" {bearing:03.0} ")), "{row}");
+        assert!(
+            row.contains(&format!("{:.2}", first.range_m / METRES_PER_NM)),
+            "{row}"
+        );
+        // Alarms whole, in short words.
+        let alarms: Vec<&String> = rows.iter().filter(|r| r.contains("ALARM")).collect();
+        assert!(!alarms.is_empty(), "{text}");
+        for a in alarms {
+            assert!(a.contains(" min "), "{a}");
+        }
+        // The header's counts, wrapped rather than cut.
+        assert!(
+            text.contains(&format!("acq {}", view.acquiring())),
+            "{text}"
+        );
+    }
+
+    #[test]
     fn the_screen_shows_the_picture_table_and_keys() {
         let mut d = demo();
         let mut state = DisplayState::new("inproc".into());
@@ -1157,12 +1303,12 @@ pub(crate) mod tests {
             .iter()
             .filter(|t| t.dangerous(&state.limits))
             .count();
-        let total = alarm_lines(&state, &view).len();
+        let total = alarm_lines(&state, &view, false).len();
         // A box of 4 rows inside its borders, as on a short terminal.
         let draw = |state: &DisplayState| -> Vec<String> {
             let mut terminal = Terminal::new(TestBackend::new(90, 6)).unwrap();
             terminal
-                .draw(|f| render_alarms(f, f.area(), state, alarm_lines(state, &view)))
+                .draw(|f| render_alarms(f, f.area(), state, alarm_lines(state, &view, false)))
                 .unwrap();
             let buffer = terminal.backend().buffer();
             (0..buffer.area.height)
