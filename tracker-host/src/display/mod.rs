@@ -300,7 +300,11 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
 fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
     // In a narrow pane (an 80-column terminal's is 44) the words are cut, not the figures.
     let narrow = area.width < 80;
-    let gap = if narrow { " " } else { "  " };
+    let (gap, link, tracked, acquiring) = if narrow {
+        (" ", "", "trk", "acq")
+    } else {
+        ("  ", "link ", "targets tracked", "acquiring")
+    };
     // The run's state first, where a narrow terminal cannot cut it off.
     let run_state = if state.ended {
         "END OF INPUT: q to quit "
@@ -316,27 +320,15 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
                 run_state,
                 Style::default().add_modifier(Modifier::REVERSED | Modifier::BOLD),
             ),
-            Span::raw(if narrow {
-                format!(
-                    "scan {} {} {} plots {} trk {} acq {}",
-                    view.scan,
-                    crate::utc::scan_time_label(view.time_s, view.time_is_utc),
-                    state.link,
-                    view.plots.len(),
-                    view.tracked(),
-                    view.acquiring(),
-                )
-            } else {
-                format!(
-                    "scan {}  {}  link {}  plots {}  targets tracked {}  acquiring {}",
-                    view.scan,
-                    crate::utc::scan_time_label(view.time_s, view.time_is_utc),
-                    state.link,
-                    view.plots.len(),
-                    view.tracked(),
-                    view.acquiring(),
-                )
-            }),
+            Span::raw(format!(
+                "scan {}{gap}{}{gap}{link}{}{gap}plots {}{gap}{tracked} {}{gap}{acquiring} {}",
+                view.scan,
+                crate::utc::scan_time_label(view.time_s, view.time_is_utc),
+                state.link,
+                view.plots.len(),
+                view.tracked(),
+                view.acquiring(),
+            )),
         ]),
         Line::raw(if narrow {
             own_ship_line(&view.own).replace("  ", " ")
