@@ -154,8 +154,11 @@ mod tests {
             lon_deg: 179.99,
         };
         assert!(east.to_lat_lon_near([5_000.0, 0.0], [0.0, 0.0]).1 < -179.0);
-        let pole = o.to_local(90.0, 0.0);
-        assert!(o.to_lat_lon_near([10.0, 10.0], pole).1.is_finite());
+        // Own ship 1 km from the pole: a point 10 m east and south of it is there.
+        let near_pole = o.to_local(89.99, 0.0);
+        let (lat, lon) = o.to_lat_lon_near([near_pole[0] + 10.0, near_pole[1] - 10.0], near_pole);
+        assert!((lat - (89.99 - 10.0 / METRES_PER_DEGREE_LATITUDE)).abs() < 1e-9);
+        assert!(lon.is_finite() && lon > 0.0 && lon < 1.0, "{lon}");
         assert!(Origin::parse("95,0").is_err() && Origin::parse("x").is_err());
     }
 }

@@ -32,8 +32,8 @@ pub struct Cli {
     #[arg(long, global = true, value_name = "LINK")]
     pub link: Option<LinkSpec>,
 
-    /// The link the run fell back to (in-process, when QEMU was chosen, not asked for, and
-    /// its firmware could not be started).
+    /// The run fell back to in-process: QEMU was chosen, not asked for, and no firmware
+    /// could be built for it.
     #[arg(skip)]
     fell_back: std::cell::Cell<bool>,
 
@@ -305,20 +305,25 @@ impl Cli {
             _ => "",
         };
         eprintln!("link: {spec}{how}");
-        let mut transport = match link::open(&spec, &self.qemu_options()) {
-            Ok(t) => t,
-            // QEMU chosen because it is installed, not asked for: without a firmware to run
-            // (no toolchain to build it, no source tree) the demo still runs, in-process.
-            Err(e) if self.link.is_none() => {
-                eprintln!(
-                    "link: the firmware could not be started in QEMU ({e:#}); running the \
-                     core in-process instead (--link qemu --firmware ELF to insist)"
-                );
-                self.fell_back.set(true);
-                link::open(&LinkSpec::Inproc, &self.qemu_options())?
+        let mut options = self.qemu_options();
+        let mut spec = spec;
+        // QEMU chosen because it is installed, not asked for (no --link, no --firmware):
+        // without a firmware to run (no toolchain to build it, no source tree) the demo still
+        // runs, in-process. QEMU's own failures stay errors.
+        if self.link.is_none() && spec == LinkSpec::Qemu && options.firmware.is_none() {
+            match qemu::firmware_elf("tracker-firmware", None) {
+                Ok(elf) => options.firmware = Some(elf),
+                Err(e) => {
+                    eprintln!(
+                        "link: no firmware to run in QEMU ({e:#}); running the core \
+                         in-process instead (--link qemu to insist)"
+                    );
+                    self.fell_back.set(true);
+                    spec = LinkSpec::Inproc;
+                }
             }
-            Err(e) => return Err(e),
-        };
+        }
+        let mut transport = link::open(&spec, &options)?;
         let mut client_timeout = None;
         if let Some(rate) = self.byte_errors {
             eprintln!("link: damaging {rate} of the bytes on purpose");

@@ -269,6 +269,10 @@ pub fn nearest_untracked_plot(view: &ScanReport) -> Option<u16> {
         .and_then(|(i, _)| u16::try_from(i).ok())
 }
 
+/// An AIS name in a narrow pane's alarm line is cut to this many characters, so that the
+/// CPA and TCPA fit ("ALARM AIS " and " 0.83 NM 3.4 min" are 26 of the 42 inside).
+const NARROW_AIS_NAME: usize = 14;
+
 /// A pane narrower than this has its alarms in short words ([`alarm_lines`]): "CPA/TCPA
 /// ALARM: target 35 CPA 0.83 NM in 3.4 min" is 46 characters with the borders.
 const NARROW_ALARM_COLUMNS: u16 = 50;
@@ -350,9 +354,12 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
         )),
     ];
     frame.render_widget(
-        Paragraph::new(text)
-            .wrap(ratatui::widgets::Wrap { trim: true })
-            .block(Block::default().borders(Borders::ALL)),
+        if narrow {
+            Paragraph::new(text).wrap(ratatui::widgets::Wrap { trim: true })
+        } else {
+            Paragraph::new(text)
+        }
+        .block(Block::default().borders(Borders::ALL)),
         area,
     );
 }
@@ -531,7 +538,7 @@ const TABLE_WIDTHS: [u16; 9] = [5, 9, 7, 7, 7, 7, 7, 9, AIS_COLUMN_WIDTH];
 /// The compact table's columns (the AIS name takes what is left): in an 80-column terminal
 /// the full table's columns were cut short, `279.` for a course of 279.4° and a target
 /// number to one digit at 40 columns.
-const COMPACT_WIDTHS: [u16; 8] = [3, 4, 5, 3, 3, 4, 4, 5];
+const COMPACT_WIDTHS: [u16; 8] = [3, 4, 5, 3, 3, 4, 5, 6];
 
 /// A target's status in four characters, for the compact table.
 fn short_status(t: &TargetData) -> &'static str {
@@ -735,7 +742,11 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
             c.tcpa_s,
             format!(
                 "{head} AIS {} {cpa}{:.2} NM {within}{:.1} min",
-                a.label,
+                if narrow {
+                    a.label.chars().take(NARROW_AIS_NAME).collect::<String>()
+                } else {
+                    a.label.clone()
+                },
                 c.cpa_m / METRES_PER_NM,
                 c.tcpa_s / 60.0
             ),

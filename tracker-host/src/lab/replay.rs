@@ -743,10 +743,10 @@ pub fn run(
                 .find(|(_, p)| p.x.abs() > limit || p.y.abs() > limit)
             {
                 bail!(
-                    "option --scalar fixed: measurement {} at ({}, {}) m is beyond the fixed-point \
+                    "input line {}: option --scalar fixed: ({}, {}) m is beyond the fixed-point \
                      state's ±{limit:.0} m (I18F14); use --scalar f32 or f64, or positions \
                      relative to a nearer origin",
-                    i + 1,
+                    i + 2,
                     p.x,
                     p.y
                 );

@@ -116,11 +116,11 @@ pub struct ScanReport {
     pub tracks: Vec<TrackState>,
     /// Target data of confirmed and coasting tracks, numbered, nearest first.
     pub targets: Vec<TargetData>,
-    /// Tentative tracks that have had a second plot (shown as acquiring), numbered,
-    /// nearest first.
+    /// Tentative tracks that have had a second plot (shown as acquiring), nearest first;
+    /// without numbers (given when a target is tracked).
     pub acquiring: Vec<TargetData>,
-    /// Targets shown last scan and gone now (lost, or an acquisition that failed), as last
-    /// seen, with their numbers (free from the next scan).
+    /// Numbered targets shown last scan and gone now (lost), as last seen, with their
+    /// numbers (free from the next scan).
     pub ended: Vec<TargetData>,
     /// What association did.
     pub association: Associated,
@@ -188,7 +188,7 @@ impl ScanReport {
 
     /// Targets shown as being acquired: tentative tracks with a second plot, and confirmed
     /// ones whose motion's trend is not known yet ([`target::shown_status`]; the plotter is
-    /// sent both as `Q`).
+    /// sent the confirmed ones as `Q`, the tentative ones not at all).
     pub fn acquiring(&self) -> usize {
         self.acquiring.len() + self.confirmed_acquiring()
     }

@@ -42,10 +42,10 @@ pub struct TargetNumbers {
 pub struct Numbered {
     /// Confirmed and coasting tracks, nearest first.
     pub tracked: Vec<TargetData>,
-    /// Tentative tracks with a second plot, nearest first.
+    /// Tentative tracks with a second plot, nearest first, without numbers.
     pub acquiring: Vec<TargetData>,
-    /// Targets shown last scan and gone now (lost, or an acquisition that failed), as they
-    /// were last seen: their numbers are free from the next scan.
+    /// Numbered targets shown last scan and gone now (lost), as they were last seen: their
+    /// numbers are free from the next scan.
     pub ended: Vec<TargetData>,
 }
 
