@@ -32,11 +32,6 @@ pub struct Cli {
     #[arg(long, global = true, value_name = "LINK")]
     pub link: Option<LinkSpec>,
 
-    /// The run fell back to in-process: QEMU was chosen, not asked for, and no firmware
-    /// could be built for it.
-    #[arg(skip)]
-    fell_back: std::cell::Cell<bool>,
-
     /// Firmware ELF for `--link qemu` (default: the workspace's release build).
     #[arg(long, global = true, value_name = "ELF")]
     pub firmware: Option<PathBuf>,
@@ -291,13 +286,14 @@ impl Cli {
     fn resolve_link(&self) -> LinkSpec {
         match &self.link {
             Some(l) => l.clone(),
-            None if self.fell_back.get() => LinkSpec::Inproc,
             None if qemu::qemu_available() => LinkSpec::Qemu,
             None => LinkSpec::Inproc,
         }
     }
 
-    fn connect(&self) -> anyhow::Result<Client> {
+    /// The client over the link the run uses, and that link (in-process when QEMU was
+    /// chosen, not asked for, and no firmware could be built for it).
+    fn connect(&self) -> anyhow::Result<(Client, LinkSpec)> {
         let spec = self.resolve_link();
         let how = match (&self.link, &spec) {
             (None, LinkSpec::Qemu) => " (QEMU found; --link inproc runs without it)",
@@ -311,14 +307,13 @@ impl Cli {
         // without a firmware to run (no toolchain to build it, no source tree) the demo still
         // runs, in-process. QEMU's own failures stay errors.
         if self.link.is_none() && spec == LinkSpec::Qemu && options.firmware.is_none() {
-            match qemu::firmware_elf("tracker-firmware", None) {
+            match qemu::firmware_elf(qemu::FIRMWARE_BIN, None) {
                 Ok(elf) => options.firmware = Some(elf),
                 Err(e) => {
                     eprintln!(
                         "link: no firmware to run in QEMU ({e:#}); running the core \
                          in-process instead (--link qemu to insist)"
                     );
-                    self.fell_back.set(true);
                     spec = LinkSpec::Inproc;
                 }
             }
@@ -343,7 +338,7 @@ impl Cli {
         if let Some(s) = self.link_timeout {
             client.timeout = std::time::Duration::from_secs_f64(s);
         }
-        Ok(client)
+        Ok((client, spec))
     }
 }
 
@@ -446,8 +441,9 @@ where
                     }
                 }),
             };
-            let tracking = demo::start(cli.connect()?, &options)?;
-            track_to_end(&cli, tracking, run, &command)
+            let (client, link) = cli.connect()?;
+            let tracking = demo::start(client, &options)?;
+            track_to_end(&link, tracking, run, &command)
         }
         Command::Track {
             plots,
@@ -492,11 +488,12 @@ where
                 own_ship: run.own_ship(),
                 outputs: run.outputs(None),
             };
-            let tracking = track::start(cli.connect()?, &options)?;
-            track_to_end(&cli, tracking, run, &command)
+            let (client, link) = cli.connect()?;
+            let tracking = track::start(client, &options)?;
+            track_to_end(&link, tracking, run, &command)
         }
         Command::LinkCheck { frames, seed } => {
-            let mut client = cli.connect()?;
+            let (mut client, _) = cli.connect()?;
             let report = check::run(
                 &mut client,
                 &check::LinkCheckOptions {
@@ -622,13 +619,13 @@ fn exit(ok: bool) -> ExitCode {
 /// Runs a wired tracking run to its end: the radar display in a terminal, else the plain
 /// table (`--plain`) or progress lines; then the summary, and the JSON summary if asked.
 fn track_to_end(
-    cli: &Cli,
+    link: &LinkSpec,
     mut tracking: Run,
     args: &RunArgs,
     command: &[String],
 ) -> anyhow::Result<ExitCode> {
     let limits = tracking.session().config().alarms;
-    let link = cli.resolve_link().to_string();
+    let link = link.to_string();
     let use_tui = !args.plain && std::io::IsTerminal::is_terminal(&std::io::stdout());
     if use_tui {
         let mut state = crate::display::DisplayState::new(link.clone());

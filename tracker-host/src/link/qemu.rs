@@ -58,6 +58,9 @@ fn features_of(bin: &str) -> &'static [&'static str] {
     }
 }
 
+/// The firmware binary QEMU runs (`tracker-firmware`'s `tracker-firmware`).
+pub const FIRMWARE_BIN: &str = "tracker-firmware";
+
 /// The path of firmware binary `bin`: `explicit` if given, else the workspace's release
 /// build, brought up to date with cargo (a no-op when nothing changed).
 ///
@@ -121,7 +124,7 @@ impl QemuLink {
         if !qemu_available() {
             bail!("qemu-system-arm is not installed (scripts/setup installs it, or use --link inproc)");
         }
-        let elf = firmware_elf("tracker-firmware", opts.firmware.as_deref())?;
+        let elf = firmware_elf(FIRMWARE_BIN, opts.firmware.as_deref())?;
         // Pick a free port; QEMU waits (wait=on) for us before starting the CPU.
         let port = TcpListener::bind("127.0.0.1:0")?.local_addr()?.port();
         let mut cmd = base_command(&elf);
