@@ -26,6 +26,7 @@ pub mod app;
 pub mod cli;
 pub mod csv_input;
 pub mod display;
+pub mod event_log;
 pub mod font;
 pub mod lab;
 pub mod link;

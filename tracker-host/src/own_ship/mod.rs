@@ -244,7 +244,7 @@ pub struct NmeaOwnShip {
     timed_read_s: Option<f64>,
     /// The offset last told of, when it was more than [`CLOCK_NOTE_S`].
     offset_told_s: Option<f64>,
-    clock_events: Vec<String>,
+    clock_events: crate::event_log::EventLog,
 }
 
 /// A live source's UTC this far from this computer's clock is told of (an event), s: a
@@ -276,7 +276,7 @@ impl NmeaOwnShip {
             offset_s: None,
             timed_read_s: None,
             offset_told_s: None,
-            clock_events: Vec::new(),
+            clock_events: crate::event_log::EventLog::default(),
         })
     }
 
@@ -440,7 +440,7 @@ impl OwnShipSource for NmeaOwnShip {
 
     fn events(&self) -> Vec<String> {
         let mut e = self.nav.events();
-        e.extend(self.clock_events.iter().cloned());
+        e.extend(self.clock_events.lines("clock"));
         let first = match &self.input {
             NmeaIn::Live(live) => Some(live),
             NmeaIn::File(_) => None,

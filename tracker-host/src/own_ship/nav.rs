@@ -237,7 +237,7 @@ pub struct OwnShipNav {
     last_heading_s: Option<f64>,
     heading_deg: Option<f64>,
     counts: NavCounts,
-    events: Vec<String>,
+    events: crate::event_log::EventLog,
     /// Implausible fixes in a row (time, local position), to believe a real jump.
     implausible: Vec<(f64, [f64; 2])>,
     last_implausible_s: Option<f64>,
@@ -275,7 +275,7 @@ impl OwnShipNav {
             last_heading_s: None,
             heading_deg: None,
             counts: NavCounts::default(),
-            events: Vec::new(),
+            events: crate::event_log::EventLog::default(),
             implausible: Vec::new(),
             last_implausible_s: None,
             fixes: None,
@@ -307,8 +307,8 @@ impl OwnShipNav {
 
     /// Changes of source, disagreements between sources, filter restarts, oldest first.
     pub fn events(&self) -> Vec<String> {
-        let mut e = self.selector.events().to_vec();
-        e.extend(self.events.iter().cloned());
+        let mut e = self.selector.events();
+        e.extend(self.events.lines("own-ship filter"));
         e
     }
 

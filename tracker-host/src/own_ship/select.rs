@@ -72,7 +72,7 @@ pub struct Selector {
     last: BTreeMap<(Quantity, String), Last>,
     reported: Vec<(Quantity, String, String)>,
     tolerances: Tolerances,
-    events: Vec<String>,
+    events: crate::event_log::EventLog,
     disagreements: u64,
 }
 
@@ -99,8 +99,8 @@ impl Selector {
     }
 
     /// Changes of source and disagreements, oldest first.
-    pub fn events(&self) -> &[String] {
-        &self.events
+    pub fn events(&self) -> Vec<String> {
+        self.events.lines("own-ship source")
     }
 
     /// Disagreements found (each pair reported once).

@@ -33,10 +33,6 @@ use crate::ais::{AisReport, AisTargets};
 use crate::origin::Origin;
 use crate::session::ScanReport;
 
-/// Pairing events kept for the log (the oldest tenth dropped when full): a live session
-/// runs for days.
-pub const MAX_EVENTS: usize = 1_000;
-
 /// When a radar target and an AIS target are taken for one ship.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PairingGates {
@@ -222,7 +218,7 @@ pub struct AisPicture {
     gates: PairingGates,
     pairs: BTreeMap<u16, Pair>,
     streaks: BTreeMap<(u16, u32), u32>,
-    events: Vec<String>,
+    events: crate::event_log::EventLog,
     counts: PairingCounts,
     /// The scans' clock is UTC ([`ScanReport::time_is_utc`]): the log's times are written
     /// with a `Z` only then.
@@ -237,7 +233,7 @@ impl AisPicture {
             gates,
             pairs: BTreeMap::new(),
             streaks: BTreeMap::new(),
-            events: Vec::new(),
+            events: crate::event_log::EventLog::default(),
             counts: PairingCounts::default(),
             clock_is_utc: true,
         }
@@ -253,9 +249,10 @@ impl AisPicture {
         self.counts
     }
 
-    /// Pairings and partings, the latest [`MAX_EVENTS`], as the log reads them.
-    pub fn events(&self) -> &[String] {
-        &self.events
+    /// Pairings and partings, the latest [`crate::event_log::EventLog::CAPACITY`], as the
+    /// log reads them.
+    pub fn events(&self) -> Vec<String> {
+        self.events.lines("AIS pairing")
     }
 
     /// The time of an event at `t` as the log writes it.
@@ -264,9 +261,6 @@ impl AisPicture {
     }
 
     fn log(&mut self, event: String) {
-        if self.events.len() >= MAX_EVENTS {
-            self.events.drain(..MAX_EVENTS / 10);
-        }
         self.events.push(event);
     }
 
@@ -652,7 +646,8 @@ mod tests {
             for scan in 0..PairingGates::default().scans_to_pair + 1 {
                 scan_with(&mut picture, origin, scan, 20, east, utc);
             }
-            let paired = picture.events().first().expect("paired");
+            let events = picture.events();
+            let paired = events.first().expect("paired");
             assert!(paired.starts_with(&format!("{time}: ")), "{paired}");
             assert!(paired.contains("paired with AIS"), "{paired}");
         }

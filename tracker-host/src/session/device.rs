@@ -30,7 +30,7 @@ pub struct DeviceLink {
     last_tracks: Vec<u16>,
     /// The device's last report as held here: the base of the next scan's records.
     held: Held,
-    events: Vec<String>,
+    events: crate::event_log::EventLog,
 }
 
 /// What the host holds of the device's last whole report ([`tracker_core::icd::records`]):
@@ -178,7 +178,7 @@ impl DeviceLink {
             max_tracks: usize::from(info.max_tracks),
             last_tracks: Vec::new(),
             held: Held::default(),
-            events: Vec::new(),
+            events: crate::event_log::EventLog::default(),
         };
         device.configure()?;
         device.command(TrackCommand::CancelAll)?;
@@ -218,8 +218,8 @@ impl DeviceLink {
 
     /// What happened on the link worth telling the operator (a firmware reset, a host
     /// restart), oldest first.
-    pub fn events(&self) -> &[String] {
-        &self.events
+    pub fn events(&self) -> Vec<String> {
+        self.events.lines("link")
     }
 
     /// Sends an operator command (acquire, cancel) to the device.

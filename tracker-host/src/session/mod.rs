@@ -228,7 +228,7 @@ pub struct Session {
     last_time_ms: Option<u64>,
     host_times: Vec<Duration>,
     numbers: TargetNumbers,
-    events: Vec<String>,
+    events: crate::event_log::EventLog,
     skipped: u64,
     warned_slow: bool,
     /// Confirmed and coasting tracks at the last scan: they take plots first.
@@ -258,7 +258,7 @@ impl Session {
             last_time_ms: None,
             host_times: Vec::new(),
             numbers: TargetNumbers::new(numbers::MAX_TARGET_NUMBER),
-            events: Vec::new(),
+            events: crate::event_log::EventLog::default(),
             skipped: 0,
             warned_slow: false,
             firm: Default::default(),
@@ -481,8 +481,8 @@ impl Session {
 
     /// What happened worth telling the operator (resets, restarts, skipped scans).
     pub fn events(&self) -> Vec<String> {
-        let mut e = self.device.events().to_vec();
-        e.extend(self.events.iter().cloned());
+        let mut e = self.device.events();
+        e.extend(self.events.lines("session"));
         e
     }
 
