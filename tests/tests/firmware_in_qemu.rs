@@ -51,8 +51,8 @@ fn bench_counts_are_deterministic_and_within_budget() {
     if !qemu_or_skip("bench_counts_are_deterministic_and_within_budget") {
         return;
     }
-    let first = bench_mcu::run(None).expect("bench runs");
-    let second = bench_mcu::run(None).expect("bench runs again");
+    let first = bench_mcu::run(&[]).expect("bench runs");
+    let second = bench_mcu::run(&[]).expect("bench runs again");
     assert_eq!(first, second, "instruction counts must repeat exactly");
     let row = |name: &str| {
         first
@@ -85,7 +85,7 @@ fn filter_costs_are_within_budget() {
     if !qemu_or_skip("filter_costs_are_within_budget") {
         return;
     }
-    let rows = bench_mcu::run(None).expect("bench runs");
+    let rows = bench_mcu::run(&[]).expect("bench runs");
     let cost = |name: &str, scalar: &str| {
         rows.iter()
             .find(|r| r.name == name && r.scalar == scalar)

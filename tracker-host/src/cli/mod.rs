@@ -143,7 +143,8 @@ pub enum Command {
     },
     /// Check the link: handshake, echo frames of every size, bad input rejected, counters.
     LinkCheck {
-        /// Good frames to send (at least 1).
+        /// Good frames to send (at least 1); each bad input is then followed by one more,
+        /// to show the link recovered, and the report counts those too.
         #[arg(long, default_value_t = 1000, value_parser = at_least_one::<usize>)]
         frames: usize,
         /// Seed for frame sizes and contents.
@@ -213,9 +214,10 @@ pub enum Command {
     },
     /// Instruction counts on the emulated Cortex-M4F, as CSV.
     BenchMcu {
-        /// Bench ELF (default: the workspace's release build of the `bench` binary).
+        /// Bench ELF to run, repeatable (default: the workspace's release builds of the
+        /// `bench`, `bench-nav` and `bench-radar` binaries, built first).
         #[arg(long, value_name = "ELF")]
-        elf: Option<PathBuf>,
+        elf: Vec<PathBuf>,
     },
     /// Bytes on the link a scan, and the largest picture a serial line carries.
     LinkBudget {
@@ -589,7 +591,7 @@ where
             Ok(ExitCode::SUCCESS)
         }
         Command::BenchMcu { elf } => {
-            let rows = bench_mcu::run(elf.as_deref().or(cli.firmware.as_deref()))?;
+            let rows = bench_mcu::run(elf)?;
             say(&bench_mcu::to_csv(&rows));
             Ok(ExitCode::SUCCESS)
         }

@@ -4,7 +4,7 @@
 //! instruction per nanosecond of virtual time, read through SysTick: deterministic, the same
 //! every run) and relays its CSV table.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use anyhow::{bail, Context};
@@ -64,15 +64,17 @@ pub fn parse(output: &str) -> anyhow::Result<Vec<BenchRow>> {
 /// own for the extractor's RAM).
 pub const BENCH_BINARIES: [&str; 3] = ["bench", "bench-nav", "bench-radar"];
 
-/// Runs the given bench ELF, or builds and runs every one of [`BENCH_BINARIES`], and returns
-/// the rows.
+/// Runs the given bench ELFs in turn, or (none given) builds and runs every one of
+/// [`BENCH_BINARIES`], and returns the rows.
 ///
 /// # Errors
 /// QEMU missing, the build failing, the binary failing or running past five minutes, or its output not a bench table.
-pub fn run(elf: Option<&Path>) -> anyhow::Result<Vec<BenchRow>> {
+pub fn run(elfs: &[PathBuf]) -> anyhow::Result<Vec<BenchRow>> {
     let mut rows = Vec::new();
-    if let Some(elf) = elf {
-        rows.extend(run_one(&qemu::firmware_elf("bench", Some(elf))?)?);
+    if !elfs.is_empty() {
+        for elf in elfs {
+            rows.extend(run_one(&qemu::firmware_elf("bench", Some(elf))?)?);
+        }
     } else {
         for bin in BENCH_BINARIES {
             rows.extend(run_one(&qemu::firmware_elf(bin, None)?)?);

@@ -61,7 +61,7 @@ impl LinkCheckReport {
     pub fn summary(&self) -> String {
         let ms = |d: Duration| d.as_secs_f64() * 1e3;
         format!(
-            "good frames: {} sent, {} returned intact\n\
+            "good frames: {} sent, {} returned intact (one after each bad input among them)\n\
              bad inputs:  {} sent, {} rejected with an error\n\
              round trip:  min {:.3} ms, median {:.3} ms, p99 {:.3} ms, max {:.3} ms\n\
              result:      {}",
