@@ -22,7 +22,8 @@ pub struct Run {
     score: ScoreSink,
     scans: u64,
     finished: bool,
-    /// Tracks shown as targets now (by track id), and how many ever were.
+    /// Tracks the device holds that have been shown as targets (by track id), and how
+    /// many tracks ever were.
     shown: std::collections::HashSet<u16>,
     targets_seen: u64,
     /// AIS targets and their pairing with radar targets, once AIS is heard.
@@ -119,9 +120,10 @@ impl Run {
             sink.scan(&scan, &report)?;
         }
         self.score.scan(&scan, &report)?;
-        for t in &report.ended {
-            self.shown.remove(&t.track);
-        }
+        // A track counts once however often it is shown (a failed acquisition that takes a
+        // plot again is shown again): forgotten once the device has dropped it.
+        self.shown
+            .retain(|id| report.tracks.iter().any(|t| t.track == *id));
         for t in &report.targets {
             self.targets_seen += u64::from(self.shown.insert(t.track));
         }

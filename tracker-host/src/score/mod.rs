@@ -360,8 +360,16 @@ impl crate::sink::ScanSink for ScoreSink {
                 let nearest = nearest_truth(truth, &report.tracks, &matched);
                 let merged: Vec<(u16, u32)> =
                     report.merged.iter().map(|c| (c.track, c.mmsi)).collect();
-                self.pairing
-                    .scan(report.scan, &matched, &nearest, &pairs, &merged, &ais);
+                let drawn: Vec<u16> = report.targets.iter().map(|t| t.track).collect();
+                self.pairing.scan(
+                    report.scan,
+                    &matched,
+                    &nearest,
+                    &pairs,
+                    &merged,
+                    &ais,
+                    &drawn,
+                );
                 self.pairing_scored = true;
             }
         }

@@ -77,7 +77,8 @@ impl PairingScorer {
     /// One scan: `matched` maps each confirmed track to the ship (MMSI) the scorer matched
     /// it to, `nearest` to the ship nearest it; `pairs` are the session's (track, MMSI),
     /// `merged` its radar targets shown as AIS targets (track, MMSI); `ais` the MMSIs of
-    /// the AIS targets held.
+    /// the AIS targets held; `drawn` the tracks drawn as targets (a firm track whose
+    /// acquisition failed is not: [`crate::session::numbers::ACQUISITION_MISSES`]).
     pub fn scan(
         &mut self,
         scan: u32,
@@ -86,6 +87,7 @@ impl PairingScorer {
         pairs: &[(u16, u32)],
         merged: &[(u16, u32)],
         ais: &[u32],
+        drawn: &[u16],
     ) {
         let mut merged_tracks: BTreeMap<u16, Vec<u32>> = BTreeMap::new();
         for (track, mmsi) in merged {
@@ -130,7 +132,11 @@ impl PairingScorer {
         for (track, ship) in matched {
             // A paired track is drawn as its AIS target (another ship's: counted wrong above).
             let paired = pairs.iter().any(|(t, _)| t == track);
-            if ais.contains(ship) && !paired && !merged_tracks.contains_key(track) {
+            if ais.contains(ship)
+                && drawn.contains(track)
+                && !paired
+                && !merged_tracks.contains_key(track)
+            {
                 self.scores.ships_unpaired += 1;
                 let since = self
                     .first_matched
@@ -187,12 +193,15 @@ impl PairingScorer {
 mod tests {
     use super::*;
 
+    /// Every track of the tests drawn.
+    const ALL: [u16; 3] = [1, 2, 3];
+
     #[test]
     fn pairs_are_scored_against_the_ships_the_tracks_follow() {
         let mut p = PairingScorer::default();
         let matched: BTreeMap<u16, u32> = [(1, 100), (2, 200)].into();
         // Scan 0: nothing paired yet; both ships have AIS: both shown twice.
-        p.scan(0, &matched, &matched, &[], &[], &[100, 200]);
+        p.scan(0, &matched, &matched, &[], &[], &[100, 200], &ALL);
         // Scan 3: track 1 paired right, track 2 paired wrong.
         p.scan(
             3,
@@ -201,6 +210,7 @@ mod tests {
             &[(1, 100), (2, 300)],
             &[],
             &[100, 200, 300],
+            &ALL,
         );
         // Scan 10: track 2 paired right, late.
         p.scan(
@@ -210,12 +220,29 @@ mod tests {
             &[(1, 100), (2, 200)],
             &[],
             &[100, 200, 300],
+            &ALL,
         );
         // Track 2 follows ship 200 but ship 300 is nearest it (one resolution cell): right.
         let nearest: BTreeMap<u16, u32> = [(1, 100), (2, 300)].into();
-        p.scan(11, &matched, &nearest, &[(2, 300)], &[], &[100, 200, 300]);
+        p.scan(
+            11,
+            &matched,
+            &nearest,
+            &[(2, 300)],
+            &[],
+            &[100, 200, 300],
+            &ALL,
+        );
         assert_eq!(p.scores(2.5).pairs_correct, 4);
-        p.scan(12, &matched, &matched, &[(2, 300)], &[], &[100, 200, 300]);
+        p.scan(
+            12,
+            &matched,
+            &matched,
+            &[(2, 300)],
+            &[],
+            &[100, 200, 300],
+            &ALL,
+        );
         let s = p.scores(2.5);
         assert_eq!((s.pairs_correct, s.pairs_wrong), (4, 2));
         // Shown twice: both at scan 0, then ship 100 at scans 11 and 12 (track 1 apart from
@@ -255,6 +282,7 @@ mod tests {
             &[],
             &[(1, 100), (1, 400), (2, 100)],
             &[100, 300, 400],
+            &ALL,
         );
         let s = p.scores(2.5);
         assert_eq!(
@@ -273,11 +301,24 @@ mod tests {
         // Tracks 1 and 2 both follow ship 100; track 1 is paired with its AIS target, track
         // 2 is drawn apart: the ship is shown twice.
         let matched: BTreeMap<u16, u32> = [(1, 100), (2, 100)].into();
-        p.scan(0, &matched, &matched, &[(1, 100)], &[], &[100]);
+        p.scan(0, &matched, &matched, &[(1, 100)], &[], &[100], &ALL);
         let s = p.scores(2.5);
         assert_eq!((s.pairs_correct, s.ships_unpaired), (1, 1));
         // Shown as the AIS target as well (merged): once.
-        p.scan(1, &matched, &matched, &[(1, 100)], &[(2, 100)], &[100]);
+        p.scan(
+            1,
+            &matched,
+            &matched,
+            &[(1, 100)],
+            &[(2, 100)],
+            &[100],
+            &ALL,
+        );
         assert_eq!(p.scores(2.5).ships_unpaired, 1);
+        // Not drawn at all (its acquisition failed): once.
+        p.scan(2, &matched, &matched, &[(1, 100)], &[], &[100], &[1]);
+        assert_eq!(p.scores(2.5).ships_unpaired, 1);
+        p.scan(3, &matched, &matched, &[(1, 100)], &[], &[100], &ALL);
+        assert_eq!(p.scores(2.5).ships_unpaired, 2);
     }
 }

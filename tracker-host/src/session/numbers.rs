@@ -27,6 +27,15 @@ pub const MAX_TARGET_NUMBER: u8 = 99;
 /// A tentative track is shown (acquiring) from this many plots on.
 pub const ACQUIRING_FROM_HITS: u32 = 2;
 
+/// A firm target whose motion's trend is not known yet has failed its acquisition, and is
+/// not shown, after this many scans in a row without a plot: as long as a tentative track is
+/// kept. Such a track's velocity comes from its first few plots (with 40 m plots every 2.5 s,
+/// two plots give it σ 23 m/s a axis), so coasting it draws a symbol drifting away from its
+/// echo at tens of knots; on real traffic most were second tracks beside a ship, shown
+/// beside its AIS target. The device still holds the track: if it takes a plot again it is
+/// shown again, as acquiring.
+pub const ACQUISITION_MISSES: u32 = 2;
+
 /// The numbers and who holds them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TargetNumbers {
@@ -97,16 +106,26 @@ impl TargetNumbers {
             TrackStatus::Tentative => (t.hit_history & 0x3ff).count_ones() >= ACQUIRING_FROM_HITS,
             TrackStatus::Lost => false,
         };
+        let failed = |t: &TrackState, d: &TargetData| {
+            t.status.is_firm()
+                && !d.trend_known
+                && t.hit_history & ((1 << ACQUISITION_MISSES) - 1) == 0
+        };
         let mut live: Vec<TargetData> = tracks
             .iter()
             .filter(|t| shown(t))
-            .map(|t| TargetData {
-                // Once known, kept for the track's life ([`super::trend`]).
-                trend_known: t.status.is_firm()
-                    && (self.last.get(&t.track).is_some_and(|d| d.trend_known)
-                        || trend.is_none_or(|m| m.known(t))),
-                ..TargetData::new(own, t)
+            .map(|t| {
+                let d = TargetData {
+                    // Once known, kept for the track's life ([`super::trend`]).
+                    trend_known: t.status.is_firm()
+                        && (self.last.get(&t.track).is_some_and(|d| d.trend_known)
+                            || trend.is_none_or(|m| m.known(t))),
+                    ..TargetData::new(own, t)
+                };
+                (t, d)
             })
+            .filter(|(t, d)| !failed(t, d))
+            .map(|(_, d)| d)
             .collect();
         let mut out = Numbered::default();
         // Ends: their numbers go back after this scan's numbers are given, to the back of the
@@ -208,6 +227,43 @@ mod tests {
         let s = n.scan(&own, &[], &limits, Some(&model));
         assert_eq!(s.ended.len(), 1);
         assert!(s.ended[0].track == 10 && s.ended[0].trend_known);
+    }
+
+    #[test]
+    fn an_acquisition_that_misses_twice_has_failed_until_its_next_plot() {
+        let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
+        let limits = AlarmLimits::default();
+        let model = TrendModel::new(40.0, 2.5, 20.0).unwrap();
+        let at = |age: u16, hits: u16| TrackState {
+            age_scans: age,
+            ..track(10, TrackStatus::Confirmed, hits, 5000.0)
+        };
+        let mut n = TargetNumbers::new(9);
+        let s = n.scan(&own, &[at(4, 0b1111)], &limits, Some(&model));
+        assert_eq!(s.tracked[0].number, Some(1));
+        // One miss: still shown, as acquiring.
+        let s = n.scan(&own, &[at(5, 0b11110)], &limits, Some(&model));
+        assert_eq!((s.tracked.len(), s.tracked[0].trend_known), (1, false));
+        // Two in a row: not shown; ended once (a plotter is told `L`) with no motion.
+        let s = n.scan(&own, &[at(6, 0b111100)], &limits, Some(&model));
+        assert!(s.tracked.is_empty() && s.acquiring.is_empty());
+        assert_eq!((s.ended.len(), s.ended[0].number), (1, Some(1)));
+        assert!(!s.ended[0].trend_known);
+        let s = n.scan(&own, &[at(7, 0b1111000)], &limits, Some(&model));
+        assert!(s.tracked.is_empty() && s.ended.is_empty());
+        // A plot again: shown again, under a number of its own.
+        let s = n.scan(&own, &[at(8, 0b11110001)], &limits, Some(&model));
+        assert_eq!(s.tracked.len(), 1);
+        assert!(s.tracked[0].number.is_some());
+        // A target whose motion is known is never hidden for its misses.
+        let mut n = TargetNumbers::new(9);
+        n.scan(&own, &[at(14, 0x3ff)], &limits, Some(&model));
+        let s = n.scan(&own, &[at(16, 0x3fc)], &limits, Some(&model));
+        assert_eq!(s.tracked.len(), 1);
+        // Without a trend model every firm target's motion counts as known: none hidden.
+        let mut n = TargetNumbers::new(9);
+        let s = n.scan(&own, &[at(6, 0b111100)], &limits, None);
+        assert_eq!(s.tracked.len(), 1);
     }
 
     #[test]
