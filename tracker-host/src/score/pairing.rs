@@ -4,8 +4,10 @@
 //! (two ships in one resolution cell share a track, and the scorer keeps to the one it
 //! matched first), *wrong* otherwise; a ship with a confirmed track drawn apart (neither
 //! paired nor shown as an AIS target) and an AIS target held is *shown twice* that scan:
-//! its radar target and its AIS triangle. The time to pair is from the scan its track was
-//! first matched to the scan it was first paired correctly.
+//! its radar target and its AIS triangle. The time to pair is from the scan a track drawn
+//! as a target was first matched to it (a firm track whose acquisition failed is not drawn:
+//! [`crate::session::numbers::ACQUISITION_MISSES`]) to the scan it was first paired
+//! correctly.
 
 use std::collections::BTreeMap;
 
@@ -36,7 +38,7 @@ pub struct PairingScores {
     pub ships_unpaired: u64,
     /// … of those, later than [`PAIRING_ALLOWANCE_SCANS`] after the track was matched.
     pub ships_unpaired_late: u64,
-    /// Ships with a matched track and AIS, at some scan.
+    /// Ships with a matched track drawn as a target and AIS, at some scan.
     pub ships_with_track_and_ais: usize,
     /// … of those paired correctly at some scan.
     pub ships_paired: usize,
@@ -113,8 +115,8 @@ impl PairingScorer {
                 None => self.scores.merged_unverified += 1,
             }
         }
-        for ship in matched.values() {
-            if ais.contains(ship) {
+        for (track, ship) in matched {
+            if ais.contains(ship) && drawn.contains(track) {
                 self.first_matched.entry(*ship).or_insert(scan);
             }
         }

@@ -13,7 +13,7 @@
 //! more tracked targets than numbers the least important wait: dangerous first, then
 //! nearest; those left without a number are counted.
 
-use std::collections::{BTreeMap, VecDeque};
+use std::collections::{BTreeMap, BTreeSet, VecDeque};
 
 use tracker_core::icd::{TrackState, TrackStatus};
 
@@ -33,7 +33,8 @@ pub const ACQUIRING_FROM_HITS: u32 = 2;
 /// two plots give it σ 23 m/s a axis), so coasting it draws a symbol drifting away from its
 /// echo at tens of knots; on real traffic most were second tracks beside a ship, shown
 /// beside its AIS target. The device still holds the track: if it takes a plot again it is
-/// shown again, as acquiring.
+/// shown again, as acquiring, under the number it had (plotters were told it ended, `L`,
+/// when it failed; the number is held for it while the device holds the track).
 pub const ACQUISITION_MISSES: u32 = 2;
 
 /// The numbers and who holds them.
@@ -42,6 +43,9 @@ pub struct TargetNumbers {
     free: VecDeque<u8>,
     of_track: BTreeMap<u16, u8>,
     last: BTreeMap<u16, TargetData>,
+    /// Numbered tracks whose acquisition failed ([`ACQUISITION_MISSES`]), not shown, and
+    /// told ended, while the device holds them.
+    failed: BTreeSet<u16>,
     /// Targets that waited for a number (target-scans).
     pub waited: u64,
 }
@@ -65,6 +69,7 @@ impl TargetNumbers {
             free: (1..=highest.min(MAX_TARGET_NUMBER)).collect(),
             of_track: BTreeMap::new(),
             last: BTreeMap::new(),
+            failed: BTreeSet::new(),
             waited: 0,
         }
     }
@@ -88,6 +93,7 @@ impl TargetNumbers {
             self.free.push_back(n);
         }
         self.last.remove(&track);
+        self.failed.remove(&track);
     }
 
     /// Numbers the device's `tracks` seen from `own`; a confirmed or coasting target's
@@ -134,6 +140,19 @@ impl TargetNumbers {
         let held: Vec<u16> = self.of_track.keys().copied().collect();
         for track in held {
             if live.iter().any(|t| t.track == track) {
+                self.failed.remove(&track);
+                continue;
+            }
+            // A firm track not shown has failed its acquisition: told once, its number held.
+            let failed = tracks
+                .iter()
+                .any(|t| t.track == track && t.status.is_firm());
+            if failed && !self.failed.insert(track) {
+                continue;
+            }
+            if !failed && self.failed.contains(&track) {
+                // Dropped by the device after its failed acquisition was told.
+                ending.push(track);
                 continue;
             }
             let data = tracks
@@ -148,7 +167,9 @@ impl TargetNumbers {
                 d.trend_known = self.last.get(&track).is_some_and(|l| l.trend_known);
                 out.ended.push(d);
             }
-            ending.push(track);
+            if !failed {
+                ending.push(track);
+            }
         }
         // Most important first: dangerous, then nearest.
         live.sort_by(|a, b| {
@@ -251,10 +272,17 @@ mod tests {
         assert!(!s.ended[0].trend_known);
         let s = n.scan(&own, &[at(7, 0b1111000)], &limits, Some(&model));
         assert!(s.tracked.is_empty() && s.ended.is_empty());
-        // A plot again: shown again, under a number of its own.
+        // A plot again: shown again, under its number.
         let s = n.scan(&own, &[at(8, 0b11110001)], &limits, Some(&model));
-        assert_eq!(s.tracked.len(), 1);
-        assert!(s.tracked[0].number.is_some());
+        assert_eq!((s.tracked.len(), s.tracked[0].number), (1, Some(1)));
+        // Failed again, then dropped by the device: told once, its number given back.
+        n.scan(&own, &[at(9, 0b11_1100_0010)], &limits, Some(&model));
+        let s = n.scan(&own, &[at(10, 0b11_1000_0100)], &limits, Some(&model));
+        assert_eq!(s.ended.len(), 1);
+        let s = n.scan(&own, &[at(11, 0b11_0000_1000)], &limits, Some(&model));
+        assert!(s.ended.is_empty());
+        let s = n.scan(&own, &[], &limits, Some(&model));
+        assert!(s.ended.is_empty() && n.of_track.is_empty() && n.failed.is_empty());
         // A target whose motion is known is never hidden for its misses.
         let mut n = TargetNumbers::new(9);
         n.scan(&own, &[at(14, 0x3ff)], &limits, Some(&model));
