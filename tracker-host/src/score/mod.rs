@@ -361,15 +361,13 @@ impl crate::sink::ScanSink for ScoreSink {
                 let merged: Vec<(u16, u32)> =
                     report.merged.iter().map(|c| (c.track, c.mmsi)).collect();
                 let drawn: Vec<u16> = report.targets.iter().map(|t| t.track).collect();
-                self.pairing.scan(
-                    report.scan,
-                    &matched,
-                    &nearest,
-                    &pairs,
-                    &merged,
-                    &ais,
-                    &drawn,
-                );
+                let picture = pairing::Picture {
+                    pairs: &pairs,
+                    merged: &merged,
+                    ais: &ais,
+                    drawn: &drawn,
+                };
+                self.pairing.scan(report.scan, &matched, &nearest, &picture);
                 self.pairing_scored = true;
             }
         }

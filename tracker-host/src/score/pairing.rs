@@ -65,6 +65,20 @@ pub struct PairingScores {
 /// three scans in a row, and as many again for a track's first velocities to settle.
 pub const PAIRING_ALLOWANCE_SCANS: u32 = 6;
 
+/// What the session showed in a scan, as the pairing scorer reads it.
+#[derive(Clone, Copy, Debug)]
+pub struct Picture<'a> {
+    /// The session's pairs (track, MMSI).
+    pub pairs: &'a [(u16, u32)],
+    /// Its radar targets shown as AIS targets (track, MMSI).
+    pub merged: &'a [(u16, u32)],
+    /// The MMSIs of the AIS targets held.
+    pub ais: &'a [u32],
+    /// The tracks drawn as targets (a firm track whose acquisition failed is not:
+    /// [`crate::session::numbers::ACQUISITION_MISSES`]).
+    pub drawn: &'a [u16],
+}
+
 /// The tally.
 #[derive(Clone, Debug, Default)]
 pub struct PairingScorer {
@@ -77,20 +91,20 @@ pub struct PairingScorer {
 
 impl PairingScorer {
     /// One scan: `matched` maps each confirmed track to the ship (MMSI) the scorer matched
-    /// it to, `nearest` to the ship nearest it; `pairs` are the session's (track, MMSI),
-    /// `merged` its radar targets shown as AIS targets (track, MMSI); `ais` the MMSIs of
-    /// the AIS targets held; `drawn` the tracks drawn as targets (a firm track whose
-    /// acquisition failed is not: [`crate::session::numbers::ACQUISITION_MISSES`]).
+    /// it to, `nearest` to the ship nearest it; `picture` is what the session showed.
     pub fn scan(
         &mut self,
         scan: u32,
         matched: &BTreeMap<u16, u32>,
         nearest: &BTreeMap<u16, u32>,
-        pairs: &[(u16, u32)],
-        merged: &[(u16, u32)],
-        ais: &[u32],
-        drawn: &[u16],
+        picture: &Picture<'_>,
     ) {
+        let Picture {
+            pairs,
+            merged,
+            ais,
+            drawn,
+        } = *picture;
         let mut merged_tracks: BTreeMap<u16, Vec<u32>> = BTreeMap::new();
         for (track, mmsi) in merged {
             merged_tracks.entry(*track).or_default().push(*mmsi);
@@ -203,26 +217,40 @@ mod tests {
         let mut p = PairingScorer::default();
         let matched: BTreeMap<u16, u32> = [(1, 100), (2, 200)].into();
         // Scan 0: nothing paired yet; both ships have AIS: both shown twice.
-        p.scan(0, &matched, &matched, &[], &[], &[100, 200], &ALL);
+        p.scan(
+            0,
+            &matched,
+            &matched,
+            &Picture {
+                pairs: &[],
+                merged: &[],
+                ais: &[100, 200],
+                drawn: &ALL,
+            },
+        );
         // Scan 3: track 1 paired right, track 2 paired wrong.
         p.scan(
             3,
             &matched,
             &matched,
-            &[(1, 100), (2, 300)],
-            &[],
-            &[100, 200, 300],
-            &ALL,
+            &Picture {
+                pairs: &[(1, 100), (2, 300)],
+                merged: &[],
+                ais: &[100, 200, 300],
+                drawn: &ALL,
+            },
         );
         // Scan 10: track 2 paired right, late.
         p.scan(
             10,
             &matched,
             &matched,
-            &[(1, 100), (2, 200)],
-            &[],
-            &[100, 200, 300],
-            &ALL,
+            &Picture {
+                pairs: &[(1, 100), (2, 200)],
+                merged: &[],
+                ais: &[100, 200, 300],
+                drawn: &ALL,
+            },
         );
         // Track 2 follows ship 200 but ship 300 is nearest it (one resolution cell): right.
         let nearest: BTreeMap<u16, u32> = [(1, 100), (2, 300)].into();
@@ -230,20 +258,24 @@ mod tests {
             11,
             &matched,
             &nearest,
-            &[(2, 300)],
-            &[],
-            &[100, 200, 300],
-            &ALL,
+            &Picture {
+                pairs: &[(2, 300)],
+                merged: &[],
+                ais: &[100, 200, 300],
+                drawn: &ALL,
+            },
         );
         assert_eq!(p.scores(2.5).pairs_correct, 4);
         p.scan(
             12,
             &matched,
             &matched,
-            &[(2, 300)],
-            &[],
-            &[100, 200, 300],
-            &ALL,
+            &Picture {
+                pairs: &[(2, 300)],
+                merged: &[],
+                ais: &[100, 200, 300],
+                drawn: &ALL,
+            },
         );
         let s = p.scores(2.5);
         assert_eq!((s.pairs_correct, s.pairs_wrong), (4, 2));
@@ -281,10 +313,12 @@ mod tests {
             4,
             &matched,
             &matched,
-            &[],
-            &[(1, 100), (1, 400), (2, 100)],
-            &[100, 300, 400],
-            &ALL,
+            &Picture {
+                pairs: &[],
+                merged: &[(1, 100), (1, 400), (2, 100)],
+                ais: &[100, 300, 400],
+                drawn: &ALL,
+            },
         );
         let s = p.scores(2.5);
         assert_eq!(
@@ -303,7 +337,17 @@ mod tests {
         // Tracks 1 and 2 both follow ship 100; track 1 is paired with its AIS target, track
         // 2 is drawn apart: the ship is shown twice.
         let matched: BTreeMap<u16, u32> = [(1, 100), (2, 100)].into();
-        p.scan(0, &matched, &matched, &[(1, 100)], &[], &[100], &ALL);
+        p.scan(
+            0,
+            &matched,
+            &matched,
+            &Picture {
+                pairs: &[(1, 100)],
+                merged: &[],
+                ais: &[100],
+                drawn: &ALL,
+            },
+        );
         let s = p.scores(2.5);
         assert_eq!((s.pairs_correct, s.ships_unpaired), (1, 1));
         // Shown as the AIS target as well (merged): once.
@@ -311,16 +355,38 @@ mod tests {
             1,
             &matched,
             &matched,
-            &[(1, 100)],
-            &[(2, 100)],
-            &[100],
-            &ALL,
+            &Picture {
+                pairs: &[(1, 100)],
+                merged: &[(2, 100)],
+                ais: &[100],
+                drawn: &ALL,
+            },
         );
         assert_eq!(p.scores(2.5).ships_unpaired, 1);
         // Not drawn at all (its acquisition failed): once.
-        p.scan(2, &matched, &matched, &[(1, 100)], &[], &[100], &[1]);
+        p.scan(
+            2,
+            &matched,
+            &matched,
+            &Picture {
+                pairs: &[(1, 100)],
+                merged: &[],
+                ais: &[100],
+                drawn: &[1],
+            },
+        );
         assert_eq!(p.scores(2.5).ships_unpaired, 1);
-        p.scan(3, &matched, &matched, &[(1, 100)], &[], &[100], &ALL);
+        p.scan(
+            3,
+            &matched,
+            &matched,
+            &Picture {
+                pairs: &[(1, 100)],
+                merged: &[],
+                ais: &[100],
+                drawn: &ALL,
+            },
+        );
         assert_eq!(p.scores(2.5).ships_unpaired, 2);
     }
 }
