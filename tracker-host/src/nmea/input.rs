@@ -215,17 +215,24 @@ impl LiveLines {
         }
     }
 
-    /// Reads what has arrived, as complete lines (at most [`MAX_LINES_PER_READ`]).
+    /// Reads what has arrived, as complete lines (at most [`MAX_LINES_PER_READ`]; a flood
+    /// leaves the rest in the socket). A UDP datagram ends its last line (IEC 61162-450 puts
+    /// whole sentences in a datagram; many senders leave out the last CR LF), so one
+    /// sender's half line never joins another's.
     pub fn available(&mut self) -> Vec<String> {
-        let mut buf = [0u8; 4096];
+        let mut buf = [0u8; 65_536];
         let mut out = Vec::new();
-        // Bytes read per call are bounded too: a flood leaves the rest in the socket.
-        for _ in 0..256 {
+        let datagrams = matches!(self.source, LiveSource::Udp(_));
+        // Reads per call are bounded too (a 1-byte-a-read stream, a serial port).
+        for _ in 0..MAX_LINES_PER_READ {
             let n = self.read(&mut buf);
             if n == 0 {
                 break;
             }
             self.take(&buf[..n], &mut out);
+            if datagrams && !self.partial.is_empty() {
+                self.take(b"\n", &mut out);
+            }
             if out.len() >= MAX_LINES_PER_READ {
                 break;
             }
@@ -323,6 +330,26 @@ impl LiveLines {
     }
 }
 
+/// A UDP socket on `port` of every interface, shared with other listeners (a chart
+/// plotter on the same machine listens on the same port: IEC 61162-450 senders multicast
+/// or broadcast to all), non-blocking, with a receive buffer for a few seconds of a busy
+/// AIS feed between two scans.
+fn udp_listener(port: u16) -> std::io::Result<UdpSocket> {
+    use socket2::{Domain, Protocol, Socket, Type};
+    let socket = Socket::new(Domain::IPV4, Type::DGRAM, Some(Protocol::UDP))?;
+    socket.set_reuse_address(true)?;
+    // The kernel may give less; what it gives is enough to go on with.
+    let _ = socket.set_recv_buffer_size(UDP_RECV_BUFFER);
+    let any = std::net::SocketAddr::from(([0, 0, 0, 0], port));
+    socket.bind(&any.into())?;
+    socket.set_nonblocking(true)?;
+    Ok(socket.into())
+}
+
+/// Receive buffer asked for a UDP NMEA source, bytes: 2,000 AIS sentences a second for
+/// 2.5 s is about 0.4 MB.
+const UDP_RECV_BUFFER: usize = 1 << 20;
+
 fn connect(addr: &str) -> std::io::Result<TcpStream> {
     let mut last = std::io::Error::other("no address");
     for a in addr.to_socket_addrs()? {
@@ -389,9 +416,7 @@ impl NmeaIn {
                 })
             }
             InSpec::Udp(port) => {
-                let s = UdpSocket::bind(("0.0.0.0", *port))
-                    .with_context(|| format!("UDP port {port}"))?;
-                s.set_nonblocking(true)?;
+                let s = udp_listener(*port).with_context(|| format!("UDP port {port}"))?;
                 live(LiveSource::Udp(s))
             }
             InSpec::Tcp(addr) => live(LiveSource::Tcp {
@@ -450,6 +475,13 @@ mod tests {
         let mut buf = [0u8; 256];
         let n = rx.recv(&mut buf).unwrap();
         assert_eq!(&buf[..n], sentences[0].as_bytes());
+        // A broadcast address: sent, not refused by the system.
+        let rx = UdpSocket::bind("0.0.0.0:0").unwrap();
+        let port = rx.local_addr().unwrap().port();
+        let spec: OutSpec = format!("udp:255.255.255.255:{port}").parse().unwrap();
+        let mut out = NmeaOut::open(&spec).unwrap();
+        out.send(&sentences);
+        assert_eq!(out.udp_failures(), 0);
         // TCP server: a plotter connects and reads both.
         let mut out = NmeaOut::open(&OutSpec::Tcp(0)).unwrap();
         let port = out.local_addr().unwrap().port();
@@ -486,6 +518,21 @@ mod tests {
                 .map(|l| l.trim_end().to_string())
                 .collect::<Vec<_>>()
         );
+        // A datagram ends its line: a sentence without CR LF is read, and a half line never
+        // joins the next datagram's sentence.
+        tx.send_to(own[0].trim_end().as_bytes(), ("127.0.0.1", to))
+            .unwrap();
+        tx.send_to(b"$GPRMC,1234", ("127.0.0.1", to)).unwrap();
+        tx.send_to(own[1].as_bytes(), ("127.0.0.1", to)).unwrap();
+        let mut lines = Vec::new();
+        for _ in 0..100 {
+            lines.extend(live.available());
+            if lines.len() >= 3 {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        assert_eq!(lines, [own[0].trim_end(), "$GPRMC,1234", own[1].trim_end()]);
         // TCP: we connect to a server (a multiplexer) and read what it sends, in pieces.
         let server = TcpListener::bind("127.0.0.1:0").unwrap();
         let spec = InSpec::Tcp(server.local_addr().unwrap().to_string());

@@ -61,8 +61,8 @@ pub struct ServerCounts {
 
 /// An open NMEA output.
 pub enum NmeaOut {
-    /// UDP socket and destination.
-    Udp(UdpSocket, std::net::SocketAddr),
+    /// UDP socket, destination, and datagrams the system refused to send.
+    Udp(UdpSocket, std::net::SocketAddr, u64),
     /// Listening socket, the connected clients, and the counts.
     Tcp(TcpListener, Vec<Client>, ServerCounts),
 }
@@ -81,7 +81,13 @@ impl NmeaOut {
                     .next()
                     .with_context(|| format!("{addr} resolves to nothing"))?;
                 let bind = if to.is_ipv4() { "0.0.0.0:0" } else { "[::]:0" };
-                NmeaOut::Udp(UdpSocket::bind(bind).context("UDP socket")?, to)
+                let socket = UdpSocket::bind(bind).context("UDP socket")?;
+                // A broadcast address (192.168.1.255) is how many plotters are fed; without
+                // the option the system refuses every datagram.
+                socket
+                    .set_broadcast(true)
+                    .context("allowing broadcast on the UDP socket")?;
+                NmeaOut::Udp(socket, to, 0)
             }
             OutSpec::Tcp(port) => {
                 let l = TcpListener::bind(("0.0.0.0", *port))
@@ -98,8 +104,16 @@ impl NmeaOut {
     /// The operating system's.
     pub fn local_addr(&self) -> std::io::Result<std::net::SocketAddr> {
         match self {
-            NmeaOut::Udp(s, _) => s.local_addr(),
+            NmeaOut::Udp(s, ..) => s.local_addr(),
             NmeaOut::Tcp(l, _, _) => l.local_addr(),
+        }
+    }
+
+    /// Datagrams the system refused to send (UDP; 0 for TCP).
+    pub fn udp_failures(&self) -> u64 {
+        match self {
+            NmeaOut::Udp(.., failed) => *failed,
+            NmeaOut::Tcp(..) => 0,
         }
     }
 
@@ -116,9 +130,16 @@ impl NmeaOut {
     /// or stopped reading is dropped; nothing here stops the tracker.
     pub fn send(&mut self, sentences: &[String]) {
         match self {
-            NmeaOut::Udp(socket, to) => {
+            NmeaOut::Udp(socket, to, failed) => {
                 for s in sentences {
-                    let _ = socket.send_to(s.as_bytes(), *to);
+                    if let Err(e) = socket.send_to(s.as_bytes(), *to) {
+                        if *failed == 0 {
+                            eprintln!(
+                                "nmea out: sending to {to} failed: {e} (counted; tracking goes on)"
+                            );
+                        }
+                        *failed += 1;
+                    }
                 }
             }
             NmeaOut::Tcp(listener, clients, counts) => {
