@@ -89,7 +89,7 @@ impl DemoOptions {
 /// does not open.
 pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
     let mut simulator = o.simulator;
-    let mut own_ship = o.own_ship.clone();
+    let mut own_ship = crate::app::with_live_origin(&o.own_ship)?;
     let truth = match &o.own_ship.nmea_in {
         Some(InSpec::File(path)) => {
             let track = RecordedTrack::read(path, &o.own_ship.nmea)?;

@@ -90,6 +90,46 @@ pub fn own_ship_source(
     })
 }
 
+/// `o` with its origin set, when not given, to a live own-ship source's first fix
+/// ([`crate::own_ship::first_fix`]), waited for at start-up; told on standard error.
+///
+/// # Errors
+/// The source does not open.
+pub fn with_live_origin(o: &OwnShipOptions) -> anyhow::Result<OwnShipOptions> {
+    let mut o = o.clone();
+    let Some(spec) = o
+        .nmea_in
+        .as_ref()
+        .filter(|s| s.is_live() && o.origin.is_none())
+    else {
+        return Ok(o);
+    };
+    let wait = crate::own_ship::first_fix::FIRST_FIX_WAIT;
+    eprintln!(
+        "waiting up to {} s for own ship's first fix on the NMEA input, the local frame's origin (--origin LAT,LON starts at once)",
+        wait.as_secs()
+    );
+    match crate::own_ship::first_fix::first_live_fix(spec, wait)? {
+        Some(fix) => {
+            eprintln!(
+                "origin: {:.5}, {:.5} (own ship's first fix)",
+                fix.lat_deg, fix.lon_deg
+            );
+            o.origin = Some(fix);
+        }
+        None => {
+            let d = Origin::default();
+            eprintln!(
+                "no fix in {} s: the origin is {:.5}, {:.5}; far from own ship the radar's plots are refused (an own-ship alarm says so): give --origin",
+                wait.as_secs(),
+                d.lat_deg,
+                d.lon_deg
+            );
+        }
+    }
+    Ok(o)
+}
+
 /// Today, as days since 1970 (a live source's sentences before their first date).
 pub fn today() -> i64 {
     (crate::utc::now_s() / 86_400.0).floor() as i64

@@ -58,6 +58,17 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     // The origin is a position of own ship's (the operator's, or a capture's first fix),
     // not the default: targets' latitudes and longitudes can be sent before a fix.
     let mut origin_known = o.own_ship.origin.is_some();
+    let own_ship_options;
+    let o = if origin_known {
+        o
+    } else {
+        own_ship_options = TrackOptions {
+            own_ship: crate::app::with_live_origin(&o.own_ship)?,
+            ..o.clone()
+        };
+        origin_known = own_ship_options.own_ship.origin.is_some();
+        &own_ship_options
+    };
     let (source, origin, sigma_m): (Box<dyn PlotSource>, Origin, f32) = match &o.input {
         TrackInput::Plots { plots, truth } => {
             let mut source = PlotsFileSource::open(plots)?;

@@ -393,18 +393,6 @@ where
                     crate::source::ais_truth::MAX_GAP_S
                 );
             }
-            // A recording's first fix is the origin; a live source's is not known yet.
-            let live_nmea = run
-                .nmea_in
-                .first()
-                .is_some_and(crate::nmea::InSpec::is_live);
-            if live_nmea && run.origin.is_none() && ais_truth.is_none() {
-                let o = crate::origin::Origin::default();
-                eprintln!(
-                    "note: live NMEA without --origin: the simulated ships sail around {:.3}, {:.3} (the default origin), not around own ship; give --origin LAT,LON near own ship",
-                    o.lat_deg, o.lon_deg
-                );
-            }
             if *targets > tracker_core::sim::MAX_TARGETS {
                 anyhow::bail!(
                     "--targets {targets}: the simulator holds at most {}",

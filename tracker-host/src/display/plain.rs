@@ -53,6 +53,9 @@ pub fn header(r: &ScanReport) -> String {
     for a in r.own.alarms() {
         s += &format!("\n  {a}");
     }
+    if let Some(note) = &r.skipped {
+        s += &format!("\n  {note}");
+    }
     s
 }
 

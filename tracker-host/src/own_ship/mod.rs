@@ -14,6 +14,7 @@
 //! its fixes).
 
 pub mod clock;
+pub mod first_fix;
 pub mod nav;
 pub mod recording;
 pub mod select;
@@ -30,6 +31,13 @@ use crate::origin::Origin;
 use crate::source::SourceScan;
 use nav::{NavCounts, OwnShipNav};
 use select::Selector;
+
+/// Own ship this far from the local frame's origin raises an alarm, m: the frame is flat
+/// (its east metres are the origin's latitude's), and the device refuses plots beyond
+/// [`tracker_core::filter::MAX_POSITION_M`] (10,000 km), so every scan would be skipped. The
+/// origin is own ship's first fix, or `--origin`, or (a live source without either) the
+/// default's, which may be across the world.
+pub const FAR_FROM_ORIGIN_M: f32 = 1.0e6;
 
 /// How far own ship can be trusted.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -145,6 +153,14 @@ impl OwnShip {
         }
         if q.implausible_fix {
             a.push("OWN SHIP: implausible position fix refused".to_string());
+        }
+        let from_origin_m = libm::hypotf(self.position_m[0], self.position_m[1]);
+        if !q.no_fix_yet && from_origin_m > FAR_FROM_ORIGIN_M {
+            a.push(format!(
+                "OWN SHIP: {:.0} km from the frame's origin (the device refuses plots beyond {:.0} km): restart with --origin LAT,LON near own ship",
+                from_origin_m / 1000.0,
+                tracker_core::filter::MAX_POSITION_M / 1000.0
+            ));
         }
         if q.heading_needed {
             a.push(
@@ -587,6 +603,25 @@ impl OwnShipSource for SimulatedBridge {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn own_ship_far_from_the_frames_origin_raises_an_alarm() {
+        let near = OwnShip::at([300_000.0, 400_000.0], [0.0, 0.0]);
+        assert!(near.alarms().is_empty(), "{:?}", near.alarms());
+        let far = OwnShip::at([0.0, -16_000_000.0], [0.0, 0.0]);
+        assert!(
+            far.alarms()
+                .iter()
+                .any(|a| a.contains("16000 km from the frame's origin") && a.contains("--origin")),
+            "{:?}",
+            far.alarms()
+        );
+        // Before a fix own ship is at the origin: no alarm of this kind.
+        assert!(OwnShip::unknown()
+            .alarms()
+            .iter()
+            .all(|a| !a.contains("origin")));
+    }
     use crate::nmea::bridge::own_ship_sentences;
 
     #[test]
