@@ -1,7 +1,7 @@
 //! The binary as a shell user meets it: its output piped into a reader that stops early
 //! (`tracker-host demo --plain | head -1`) ends the run quietly, never with a panic; an
 //! output path that cannot be written is refused before the run, not after it; the
-//! summary's events read plainly.
+//! summary's events read plainly; Ctrl-C ends a run with its summary.
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
@@ -24,6 +24,41 @@ fn a_closed_pipe_is_not_a_panic() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_ne!(out.status.code(), Some(101), "{stderr}");
+}
+
+#[test]
+fn ctrl_c_ends_a_run_with_its_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("s.json");
+    // Paced at real time: ten minutes, stopped after its first scans.
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tracker-host"))
+        .args(["--link", "inproc", "demo", "--plain", "--speedup", "1"])
+        .args(["--duration", "600", "--summary-json"])
+        .arg(&json)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    let mut line = String::new();
+    while !line.starts_with("scan    2") {
+        line.clear();
+        assert_ne!(out.read_line(&mut line).unwrap(), 0, "ended before scan 2");
+    }
+    let interrupted = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(interrupted.success());
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut out, &mut rest).unwrap();
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{status:?}");
+    assert!(rest.contains("== summary"), "{rest}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let scans = summary["scans"].as_u64().unwrap();
+    assert!((2..100).contains(&scans), "{scans} scans");
 }
 
 #[test]

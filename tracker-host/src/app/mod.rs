@@ -7,6 +7,7 @@
 //! [`Outputs`]); [`run::Run`] steps the wiring scan by scan.
 
 pub mod demo;
+pub mod interrupt;
 pub mod run;
 pub mod track;
 

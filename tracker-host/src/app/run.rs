@@ -89,6 +89,11 @@ impl Run {
         if self.finished {
             return Ok(None);
         }
+        // Ctrl-C or SIGTERM: the run ends here, as at its source's end.
+        if super::interrupt::interrupted() {
+            self.finish()?;
+            return Ok(None);
+        }
         let Some(scan) = self.plots.next_scan()? else {
             self.finish()?;
             return Ok(None);

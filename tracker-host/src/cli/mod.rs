@@ -616,6 +616,8 @@ fn track_to_end(
 ) -> anyhow::Result<ExitCode> {
     let limits = tracking.session().config().alarms;
     let link = link.to_string();
+    // Ctrl-C ends the run after the scan in hand, with its summary; twice, at once.
+    crate::app::interrupt::install().context("installing the Ctrl-C handler")?;
     let use_tui = !args.plain && std::io::IsTerminal::is_terminal(&std::io::stdout());
     if use_tui {
         let mut state = crate::display::DisplayState::new(link.clone());

@@ -861,6 +861,10 @@ pub fn run_tui(
         let mut done = 1u64;
         let mut next_due = Instant::now() + interval;
         loop {
+            // SIGTERM (the terminal's Ctrl-C comes as a key, below).
+            if crate::app::interrupt::interrupted() {
+                return Ok(done);
+            }
             terminal.draw(|f| render(f, state, &view))?;
             // Paused or ended, nothing is due: wait for keys without spinning.
             let wait = if state.ended || state.paused {

@@ -51,6 +51,12 @@ pub const GARMIN_SPOKE_GROUPS: [Endpoint; 1] = [Endpoint {
 const QUEUE: usize = 4096;
 /// How often a receiving thread looks whether it should stop.
 const POLL: Duration = Duration::from_millis(200);
+
+/// How often a wait for live data looks for Ctrl-C.
+const INTERRUPT_POLL: Duration = Duration::from_millis(250);
+
+/// Silence on a live radar is told this often.
+const SILENCE_NOTE: Duration = Duration::from_secs(10);
 /// Receive buffer asked of the kernel, bytes.
 const RECV_BUFFER: usize = 4 << 20;
 
@@ -141,7 +147,30 @@ impl LiveReceiver {
                 Err(RecvTimeoutError::Timeout) => None,
                 Err(RecvTimeoutError::Disconnected) => anyhow::bail!("no radar socket is open"),
             },
-            None => Some(self.rx.recv().context("no radar socket is open")?),
+            // As long as it takes, but told every SILENCE_NOTE, and not past Ctrl-C (the run
+            // then ends as a capture's does).
+            None => {
+                let mut silent = Duration::ZERO;
+                loop {
+                    if crate::app::interrupt::interrupted() {
+                        break None;
+                    }
+                    match self.rx.recv_timeout(INTERRUPT_POLL) {
+                        Ok(r) => break Some(r),
+                        Err(RecvTimeoutError::Timeout) => {}
+                        Err(RecvTimeoutError::Disconnected) => {
+                            anyhow::bail!("no radar socket is open")
+                        }
+                    }
+                    silent += INTERRUPT_POLL;
+                    if silent.as_millis().is_multiple_of(SILENCE_NOTE.as_millis()) {
+                        eprintln!(
+                            "no radar data for {} s: is the radar transmitting, and is the interface the one on its network (--radar navico@ADDR, garmin@ADDR)?",
+                            silent.as_secs()
+                        );
+                    }
+                }
+            }
         };
         let Some(r) = got else {
             self.current = None;
