@@ -50,6 +50,9 @@ pub fn header(r: &ScanReport) -> String {
         r.acquiring(),
         crate::display::own_ship_line(&r.own)
     );
+    if !r.ais.is_empty() {
+        s += &format!("  AIS {}", r.ais.len());
+    }
     for a in r.own.alarms() {
         s += &format!("\n  {a}");
     }
@@ -68,8 +71,12 @@ impl Plain {
         }
         let column = |track: u16| crate::display::ais_column(r, track);
         let mut s = table_with_ais(&r.targets, &self.limits, Some(&column));
-        for a in crate::display::ais_alarms(r, &self.limits) {
-            let Some(c) = a.cpa else { continue };
+        // The soonest closest approach first, as on the radar display.
+        let mut alarms: Vec<_> = crate::display::ais_alarms(r, &self.limits)
+            .filter_map(|a| Some((a, a.cpa?)))
+            .collect();
+        alarms.sort_by(|x, y| x.1.tcpa_s.total_cmp(&y.1.tcpa_s));
+        for (a, c) in alarms {
             s += &format!(
                 "  AIS {} CPA {:.2} NM in {:.1} min  ALARM CPA/TCPA\n",
                 a.label,
