@@ -68,6 +68,28 @@ impl UtcClock {
         self.newest_s
     }
 
+    /// Whether a sentence has given the date (else times count from the provisional day).
+    pub fn date_known(&self) -> bool {
+        self.day.is_some()
+    }
+
+    /// Takes a dated `stamp` the clock refused while its date was provisional: the
+    /// provisional day was a guess (a live source's is this computer's date, wrong when its
+    /// clock is hours out across midnight, or years), the sentence's date is not. The clock
+    /// starts again at its time, which it returns; `None` (nothing changes) for a stamp
+    /// without a date or a time, or once the date is known.
+    pub fn rebase(&mut self, stamp: &Stamp) -> Option<f64> {
+        let (tod, day) = (stamp.time_of_day_s?, stamp.day?);
+        if self.day.is_some() {
+            return None;
+        }
+        let t = day as f64 * DAY_S + tod;
+        self.day = Some(day);
+        self.newest_s = Some(t);
+        self.jump_to = None;
+        Some(t)
+    }
+
     /// The time `stamp` stands for, without taking it (`None` for a stamp without a time).
     pub fn peek(&self, stamp: &Stamp) -> Option<f64> {
         self.resolve(stamp).map(|(t, _)| t)
@@ -173,6 +195,27 @@ mod tests {
         // Sentences of one epoch share a time.
         assert!(c.take(&at(70_000.0, None)).is_ok());
         assert_eq!(c.take(&Stamp::default()), Ok(None));
+    }
+
+    #[test]
+    fn the_first_date_replaces_a_wrong_provisional_day() {
+        // This computer's date is a day ahead of the bridge's (its clock 12 h fast across
+        // midnight): a time-only sentence is taken on it, and the first RMC's date is a day
+        // back, refused as a step back; rebased on it, the clock goes on from there.
+        let d = 20_000;
+        let mut c = UtcClock::new(d + 1);
+        c.take(&at(82_800.0, None)).unwrap();
+        let rmc = at(82_801.0, Some(d));
+        assert!(matches!(c.take(&rmc), Err(Refused::Backwards { .. })));
+        assert!(!c.date_known());
+        assert_eq!(c.rebase(&rmc), Some(d as f64 * DAY_S + 82_801.0));
+        assert!(c.date_known());
+        assert_eq!(
+            c.take(&at(82_802.0, None)),
+            Ok(Some(d as f64 * DAY_S + 82_802.0))
+        );
+        // Once the date is known, nothing is rebased.
+        assert_eq!(c.rebase(&at(10.0, Some(d - 400))), None);
     }
 
     #[test]

@@ -407,14 +407,7 @@ impl OwnShipNav {
                         "own-ship filter restarted: the bridge's UTC is {} the time the sentences before it were heard",
                         crate::utc::offset_label(ahead_s)
                     ));
-                    self.drkf = None;
-                    self.last_position_s = None;
-                    self.last_heading_s = None;
-                    self.heading_deg = None;
-                    self.last_implausible_s = None;
-                    self.implausible.clear();
-                    self.selector.forget_times();
-                    self.time_s = t;
+                    self.restart_at(t);
                 }
                 t
             }
@@ -431,6 +424,22 @@ impl OwnShipNav {
                     .newest_s()
                     .unwrap_or(self.time_s.max(self.untimed_from_s)),
             },
+            Err(
+                clock::Refused::Backwards { newest_s, .. } | clock::Refused::Jump { newest_s, .. },
+            ) if !self.clock.date_known() && stamp.day.is_some() => {
+                // The first date: the times before it were on a provisional day (a live
+                // source's is this computer's date), and this sentence's date is the
+                // bridge's. Start again on it.
+                let Some(t) = self.clock.rebase(&stamp) else {
+                    return;
+                };
+                self.events.push(format!(
+                    "own-ship filter restarted: the first date heard puts the bridge's UTC {} the provisional date's (this computer's date) taken before it",
+                    crate::utc::offset_label(t - newest_s)
+                ));
+                self.restart_at(t);
+                t
+            }
             Err(clock::Refused::Backwards { .. }) => {
                 self.counts.stale += 1;
                 return;
@@ -622,6 +631,19 @@ impl OwnShipNav {
         }
         self.last_implausible_s = Some(at);
         false
+    }
+
+    /// Forgets the filter and every time taken on the clock before `t`, s: the clock has
+    /// started again.
+    fn restart_at(&mut self, t: f64) {
+        self.drkf = None;
+        self.last_position_s = None;
+        self.last_heading_s = None;
+        self.heading_deg = None;
+        self.last_implausible_s = None;
+        self.implausible.clear();
+        self.selector.forget_times();
+        self.time_s = t;
     }
 
     fn apply(&mut self, at: f64, fix: &NavFix) {
@@ -895,6 +917,35 @@ mod tests {
     /// no filter; a bridge clock that then agrees with its arrival (within a scan's
     /// lateness) restarts nothing. It was compared with the unset filter's time, 1970: a
     /// live feed with correct times announced its UTC 57 years ahead and started again.
+    #[test]
+    fn the_first_date_heard_replaces_this_computers() {
+        // This computer's clock 12 h fast across midnight: its date, taken for the GGA that
+        // comes before each RMC, is a day after the bridge's. Every RMC was refused as
+        // stale; the first one's date now restarts the filter on the bridge's time.
+        let mut nav = OwnShipNav::new(Origin::default(), DAY0 + 1, None);
+        let t = T0 + 23.0 * 3600.0;
+        for k in 0..10 {
+            let at = t + f64::from(k);
+            for l in own_ship_sentences(
+                [0.0, 5.0 * f64::from(k)],
+                [0.0, 5.0],
+                &Origin::default(),
+                at,
+            ) {
+                nav.feed(&l);
+            }
+        }
+        assert_eq!(nav.counts().stale, 0, "{}", nav.counts());
+        assert!(
+            nav.events().iter().any(|e| e.contains("first date")),
+            "{:?}",
+            nav.events()
+        );
+        let own = nav.own_ship_at(t + 9.0).expect("own ship");
+        assert!((own.position_m[1] - 45.0).abs() < 5.0, "{own:?}");
+        assert!((own.velocity_mps[1] - 5.0).abs() < 0.5, "{own:?}");
+    }
+
     #[test]
     fn a_heading_before_the_first_fix_restarts_nothing() {
         let mut nav = OwnShipNav::new(Origin::default(), DAY0, None);
