@@ -218,15 +218,27 @@ mod tests {
         }
     }
 
-    #[test]
-    fn a_targets_motion_once_shown_stays_shown() {
+    /// Own ship stopped at the origin, the default alarms, 40 m plots every 2.5 s.
+    fn trend_setup() -> (OwnShip, AlarmLimits, TrendModel) {
         let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
-        let limits = AlarmLimits::default();
-        let model = TrendModel::new(40.0, 2.5, 20.0).unwrap();
-        let at = |age: u16, hits: u16| TrackState {
+        (
+            own,
+            AlarmLimits::default(),
+            TrendModel::new(40.0, 2.5, 20.0).unwrap(),
+        )
+    }
+
+    /// Confirmed track 10, 5 km north, `age` scans old with `hits`.
+    fn at(age: u16, hits: u16) -> TrackState {
+        TrackState {
             age_scans: age,
             ..track(10, TrackStatus::Confirmed, hits, 5000.0)
-        };
+        }
+    }
+
+    #[test]
+    fn a_targets_motion_once_shown_stays_shown() {
+        let (own, limits, model) = trend_setup();
         let mut n = TargetNumbers::new(9);
         let s = n.scan(&own, &[at(13, 0x3ff)], &limits, Some(&model));
         assert!(!s.tracked[0].trend_known, "13 plots of 40 m: not yet");
@@ -252,13 +264,7 @@ mod tests {
 
     #[test]
     fn an_acquisition_that_misses_twice_has_failed_until_its_next_plot() {
-        let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
-        let limits = AlarmLimits::default();
-        let model = TrendModel::new(40.0, 2.5, 20.0).unwrap();
-        let at = |age: u16, hits: u16| TrackState {
-            age_scans: age,
-            ..track(10, TrackStatus::Confirmed, hits, 5000.0)
-        };
+        let (own, limits, model) = trend_setup();
         let mut n = TargetNumbers::new(9);
         let s = n.scan(&own, &[at(4, 0b1111)], &limits, Some(&model));
         assert_eq!(s.tracked[0].number, Some(1));
