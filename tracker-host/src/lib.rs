@@ -11,6 +11,7 @@
 //! | [`session`] | the host half of a scan: the device over the link, refined gate, association, target data, alarms |
 //! | [`sink`], [`record`], [`score`] | where scan reports go: recordings, the scorer |
 //! | [`nmea`], [`origin`] | NMEA 0183 in and out, the local frame on the globe |
+//! | [`udp`] | UDP datagrams with the kernel's count of those it dropped |
 //! | [`display`] | the radar display (terminal) and the plain table |
 //! | [`app`] | the commands `demo` and `track` as wirings of the above |
 //! | [`cli`] | the command line, a thin dispatcher |
@@ -39,4 +40,5 @@ pub mod score;
 pub mod session;
 pub mod sink;
 pub mod source;
+pub mod udp;
 pub mod utc;

@@ -13,6 +13,17 @@ use crate::session::{ScanReport, Session};
 use crate::sink::ScanSink;
 use crate::source::PlotSource;
 
+/// What [`Run::poll`] came to.
+#[derive(Debug)]
+pub enum Polled {
+    /// A scan tracked.
+    Scan(Box<ScanReport>),
+    /// A live source gave no scan in the time allowed; the run goes on.
+    Waiting,
+    /// The source has ended, or the run was interrupted (the sinks are finished).
+    Ended,
+}
+
 /// Sources, session and sinks, wired.
 pub struct Run {
     plots: Box<dyn PlotSource>,
@@ -86,20 +97,61 @@ impl Run {
     /// # Errors
     /// A source, the session or a sink failed.
     pub fn step_at(&mut self, before: impl FnOnce(f64)) -> anyhow::Result<Option<ScanReport>> {
+        Ok(match self.next(before, None)? {
+            Polled::Scan(report) => Some(*report),
+            Polled::Waiting | Polled::Ended => None,
+        })
+    }
+
+    /// As [`Run::step`], but a live source's scan is waited for at most `wait`: for a loop
+    /// that must go on meanwhile (the display, answering keys while the radar is silent).
+    ///
+    /// # Errors
+    /// As [`Run::step`].
+    pub fn poll(&mut self, wait: Duration) -> anyhow::Result<Polled> {
+        self.next(|_| {}, Some(wait))
+    }
+
+    /// True when the scans come from a live source (a radar on the network).
+    pub fn is_live(&self) -> bool {
+        self.plots.is_live()
+    }
+
+    fn next(&mut self, before: impl FnOnce(f64), wait: Option<Duration>) -> anyhow::Result<Polled> {
         if self.finished {
-            return Ok(None);
+            return Ok(Polled::Ended);
         }
         // Ctrl-C or SIGTERM: the run ends here, as at its source's end.
         if super::interrupt::interrupted() {
             self.finish()?;
-            return Ok(None);
+            return Ok(Polled::Ended);
         }
-        let Some(scan) = self.plots.next_scan()? else {
+        let waits = wait.is_some() && self.plots.is_live();
+        if waits {
+            self.plots.set_live_wait(wait);
+        }
+        let scan = self.plots.next_scan();
+        if waits {
+            self.plots.set_live_wait(None);
+        }
+        let Some(scan) = scan? else {
+            if waits && !super::interrupt::interrupted() {
+                return Ok(Polled::Waiting);
+            }
             self.finish()?;
-            return Ok(None);
+            return Ok(Polled::Ended);
         };
         before(scan.radar.time_s);
         let mut own = self.own_ship.own_ship(&scan)?;
+        // An own-ship source without a heading (NMEA with no HDT/HDG): the heading the
+        // radar's spokes carry or were given (a heading sensor wired to the radar,
+        // `--heading-deg`), which the plots were placed with.
+        if own.heading_rad.is_none() {
+            if let Some(h) = scan.own_ship.and_then(|o| o.heading_rad) {
+                own.heading_rad = Some(h);
+                own.quality.heading_lost = false;
+            }
+        }
         // The plot source knows whether its plots wanted a heading, whoever gives own ship;
         // an alarm only while own ship has none.
         own.quality.heading_needed =
@@ -133,7 +185,7 @@ impl Run {
             self.targets_seen += u64::from(self.shown.insert(t.track));
         }
         self.scans += 1;
-        Ok(Some(report))
+        Ok(Polled::Scan(Box::new(report)))
     }
 
     /// Finishes every sink (flushes recordings); later steps return `None`.
@@ -431,6 +483,51 @@ mod tests {
         let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
         run.run_to_end(None, |_| {}).unwrap();
         run.report("inproc")
+    }
+
+    /// One scan whose source knows own ship's heading (a radar's spokes), and an own-ship
+    /// source that knows only a position (NMEA without a heading sentence).
+    struct HeadingOnly;
+    impl PlotSource for HeadingOnly {
+        fn next_scan(&mut self) -> anyhow::Result<Option<crate::source::SourceScan>> {
+            let mut own = crate::own_ship::OwnShip::unknown();
+            own.heading_rad = Some(0.5);
+            Ok(Some(crate::source::SourceScan {
+                own_ship: Some(own),
+                ..Default::default()
+            }))
+        }
+        fn scan_period_s(&self) -> Option<f64> {
+            None
+        }
+        fn scans_left(&self) -> Option<u64> {
+            None
+        }
+    }
+    struct PositionOnly;
+    impl OwnShipSource for PositionOnly {
+        fn own_ship(
+            &mut self,
+            _: &crate::source::SourceScan,
+        ) -> anyhow::Result<crate::own_ship::OwnShip> {
+            Ok(crate::own_ship::OwnShip::at([10.0, 20.0], [1.0, 0.0]))
+        }
+    }
+
+    #[test]
+    fn own_ship_without_a_heading_takes_the_radars() {
+        let client = Client::new(Box::new(InprocTransport::new()));
+        let config = crate::session::SessionConfig::tracking_plots_of(FilterKind::KalmanCv, 40.0);
+        let session = Session::start(client, config).unwrap();
+        let mut run = Run::new(
+            Box::new(HeadingOnly),
+            Box::new(PositionOnly),
+            session,
+            Vec::new(),
+        );
+        let report = run.step().unwrap().unwrap();
+        assert_eq!(report.own.heading_rad, Some(0.5));
+        assert_eq!(report.own.position_m, [10.0, 20.0]);
     }
 
     #[test]

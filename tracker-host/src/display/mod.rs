@@ -99,6 +99,9 @@ pub struct DisplayState {
     pub echoes: bool,
     /// How a ship with a radar target and an AIS target associated is drawn.
     pub associated: AssociatedSymbol,
+    /// A live radar silent this long, s (raised after a few antenna periods): the
+    /// no-radar-data alarm.
+    pub radar_silent_s: Option<u64>,
     trails: BTreeMap<u16, VecDeque<EastNorth>>,
     lost: Vec<String>,
 }
@@ -119,6 +122,7 @@ impl DisplayState {
             scale_chosen: false,
             echoes: true,
             associated: AssociatedSymbol::default(),
+            radar_silent_s: None,
             trails: BTreeMap::new(),
             lost: Vec::new(),
         }
@@ -700,11 +704,11 @@ fn alarm_box_rows(alarms: &[Line], state: &DisplayState) -> u16 {
 /// line.
 const ALARM_BOX_MAX_ROWS: u16 = 14;
 
-/// The alarm box's lines, the most urgent first: own ship's sensor alarms, then the CPA/TCPA
-/// alarms of radar and AIS targets together, the soonest closest approach first (IEC 62388
-/// has the operator see every alarm; the soonest is the one to act on), lost targets, the
-/// track table's capacity, then skipped scans. (The answer to the operator's last command is
-/// drawn apart, always: see [`render_alarms`].)
+/// The alarm box's lines, the most urgent first: a live radar gone silent and own ship's
+/// sensor alarms, then the CPA/TCPA alarms of radar and AIS targets together, the soonest
+/// closest approach first (IEC 62388 has the operator see every alarm; the soonest is the
+/// one to act on), lost targets, the track table's capacity, then skipped scans. (The answer
+/// to the operator's last command is drawn apart, always: see [`render_alarms`].)
 fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Line<'static>> {
     // In a narrow pane the words go, not the figures.
     let head = if narrow { "ALARM" } else { "CPA/TCPA ALARM:" };
@@ -714,12 +718,22 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
         ("target ", "CPA ", "in ")
     };
     let alarm = Style::default().fg(Color::Red).add_modifier(Modifier::BOLD);
-    let mut lines: Vec<Line> = view
-        .own
-        .alarms()
+    let mut lines: Vec<Line> = state
+        .radar_silent_s
+        .map(|s| {
+            Line::styled(
+                format!("NO RADAR DATA for {s} s: the picture is the last received"),
+                alarm,
+            )
+        })
         .into_iter()
-        .map(|a| Line::styled(a, alarm))
         .collect();
+    lines.extend(
+        view.own
+            .alarms()
+            .into_iter()
+            .map(|a| Line::styled(a, alarm)),
+    );
     let mut approaching: Vec<(f32, String)> = view
         .targets
         .iter()
@@ -836,9 +850,66 @@ pub fn key(run: &mut Run, state: &mut DisplayState, key: char, view: &ScanReport
     false
 }
 
+/// How long the display waits for a live radar's scan before it answers keys and redraws.
+const LIVE_POLL: std::time::Duration = std::time::Duration::from_millis(100);
+
+/// A live radar silent this many antenna periods (and at least [`SILENT_MIN_S`]) raises
+/// the display's no-radar-data alarm.
+const SILENT_PERIODS: f64 = 3.0;
+/// The shortest silence alarmed, s.
+const SILENT_MIN_S: f64 = 10.0;
+
+/// The next key pressed within `wait`, as [`key`] takes it (`q` for Esc and Ctrl-C: the
+/// terminal is raw, so Ctrl-C comes as a key).
+fn next_key(wait: std::time::Duration) -> anyhow::Result<Option<char>> {
+    use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind, KeyModifiers};
+    if !event::poll(wait.max(std::time::Duration::from_millis(1)))? {
+        return Ok(None);
+    }
+    let Event::Key(k) = event::read()? else {
+        return Ok(None);
+    };
+    if k.kind != KeyEventKind::Press {
+        return Ok(None);
+    }
+    Ok(match k.code {
+        KeyCode::Char('c') if k.modifiers.contains(KeyModifiers::CONTROL) => Some('q'),
+        KeyCode::Char(c) => Some(c),
+        KeyCode::Up => Some('↑'),
+        KeyCode::Down => Some('↓'),
+        KeyCode::Esc => Some('q'),
+        _ => None,
+    })
+}
+
+/// The screen before a live radar's first rotation has come.
+fn render_waiting(frame: &mut Frame, state: &DisplayState, silent_s: u64) {
+    let text = vec![
+        Line::styled(
+            format!(
+                "ARPA  waiting for the radar's first rotation ({silent_s} s)  - link {}",
+                state.link
+            ),
+            Style::default().add_modifier(Modifier::BOLD),
+        ),
+        Line::raw(""),
+        Line::raw(
+            "No spokes yet. Is the radar transmitting, and is the interface the one on its network",
+        ),
+        Line::raw("(--radar navico@ADDR, garmin@ADDR)?"),
+        Line::raw(""),
+        Line::styled("q quit", Style::default().fg(Color::DarkGray)),
+    ];
+    frame.render_widget(
+        Paragraph::new(text).block(Block::default().borders(Borders::ALL)),
+        frame.area(),
+    );
+}
+
 /// Runs `run` in the terminal until its source ends or the user quits; returns the scans
-/// run. With `speedup`, scans are paced at the source's antenna period divided by it. The
-/// terminal is restored whatever happens.
+/// run. With `speedup`, scans are paced at the source's antenna period divided by it. A
+/// live radar is never waited on with the keys unanswered: the display polls it, and says
+/// when it has gone silent. The terminal is restored whatever happens.
 ///
 /// # Errors
 /// The run failed, or the terminal could not be drawn or read.
@@ -847,24 +918,42 @@ pub fn run_tui(
     state: &mut DisplayState,
     speedup: Option<f64>,
 ) -> anyhow::Result<u64> {
-    use ratatui::crossterm::event::{self, Event, KeyCode, KeyEventKind, KeyModifiers};
+    use crate::app::run::Polled;
     use std::time::{Duration, Instant};
 
     let period = run.scan_period_s().unwrap_or(2.5);
     let interval = speedup.map_or(Duration::ZERO, |x| Duration::from_secs_f64(period / x));
+    let silent_after = Duration::from_secs_f64((SILENT_PERIODS * period).max(SILENT_MIN_S));
     let mut terminal = ratatui::init();
     let result = (|| -> anyhow::Result<u64> {
-        let Some(mut view) = run.step()? else {
-            return Ok(0);
+        // The first scan: keys are answered while a live radar is silent.
+        let started = Instant::now();
+        let mut view = loop {
+            if crate::app::interrupt::interrupted() {
+                return Ok(0);
+            }
+            match run.poll(LIVE_POLL)? {
+                Polled::Scan(report) => break *report,
+                Polled::Ended => return Ok(0),
+                Polled::Waiting => {}
+            }
+            let silent_s = started.elapsed().as_secs();
+            terminal.draw(|f| render_waiting(f, state, silent_s))?;
+            if next_key(Duration::from_millis(1))? == Some('q') {
+                return Ok(0);
+            }
         };
         state.observe(&view);
         let mut done = 1u64;
         let mut next_due = Instant::now() + interval;
+        let mut last_scan = Instant::now();
         loop {
             // SIGTERM (the terminal's Ctrl-C comes as a key, below).
             if crate::app::interrupt::interrupted() {
                 return Ok(done);
             }
+            let silent = last_scan.elapsed();
+            state.radar_silent_s = (silent >= silent_after).then_some(silent.as_secs());
             terminal.draw(|f| render(f, state, &view))?;
             // Paused or ended, nothing is due: wait for keys without spinning.
             let wait = if state.ended || state.paused {
@@ -872,25 +961,11 @@ pub fn run_tui(
             } else {
                 next_due.saturating_duration_since(Instant::now())
             };
-            if event::poll(wait.max(Duration::from_millis(1)))? {
-                if let Event::Key(k) = event::read()? {
-                    if k.kind != KeyEventKind::Press {
-                        continue;
-                    }
-                    let c = match k.code {
-                        // The terminal is raw: Ctrl-C comes as a key, and quits as `q` does.
-                        KeyCode::Char('c') if k.modifiers.contains(KeyModifiers::CONTROL) => 'q',
-                        KeyCode::Char(c) => c,
-                        KeyCode::Up => '↑',
-                        KeyCode::Down => '↓',
-                        KeyCode::Esc => 'q',
-                        _ => continue,
-                    };
-                    if key(run, state, c, &view) {
-                        return Ok(done);
-                    }
-                    continue;
+            if let Some(c) = next_key(wait)? {
+                if key(run, state, c, &view) {
+                    return Ok(done);
                 }
+                continue;
             }
             if state.ended || state.paused {
                 // Scans resume at their pace, not in a burst to catch up.
@@ -900,15 +975,18 @@ pub fn run_tui(
             if Instant::now() < next_due {
                 continue;
             }
-            let Some(next) = run.step()? else {
+            match run.poll(LIVE_POLL)? {
+                Polled::Scan(next) => {
+                    view = *next;
+                    state.observe(&view);
+                    done += 1;
+                    next_due += interval;
+                    last_scan = Instant::now();
+                }
+                Polled::Waiting => {}
                 // The last picture stays up to be looked at, as a radar's does.
-                state.ended = true;
-                continue;
-            };
-            view = next;
-            state.observe(&view);
-            done += 1;
-            next_due += interval;
+                Polled::Ended => state.ended = true,
+            }
         }
     })();
     ratatui::restore();
@@ -1300,6 +1378,56 @@ pub(crate) mod tests {
             let text = screen(&state, &view);
             assert!(text.contains("CPA/TCPA ALARM"), "{text}");
         }
+    }
+
+    #[test]
+    fn a_silent_radar_is_the_first_alarm() {
+        let (mut state, view) = alarming(16);
+        let text = screen(&state, &view);
+        assert!(!text.contains("NO RADAR DATA"), "{text}");
+        state.radar_silent_s = Some(12);
+        let lines = alarm_lines(&state, &view, false);
+        assert!(
+            lines[0].to_string().starts_with("NO RADAR DATA for 12 s"),
+            "{lines:?}"
+        );
+        assert!(screen(&state, &view).contains("NO RADAR DATA for 12 s"));
+    }
+
+    /// A live radar that sends nothing: the run waits the time given and goes on; a
+    /// recording never waits.
+    #[test]
+    fn a_silent_live_radar_is_waited_on_for_the_time_given() {
+        use crate::app::run::Polled;
+        use crate::app::track::{TrackInput, TrackOptions};
+        use crate::radar::{RadarKind, RadarSpec};
+        let radar = crate::source::radar::RadarOptions::new(RadarSpec::Live {
+            kind: RadarKind::Garmin,
+            interface: std::net::Ipv4Addr::LOCALHOST,
+        });
+        let options = TrackOptions {
+            input: TrackInput::Radar(radar),
+            filter: FilterKind::KalmanCv,
+            association: Default::default(),
+            alarms: Default::default(),
+            own_ship: Default::default(),
+            outputs: Default::default(),
+        };
+        let client = Client::new(Box::new(InprocTransport::new()));
+        let mut run = crate::app::track::start(client, &options).unwrap();
+        assert!(run.is_live());
+        let t = std::time::Instant::now();
+        assert!(matches!(
+            run.poll(std::time::Duration::from_millis(150)).unwrap(),
+            Polled::Waiting
+        ));
+        assert!(t.elapsed() >= std::time::Duration::from_millis(150));
+        let mut recorded = demo();
+        assert!(!recorded.is_live());
+        assert!(matches!(
+            recorded.poll(std::time::Duration::ZERO).unwrap(),
+            Polled::Scan(_)
+        ));
     }
 
     #[test]

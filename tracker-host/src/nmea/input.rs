@@ -195,6 +195,9 @@ pub struct LiveLines {
     pub drops: u64,
     /// Times it came back.
     pub reconnects: u64,
+    /// UDP: datagrams the kernel dropped before they were read (the socket's buffer full:
+    /// a flood, or scans that took long), as last told ([`crate::udp`]).
+    pub kernel_drops: u64,
 }
 
 impl LiveLines {
@@ -259,7 +262,15 @@ impl LiveLines {
         use std::io::ErrorKind::{Interrupted, TimedOut, WouldBlock};
         let (drops, reconnects) = (&mut self.drops, &mut self.reconnects);
         match &mut self.source {
-            LiveSource::Udp(s) => s.recv(buf).unwrap_or(0),
+            LiveSource::Udp(s) => match crate::udp::recv_from(s, buf) {
+                Ok(r) => {
+                    if let Some(k) = r.kernel_drops {
+                        self.kernel_drops = u64::from(k);
+                    }
+                    r.len
+                }
+                Err(_) => 0,
+            },
             LiveSource::Tcp {
                 addr,
                 stream,
@@ -343,7 +354,10 @@ fn udp_listener(port: u16) -> std::io::Result<UdpSocket> {
     let any = std::net::SocketAddr::from(([0, 0, 0, 0], port));
     socket.bind(&any.into())?;
     socket.set_nonblocking(true)?;
-    Ok(socket.into())
+    let socket: UdpSocket = socket.into();
+    // Best effort: where the kernel does not count its drops, none are told.
+    let _ = crate::udp::count_kernel_drops(&socket);
+    Ok(socket)
 }
 
 /// Receive buffer asked for a UDP NMEA source, bytes: 2,000 AIS sentences a second for
@@ -404,6 +418,7 @@ impl NmeaIn {
                 partial: Vec::new(),
                 drops: 0,
                 reconnects: 0,
+                kernel_drops: 0,
             })
         };
         Ok(match spec {

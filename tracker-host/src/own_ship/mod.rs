@@ -463,15 +463,21 @@ impl OwnShipSource for NmeaOwnShip {
         };
         let several = !self.more.is_empty();
         for (i, live) in first.into_iter().chain(&self.more).enumerate() {
+            let which = if several {
+                format!(" {}", i + 1)
+            } else {
+                String::new()
+            };
             if live.drops > 0 {
-                let which = if several {
-                    format!(" {}", i + 1)
-                } else {
-                    String::new()
-                };
                 e.push(format!(
                     "NMEA source{which} dropped {} times, reconnected {} times",
                     live.drops, live.reconnects
+                ));
+            }
+            if live.kernel_drops > 0 {
+                e.push(format!(
+                    "NMEA source{which}: {} datagrams lost before they were read (the socket's buffer was full)",
+                    live.kernel_drops
                 ));
             }
         }

@@ -5,7 +5,8 @@
 //! with `SO_REUSEADDR` (so a chart plotter on the same machine can listen too) and a 4 MiB
 //! receive buffer (a radar sends 0.4–0.6 MB/s; the kernel reassembles the fragments). The
 //! threads hand datagrams to the reader through a bounded queue; a datagram that finds it
-//! full is dropped and counted, so a reader that stalls costs data, never memory.
+//! full is dropped and counted, so a reader that stalls costs data, never memory; what the
+//! kernel drops when a socket's buffer fills is counted too ([`crate::udp`], Linux).
 
 use std::net::{Ipv4Addr, SocketAddr, SocketAddrV4, UdpSocket};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
@@ -61,18 +62,38 @@ const SILENCE_NOTE: Duration = Duration::from_secs(10);
 const RECV_BUFFER: usize = 4 << 20;
 
 /// What the receiver has seen.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct LiveStats {
     /// Datagrams received.
     pub received: u64,
     /// Datagrams dropped because the reader was behind.
     pub dropped: u64,
+    /// Datagrams the kernel dropped before they were read (a socket's buffer full), all
+    /// sockets; `None` where the system does not count them.
+    pub kernel_dropped: Option<u64>,
+}
+
+impl std::fmt::Display for LiveStats {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} datagrams received, {} dropped with the reader behind",
+            self.received, self.dropped
+        )?;
+        match self.kernel_dropped {
+            Some(n) => write!(f, ", {n} dropped by the kernel (socket buffer full)"),
+            None => write!(f, ", the kernel's drops not counted on this system"),
+        }
+    }
 }
 
 #[derive(Debug, Default)]
 struct Counters {
     received: AtomicU64,
     dropped: AtomicU64,
+    kernel_dropped: AtomicU64,
+    /// Sockets whose kernel drops are not counted.
+    uncounted: AtomicU64,
 }
 
 /// One received datagram.
@@ -121,6 +142,9 @@ impl LiveReceiver {
         for e in endpoints {
             let socket = join(e, interface)
                 .with_context(|| format!("joining {}:{} on {interface}", e.group, e.port))?;
+            if !crate::udp::count_kernel_drops(&socket) {
+                counters.uncounted.fetch_add(1, Ordering::Relaxed);
+            }
             let (tx, stop, counters) = (tx.clone(), Arc::clone(&stop), Arc::clone(&counters));
             let dst = SocketAddrV4::new(e.group, e.port);
             let thread = std::thread::Builder::new()
@@ -187,9 +211,12 @@ impl LiveReceiver {
 
     /// What has been received.
     pub fn stats(&self) -> LiveStats {
+        let c = &self.counters;
         LiveStats {
-            received: self.counters.received.load(Ordering::Relaxed),
-            dropped: self.counters.dropped.load(Ordering::Relaxed),
+            received: c.received.load(Ordering::Relaxed),
+            dropped: c.dropped.load(Ordering::Relaxed),
+            kernel_dropped: (c.uncounted.load(Ordering::Relaxed) == 0)
+                .then(|| c.kernel_dropped.load(Ordering::Relaxed)),
         }
     }
 }
@@ -227,8 +254,10 @@ fn receive(
 ) {
     // The largest UDP payload.
     let mut buf = vec![0u8; 65536];
+    // The kernel's count for this socket, as last told.
+    let mut kernel_drops = 0u32;
     while !stop.load(Ordering::Relaxed) {
-        let (n, from) = match socket.recv_from(&mut buf) {
+        let r = match crate::udp::recv_from(socket, &mut buf) {
             Ok(r) => r,
             Err(e)
                 if matches!(
@@ -248,12 +277,18 @@ fn receive(
             }
         };
         let time_s = crate::utc::now_s();
-        let src = match from {
-            SocketAddr::V4(a) => a,
-            SocketAddr::V6(_) => continue,
+        if let Some(k) = r.kernel_drops {
+            let new = k.wrapping_sub(kernel_drops);
+            kernel_drops = k;
+            counters
+                .kernel_dropped
+                .fetch_add(u64::from(new), Ordering::Relaxed);
+        }
+        let Some(SocketAddr::V4(src)) = r.from else {
+            continue;
         };
         counters.received.fetch_add(1, Ordering::Relaxed);
-        let payload = buf.get(..n).unwrap_or(&buf).to_vec();
+        let payload = buf.get(..r.len).unwrap_or(&buf).to_vec();
         match tx.try_send(Ok(Received {
             time_s,
             src,

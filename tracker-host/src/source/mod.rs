@@ -68,6 +68,18 @@ pub trait PlotSource {
         true
     }
 
+    /// True for a source whose scans come as they happen (a radar on the network), where
+    /// [`next_scan`](Self::next_scan) may wait for them; recordings and the simulator never
+    /// wait.
+    fn is_live(&self) -> bool {
+        false
+    }
+
+    /// A live source: how long [`next_scan`](Self::next_scan) waits for a scan before it
+    /// returns `Ok(None)` with the source still on (`None`, the default: until a scan comes
+    /// or the run is interrupted). Others ignore it.
+    fn set_live_wait(&mut self, _wait: Option<std::time::Duration>) {}
+
     /// The antenna period, s, when the source knows it (for pacing a run in real time).
     fn scan_period_s(&self) -> Option<f64>;
 

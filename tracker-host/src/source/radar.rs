@@ -117,6 +117,9 @@ pub struct RadarCounts {
     /// The capture file ends in the middle of a record, or its gzip stream is cut short:
     /// read up to there ([`crate::radar::CaptureStats::truncated_file`]).
     pub capture_truncated: bool,
+    /// A live radar's datagrams: received, dropped by the reader, dropped by the kernel.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub live: Option<crate::radar::live::LiveStats>,
     /// The plots against the truth, when the radar is the simulator's (`demo --video`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plot_scores: Option<super::video::PlotScores>,
@@ -158,6 +161,9 @@ impl std::fmt::Display for RadarCounts {
         }
         if let Some(p) = &self.plot_scores {
             write!(f, "; plots against truth: {p}")?;
+        }
+        if let Some(live) = &self.live {
+            write!(f, "; live: {live}")?;
         }
         if self.capture_truncated {
             write!(
@@ -337,6 +343,7 @@ impl RadarPlotSource {
             .stats()
             .capture
             .is_some_and(|x| x.truncated_file);
+        c.live = self.spokes.stats().live;
         (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
         c
@@ -737,6 +744,14 @@ impl PlotSource for RadarPlotSource {
 
     fn radar_counts(&self) -> Option<RadarCounts> {
         Some(self.counts())
+    }
+
+    fn is_live(&self) -> bool {
+        self.spokes.is_live()
+    }
+
+    fn set_live_wait(&mut self, wait: Option<std::time::Duration>) {
+        self.spokes.set_live_wait(wait);
     }
 
     fn take_ais(&mut self) -> Vec<(f64, crate::ais::AisReport)> {

@@ -1,0 +1,169 @@
+//! A radar on the network as `tracker-host track --radar navico@ADDR` meets it: the 3G
+//! capture's datagrams sent again, at their recorded pace, to their multicast groups on the
+//! loopback interface (nothing leaves the machine), received by the binary, decoded,
+//! extracted and tracked, then ended with Ctrl-C. The spokes, rotations and plots must be
+//! those of the same capture read as a file, and nothing may be lost on the way.
+#![cfg(target_os = "linux")]
+
+use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use tracker_host::radar::capture::{CaptureOptions, CaptureReader};
+
+mod realdata;
+
+/// The capture's multicast datagrams, with their times from the first, s.
+fn multicast_datagrams(name: &str) -> Vec<(f64, SocketAddrV4, Vec<u8>)> {
+    let path = realdata::file(&format!("radar/{name}"));
+    let mut reader = CaptureReader::open(&path, CaptureOptions::default()).unwrap();
+    let mut out = Vec::new();
+    let mut t0 = None;
+    while let Some(d) = reader.next_datagram().unwrap() {
+        if d.dst.ip().is_multicast() {
+            let t0 = *t0.get_or_insert(d.time_s);
+            out.push((d.time_s - t0, d.dst, d.payload.to_vec()));
+        }
+    }
+    out
+}
+
+fn summary(path: &std::path::Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// True once a socket is bound to UDP `port` on this machine (the binary has joined).
+fn udp_port_bound(port: u16) -> bool {
+    let want = format!(":{port:04X} ");
+    std::fs::read_to_string("/proc/net/udp")
+        .map(|t| {
+            t.lines().skip(1).any(|l| {
+                l.split_whitespace()
+                    .nth(1)
+                    .is_some_and(|a| (a.to_owned() + " ").ends_with(&want))
+            })
+        })
+        .unwrap_or(false)
+}
+
+/// The plots of the last scan line of a `--plain` run (`scan    6  …  plots  20  …`).
+fn last_scan_plots(plain: &str) -> u64 {
+    let line = plain
+        .lines()
+        .rev()
+        .find(|l| l.starts_with("scan "))
+        .unwrap();
+    let mut words = line.split_whitespace();
+    words.find(|w| *w == "plots").unwrap();
+    words.next().unwrap().parse().unwrap()
+}
+
+#[test]
+fn a_live_radar_is_tracked_as_its_capture_is() {
+    let name = "radar_pi-3g-trueheading.pcap.gz";
+    let dir = tempfile::tempdir().unwrap();
+    let (file_json, live_json) = (dir.path().join("file.json"), dir.path().join("live.json"));
+    let bin = env!("CARGO_BIN_EXE_tracker-host");
+
+    let capture = realdata::file(&format!("radar/{name}"));
+    let out = Command::new(bin)
+        .args(["--link", "inproc", "track", "--plain", "--radar"])
+        .arg(format!("pcap:{}", capture.display()))
+        .arg("--summary-json")
+        .arg(&file_json)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let file_stdout = String::from_utf8_lossy(&out.stdout).into_owned();
+
+    let live = Command::new(bin)
+        .args([
+            "--link",
+            "inproc",
+            "track",
+            "--plain",
+            "--radar",
+            "navico@127.0.0.1",
+        ])
+        .arg("--summary-json")
+        .arg(&live_json)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(20);
+    while !udp_port_bound(6678) {
+        assert!(
+            Instant::now() < deadline,
+            "the binary never joined the 3G's group"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+
+    // Sent as the radar sent them: to the group, out of the loopback interface, at the
+    // capture's pace (the tracker takes a spoke's time from its arrival).
+    let datagrams = multicast_datagrams(name);
+    let sender = socket2::Socket::new(
+        socket2::Domain::IPV4,
+        socket2::Type::DGRAM,
+        Some(socket2::Protocol::UDP),
+    )
+    .unwrap();
+    sender.set_multicast_if_v4(&Ipv4Addr::LOCALHOST).unwrap();
+    sender.set_multicast_loop_v4(true).unwrap();
+    let sender: UdpSocket = sender.into();
+    let start = Instant::now();
+    for (t, dst, payload) in &datagrams {
+        if let Some(wait) =
+            (start + Duration::from_secs_f64(*t)).checked_duration_since(Instant::now())
+        {
+            std::thread::sleep(wait);
+        }
+        sender.send_to(payload, dst).unwrap();
+    }
+    // The last datagrams read, then Ctrl-C: the run ends with its summary.
+    std::thread::sleep(Duration::from_secs(1));
+    let interrupted = Command::new("kill")
+        .args(["-INT", &live.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(interrupted.success());
+    let out = live.wait_with_output().unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("== summary"), "{stdout}");
+
+    let (file, live) = (summary(&file_json), summary(&live_json));
+    let (f, l) = (&file["radar"], &live["radar"]);
+    println!("file: {f}\nlive: {l}");
+    // Only the spoke group is joined (the radar's reports go to others).
+    let spoke_datagrams = datagrams.iter().filter(|d| d.1.port() == 6678).count();
+    assert_eq!(
+        l["live"]["received"], spoke_datagrams,
+        "spoke datagrams sent, received"
+    );
+    assert_eq!(l["live"]["dropped"], 0);
+    assert_eq!(l["live"]["kernel_dropped"], 0);
+    assert!(stdout.contains("0 dropped by the kernel"), "{stdout}");
+    for key in ["spokes", "detections", "restarts", "plots_without_heading"] {
+        assert_eq!(f[key], l[key], "{key}");
+    }
+    // The capture's last rotation is partial: its end hands it over; a live radar's partial
+    // rotation at Ctrl-C is not tracked.
+    let count = |v: &serde_json::Value| v.as_u64().unwrap();
+    assert_eq!(count(&l["scans"]), count(&f["scans"]) - 1);
+    assert_eq!(
+        count(&l["plots"]),
+        count(&f["plots"]) - last_scan_plots(&file_stdout)
+    );
+    assert!(count(&l["plots"]) > 100);
+    assert!(count(&live["targets_seen"]) > 0);
+}
