@@ -1,10 +1,11 @@
 //! A radar on the network as `tracker-host track --radar navico@ADDR` meets it: the 3G
 //! capture's datagrams sent again, at their recorded pace, to their multicast groups on the
 //! loopback interface (nothing leaves the machine), received by the binary, decoded,
-//! extracted and tracked, then ended with Ctrl-C. The spokes, rotations and plots must be
+//! extracted and tracked, then ended with Ctrl-C once it has tracked every whole rotation. The spokes, rotations and plots must be
 //! those of the same capture read as a file, and nothing may be lost on the way.
 #![cfg(target_os = "linux")]
 
+use std::io::{BufRead, BufReader};
 use std::net::{Ipv4Addr, SocketAddrV4, UdpSocket};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
@@ -80,7 +81,7 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
     );
     let file_stdout = String::from_utf8_lossy(&out.stdout).into_owned();
 
-    let live = Command::new(bin)
+    let mut live = Command::new(bin)
         .args([
             "--link",
             "inproc",
@@ -95,6 +96,7 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
+    let mut out = BufReader::new(live.stdout.take().unwrap());
     let deadline = Instant::now() + Duration::from_secs(20);
     while !udp_port_bound(6678) {
         assert!(
@@ -125,19 +127,32 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
         }
         sender.send_to(payload, dst).unwrap();
     }
-    // The last datagrams read, then Ctrl-C: the run ends with its summary.
+    // Every whole rotation tracked (however far behind a slow machine is), the partial
+    // last one's spokes read, then Ctrl-C: the run ends with its summary.
+    let file_scans = summary(&file_json)["scans"].as_u64().unwrap();
+    let deadline = Instant::now() + Duration::from_secs(120);
+    let mut stdout = String::new();
+    while (stdout.lines().filter(|l| l.starts_with("scan ")).count() as u64) < file_scans - 1 {
+        let mut line = String::new();
+        assert_ne!(out.read_line(&mut line).unwrap(), 0, "the run ended early");
+        stdout += &line;
+        assert!(
+            Instant::now() < deadline,
+            "the rotations never came: {stdout}"
+        );
+    }
     std::thread::sleep(Duration::from_secs(1));
     let interrupted = Command::new("kill")
         .args(["-INT", &live.id().to_string()])
         .status()
         .unwrap();
     assert!(interrupted.success());
-    let out = live.wait_with_output().unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    std::io::Read::read_to_string(&mut out, &mut stdout).unwrap();
+    let done = live.wait_with_output().unwrap();
     assert!(
-        out.status.success(),
+        done.status.success(),
         "{}",
-        String::from_utf8_lossy(&out.stderr)
+        String::from_utf8_lossy(&done.stderr)
     );
     assert!(stdout.contains("== summary"), "{stdout}");
 

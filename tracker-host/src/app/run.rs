@@ -143,15 +143,6 @@ impl Run {
         };
         before(scan.radar.time_s);
         let mut own = self.own_ship.own_ship(&scan)?;
-        // An own-ship source without a heading (NMEA with no HDT/HDG): the heading the
-        // radar's spokes carry or were given (a heading sensor wired to the radar,
-        // `--heading-deg`), which the plots were placed with.
-        if own.heading_rad.is_none() {
-            if let Some(h) = scan.own_ship.and_then(|o| o.heading_rad) {
-                own.heading_rad = Some(h);
-                own.quality.heading_lost = false;
-            }
-        }
         // The plot source knows whether its plots wanted a heading, whoever gives own ship;
         // an alarm only while own ship has none.
         own.quality.heading_needed =
@@ -483,51 +474,6 @@ mod tests {
         let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
         run.run_to_end(None, |_| {}).unwrap();
         run.report("inproc")
-    }
-
-    /// One scan whose source knows own ship's heading (a radar's spokes), and an own-ship
-    /// source that knows only a position (NMEA without a heading sentence).
-    struct HeadingOnly;
-    impl PlotSource for HeadingOnly {
-        fn next_scan(&mut self) -> anyhow::Result<Option<crate::source::SourceScan>> {
-            let mut own = crate::own_ship::OwnShip::unknown();
-            own.heading_rad = Some(0.5);
-            Ok(Some(crate::source::SourceScan {
-                own_ship: Some(own),
-                ..Default::default()
-            }))
-        }
-        fn scan_period_s(&self) -> Option<f64> {
-            None
-        }
-        fn scans_left(&self) -> Option<u64> {
-            None
-        }
-    }
-    struct PositionOnly;
-    impl OwnShipSource for PositionOnly {
-        fn own_ship(
-            &mut self,
-            _: &crate::source::SourceScan,
-        ) -> anyhow::Result<crate::own_ship::OwnShip> {
-            Ok(crate::own_ship::OwnShip::at([10.0, 20.0], [1.0, 0.0]))
-        }
-    }
-
-    #[test]
-    fn own_ship_without_a_heading_takes_the_radars() {
-        let client = Client::new(Box::new(InprocTransport::new()));
-        let config = crate::session::SessionConfig::tracking_plots_of(FilterKind::KalmanCv, 40.0);
-        let session = Session::start(client, config).unwrap();
-        let mut run = Run::new(
-            Box::new(HeadingOnly),
-            Box::new(PositionOnly),
-            session,
-            Vec::new(),
-        );
-        let report = run.step().unwrap().unwrap();
-        assert_eq!(report.own.heading_rad, Some(0.5));
-        assert_eq!(report.own.position_m, [10.0, 20.0]);
     }
 
     #[test]

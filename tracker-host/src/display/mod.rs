@@ -923,7 +923,12 @@ pub fn run_tui(
 
     let period = run.scan_period_s().unwrap_or(2.5);
     let interval = speedup.map_or(Duration::ZERO, |x| Duration::from_secs_f64(period / x));
-    let silent_after = Duration::from_secs_f64((SILENT_PERIODS * period).max(SILENT_MIN_S));
+    // A live radar's period is known from its data, after its first scans.
+    let silent_after = |run: &Run| {
+        let period = run.scan_period_s().unwrap_or(2.5);
+        Duration::from_secs_f64((SILENT_PERIODS * period).max(SILENT_MIN_S))
+    };
+    let live = run.is_live();
     let mut terminal = ratatui::init();
     let result = (|| -> anyhow::Result<u64> {
         // The first scan: keys are answered while a live radar is silent.
@@ -952,8 +957,12 @@ pub fn run_tui(
             if crate::app::interrupt::interrupted() {
                 return Ok(done);
             }
+            // Silence is a live radar's, and only while scans are wanted.
+            if !live || state.paused || state.ended {
+                last_scan = Instant::now();
+            }
             let silent = last_scan.elapsed();
-            state.radar_silent_s = (silent >= silent_after).then_some(silent.as_secs());
+            state.radar_silent_s = (silent >= silent_after(run)).then_some(silent.as_secs());
             terminal.draw(|f| render(f, state, &view))?;
             // Paused or ended, nothing is due: wait for keys without spinning.
             let wait = if state.ended || state.paused {

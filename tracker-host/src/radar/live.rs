@@ -69,7 +69,8 @@ pub struct LiveStats {
     /// Datagrams dropped because the reader was behind.
     pub dropped: u64,
     /// Datagrams the kernel dropped before they were read (a socket's buffer full), all
-    /// sockets; `None` where the system does not count them.
+    /// sockets, as told with the datagrams that came after them (drops after the last
+    /// datagram received are not seen); `None` where the system does not count them.
     pub kernel_dropped: Option<u64>,
 }
 
@@ -270,7 +271,9 @@ fn receive(
                 continue
             }
             Err(e) => {
-                let _ = tx.send(Err(
+                // Never blocks: a full queue would hold this thread, and the receiver's
+                // drop waits for it.
+                let _ = tx.try_send(Err(
                     anyhow::Error::new(e).context(format!("receiving on {dst}"))
                 ));
                 return;

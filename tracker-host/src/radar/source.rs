@@ -24,7 +24,7 @@
 
 use std::net::Ipv4Addr;
 use std::path::Path;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use anyhow::bail;
 use tracker_core::radar::Spoke;
@@ -98,7 +98,7 @@ pub struct SpokeSource {
     other_datagrams: u64,
     navico_reports: u64,
     last: Option<(RadarKind, SpokeMeta)>,
-    live_wait: Option<Duration>,
+    live_deadline: Option<Instant>,
 }
 
 impl std::fmt::Debug for SpokeSource {
@@ -156,14 +156,16 @@ impl SpokeSource {
             other_datagrams: 0,
             navico_reports: 0,
             last: None,
-            live_wait: None,
+            live_deadline: None,
         }
     }
 
-    /// How long [`next_spoke`](Self::next_spoke) waits for live data before it returns `Ok(None)`;
-    /// `None` (the default): until a spoke comes. A capture never waits.
+    /// How long [`next_spoke`](Self::next_spoke) may wait for live data, from now, before
+    /// it returns `Ok(None)`: one deadline for every call until the next setting (a loop of
+    /// calls that each find a datagram still ends by then); `None` (the default): until a
+    /// spoke comes. A capture never waits.
     pub fn set_live_wait(&mut self, wait: Option<Duration>) {
-        self.live_wait = wait;
+        self.live_deadline = wait.map(|w| Instant::now() + w);
     }
 
     /// True for a live source (where `Ok(None)` from [`next_spoke`](Self::next_spoke) means "nothing
@@ -192,7 +194,10 @@ impl SpokeSource {
             self.active = None;
             let datagram = match &mut self.input {
                 Input::Capture(c) => c.next_datagram()?,
-                Input::Live(l) => l.next_datagram(self.live_wait)?,
+                Input::Live(l) => l.next_datagram(
+                    self.live_deadline
+                        .map(|d| d.saturating_duration_since(Instant::now())),
+                )?,
             };
             let Some(d) = datagram else {
                 self.last = None;

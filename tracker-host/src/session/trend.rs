@@ -35,6 +35,23 @@ pub const STEADY_FACTOR: f64 = 1.25;
 /// MSC.192(79) 5.25.4.1), s.
 pub const TREND_WITHIN_S: f64 = 60.0;
 
+/// A track is held steadily with a plot on at least this many of its last
+/// [`STEADY_OF`] scans (of all its scans, while younger).
+pub const STEADY_HITS: u32 = 3;
+/// See [`STEADY_HITS`].
+pub const STEADY_OF: u16 = 5;
+
+/// True when `track` had a plot on at least [`STEADY_HITS`] of its last [`STEADY_OF`]
+/// scans. The velocity σ assumes every plot was the target's: a track that takes a plot
+/// after coasting has a velocity from two positions far apart in time, which is as
+/// accurate as the σ says only if that plot was its target's, and after several misses its
+/// gate has grown over other echoes.
+fn held_steadily(track: &TrackState) -> bool {
+    let scans = track.age_scans.clamp(1, STEADY_OF);
+    let mask = (1u16 << scans) - 1;
+    (track.hit_history & mask).count_ones() >= STEADY_HITS.min(u32::from(scans))
+}
+
 /// Scans of the covariance recursion at most: by then every configuration the product
 /// makes is in its steady state (40 m plots every 2.5 s: within 0.1 % after 40).
 const MAX_SCANS: u32 = 200;
@@ -112,8 +129,9 @@ impl TrendModel {
     /// near its steady state, or a minute after its first plot.
     pub fn known(&self, track: &TrackState) -> bool {
         f64::from(track.age_scans.saturating_sub(1)) * self.scan_s() >= TREND_WITHIN_S
-            || self.velocity_sigma_mps(track.hit_history, track.age_scans)
-                <= STEADY_FACTOR * self.steady_sigma_mps
+            || (held_steadily(track)
+                && self.velocity_sigma_mps(track.hit_history, track.age_scans)
+                    <= STEADY_FACTOR * self.steady_sigma_mps)
     }
 
     /// The velocity σ (m/s, one axis) after `scans` scans of the filter from a first plot,
@@ -196,6 +214,25 @@ mod tests {
         assert_eq!(n, 14);
         assert!(!open.known(&track(0, 24)));
         assert!(open.known(&track(0, 25)), "60 s at 2.5 s a scan");
+    }
+
+    #[test]
+    fn a_plot_taken_after_coasting_does_not_make_the_motion_known() {
+        // 10 m plots: three plots, five misses, a plot. The velocity's σ from two positions
+        // 15 s apart is near the steady state, but the plot may be another echo's.
+        let m = TrendModel::new(10.4, 2.5, 20.0).unwrap();
+        let coasted = 0b1_1100_0001;
+        assert!(
+            m.velocity_sigma_mps(coasted, 9) <= STEADY_FACTOR * m.steady_sigma_mps(),
+            "the σ alone would show it"
+        );
+        assert!(!m.known(&track(coasted, 9)));
+        // Two more plots in a row: held steadily again, and known.
+        assert!(m.known(&track(0b111_0000_0111, 11)));
+        // Young tracks count their own scans: three of three.
+        assert!(TrendModel::new(2.0, 2.5, 20.0)
+            .unwrap()
+            .known(&track(0b1111, 4)));
     }
 
     #[test]
