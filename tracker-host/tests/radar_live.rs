@@ -2,7 +2,9 @@
 //! capture's datagrams sent again, at their recorded pace, to their multicast groups on the
 //! loopback interface (nothing leaves the machine), received by the binary, decoded,
 //! extracted and tracked, then ended with Ctrl-C once it has tracked every whole rotation. The spokes, rotations and plots must be
-//! those of the same capture read as a file, and nothing may be lost on the way.
+//! those of the same capture read as a file, and nothing may be lost on the way. (The
+//! binary listens where a real 3G sends, 236.6.7.8:6678: anything else sending there on this
+//! machine while the test runs, a replay or a radar, is counted too and fails it.)
 #![cfg(target_os = "linux")]
 
 use std::io::{BufRead, BufReader};

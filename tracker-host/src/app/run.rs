@@ -143,6 +143,14 @@ impl Run {
         };
         before(scan.radar.time_s);
         let mut own = self.own_ship.own_ship(&scan)?;
+        // An own-ship source without a heading (NMEA with no HDT/HDG): the radar's heading
+        // sensor, when its spokes carried one this rotation (the plots were placed with it).
+        if own.heading_rad.is_none() {
+            if let Some(h) = scan.heading_sensor_rad {
+                own.heading_rad = Some(h);
+                own.quality.heading_lost = false;
+            }
+        }
         // The plot source knows whether its plots wanted a heading, whoever gives own ship;
         // an alarm only while own ship has none.
         own.quality.heading_needed =
@@ -436,15 +444,20 @@ impl RunReport {
             "host time per scan (link included): mean {:.2} ms, max {:.2} ms\n",
             self.host_ms_per_scan_mean, self.host_ms_per_scan_max
         );
+        // A run that ended before its first scan has no bytes per scan to tell.
+        let per_scan = if self.scans > 0 {
+            format!(" ({:.0} B per scan)", self.link_bytes_per_scan)
+        } else {
+            String::new()
+        };
         s += &format!(
-            "link: {} frames sent, {} received, {} damaged, {} requests retried; {} bytes sent, {} received ({:.0} B per scan)\n",
+            "link: {} frames sent, {} received, {} damaged, {} requests retried; {} bytes sent, {} received{per_scan}\n",
             self.link_frames_sent,
             self.link_frames_received,
             self.link_frames_damaged,
             self.link_retries,
             self.link_bytes_sent,
             self.link_bytes_received,
-            self.link_bytes_per_scan
         );
         s
     }
@@ -474,6 +487,60 @@ mod tests {
         let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
         run.run_to_end(None, |_| {}).unwrap();
         run.report("inproc")
+    }
+
+    /// A scan whose source read a heading sensor (a radar's spokes), or not, and an own-ship
+    /// source that knows only a position (NMEA without a heading sentence).
+    struct Radar {
+        heading: Option<f32>,
+    }
+    impl PlotSource for Radar {
+        fn next_scan(&mut self) -> anyhow::Result<Option<crate::source::SourceScan>> {
+            // The source's own idea of own ship (fed back, or fixed) is not a sensor.
+            let mut own = crate::own_ship::OwnShip::unknown();
+            own.heading_rad = Some(2.0);
+            Ok(Some(crate::source::SourceScan {
+                own_ship: Some(own),
+                heading_sensor_rad: self.heading,
+                ..Default::default()
+            }))
+        }
+        fn scan_period_s(&self) -> Option<f64> {
+            None
+        }
+        fn scans_left(&self) -> Option<u64> {
+            None
+        }
+    }
+    struct PositionOnly;
+    impl OwnShipSource for PositionOnly {
+        fn own_ship(
+            &mut self,
+            _: &crate::source::SourceScan,
+        ) -> anyhow::Result<crate::own_ship::OwnShip> {
+            let mut own = crate::own_ship::OwnShip::at([10.0, 20.0], [1.0, 0.0]);
+            own.quality.heading_lost = true;
+            Ok(own)
+        }
+    }
+
+    #[test]
+    fn own_ship_without_a_heading_takes_the_radars_heading_sensor_only() {
+        for (sensor, heading, lost) in [(Some(0.5), Some(0.5), false), (None, None, true)] {
+            let client = Client::new(Box::new(InprocTransport::new()));
+            let config =
+                crate::session::SessionConfig::tracking_plots_of(FilterKind::KalmanCv, 40.0);
+            let mut run = Run::new(
+                Box::new(Radar { heading: sensor }),
+                Box::new(PositionOnly),
+                Session::start(client, config).unwrap(),
+                Vec::new(),
+            );
+            let report = run.step().unwrap().unwrap();
+            assert_eq!(report.own.heading_rad, heading);
+            assert_eq!(report.own.quality.heading_lost, lost);
+            assert_eq!(report.own.position_m, [10.0, 20.0]);
+        }
     }
 
     #[test]

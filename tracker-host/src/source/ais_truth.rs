@@ -459,6 +459,7 @@ impl PlotSource for AisTruthSource {
                 ids_are_mmsi: true,
             }),
             echoes: None,
+            heading_sensor_rad: None,
         }))
     }
 

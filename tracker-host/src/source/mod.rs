@@ -51,6 +51,10 @@ pub struct SourceScan {
     pub truth: Option<ScanTruth>,
     /// The rotation's echoes, when the source is a radar (for the display and snapshots).
     pub echoes: Option<std::sync::Arc<crate::radar::EchoImage>>,
+    /// Own ship's heading from a sensor the source reads itself, rad true: a heading
+    /// sensor wired to the radar, flagged true in this rotation's spokes. Never a fixed
+    /// heading or one the source was given back by the run.
+    pub heading_sensor_rad: Option<f32>,
 }
 
 /// A source of radar scans.

@@ -309,6 +309,7 @@ impl PlotSource for PlotsFileSource {
             own_ship: Some(own),
             truth,
             echoes: None,
+            heading_sensor_rad: None,
         };
         self.previous = Some(scan);
         Ok(Some(out))

@@ -229,6 +229,8 @@ pub struct RadarPlotSource {
     reported_fixed_rad: Option<f32>,
     /// The true heading the radar sent with its last spoke, rad, if it sent one.
     radar_heading_rad: Option<f32>,
+    /// The newest heading this rotation's spokes carried (none: no spoke carried one).
+    rotation_heading_rad: Option<f32>,
     /// The range scale of the rotation being gathered, m (its last spoke's range).
     range_m: Option<f32>,
     /// The range scale of the scan last given, m.
@@ -319,6 +321,7 @@ impl RadarPlotSource {
             heard: Vec::new(),
             heading_cache: None,
             radar_heading_rad: None,
+            rotation_heading_rad: None,
             yaw: PictureYaw::new(),
             fixed_heading_seen: false,
             reported_fixed_rad: None,
@@ -444,6 +447,7 @@ impl RadarPlotSource {
             let mut heading_rad = header.heading_rad;
             if heading_rad.is_some() {
                 self.radar_heading_rad = heading_rad;
+                self.rotation_heading_rad = heading_rad;
             }
             if !header.north_up && heading_rad.is_none() {
                 let found = self.heading_for(time_s);
@@ -567,6 +571,7 @@ impl RadarPlotSource {
             own_ship,
             truth: None,
             echoes: Some(std::sync::Arc::new(echoes)),
+            heading_sensor_rad: self.rotation_heading_rad.take(),
         }
     }
 }

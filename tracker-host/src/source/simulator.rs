@@ -134,6 +134,7 @@ pub fn source_scan(out: &ScanOutput, epoch_s: f64) -> SourceScan {
             ids_are_mmsi: false,
         }),
         echoes: None,
+        heading_sensor_rad: None,
     }
 }
 
