@@ -62,6 +62,48 @@ fn ctrl_c_ends_a_run_with_its_summary() {
 }
 
 #[test]
+fn ctrl_c_while_waiting_for_the_first_fix_ends_the_run_with_its_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("s.json");
+    // A free port: bound, read, let go; nothing is ever sent to it.
+    let port = std::net::UdpSocket::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let mut child = Command::new(env!("CARGO_BIN_EXE_tracker-host"))
+        .args(["--link", "inproc", "demo", "--plain", "--nmea-in"])
+        .arg(format!("udp:{port}"))
+        .arg("--summary-json")
+        .arg(&json)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = BufReader::new(child.stderr.take().unwrap());
+    let mut line = String::new();
+    while !line.contains("first fix") {
+        line.clear();
+        assert_ne!(err.read_line(&mut line).unwrap(), 0, "no wait for a fix");
+    }
+    let started = std::time::Instant::now();
+    let interrupted = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(interrupted.success());
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success(), "{:?}", out.status);
+    // Not the whole 30 s wait.
+    assert!(started.elapsed() < std::time::Duration::from_secs(10));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("== summary"), "{stdout}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(summary["scans"], 0);
+}
+
+#[test]
 fn an_output_that_cannot_be_written_is_refused_before_the_run() {
     let dir = tempfile::tempdir().unwrap();
     let nowhere = dir.path().join("no-such-dir").join("s.json");

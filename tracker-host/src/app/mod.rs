@@ -107,7 +107,7 @@ pub fn with_live_origin(o: &OwnShipOptions) -> anyhow::Result<OwnShipOptions> {
     };
     let wait = crate::own_ship::first_fix::FIRST_FIX_WAIT;
     eprintln!(
-        "waiting up to {} s for own ship's first fix on the NMEA input, the local frame's origin (--origin LAT,LON starts at once)",
+        "waiting up to {} s for own ship's first fix on the NMEA input, the local frame's origin (--origin LAT,LON starts at once; Ctrl-C ends the run)",
         wait.as_secs()
     );
     match crate::own_ship::first_fix::first_live_fix(spec, wait)? {
@@ -118,6 +118,8 @@ pub fn with_live_origin(o: &OwnShipOptions) -> anyhow::Result<OwnShipOptions> {
             );
             o.origin = Some(fix);
         }
+        // Ctrl-C while waiting: the run ends before its first scan, nothing to advise.
+        None if crate::app::interrupt::interrupted() => {}
         None => {
             let d = Origin::default();
             eprintln!(

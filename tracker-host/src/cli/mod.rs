@@ -431,6 +431,9 @@ where
                     }
                 }),
             };
+            // Before the wiring: Ctrl-C while it waits for a live source's first fix ends
+            // the run with its summary too.
+            crate::app::interrupt::install().context("installing the Ctrl-C handler")?;
             let (client, link) = cli.connect()?;
             let tracking = demo::start(client, &options)?;
             track_to_end(&link, tracking, run, &command)
@@ -478,6 +481,9 @@ where
                 own_ship: run.own_ship(),
                 outputs: run.outputs(None),
             };
+            // Before the wiring: Ctrl-C while it waits for a live source's first fix ends
+            // the run with its summary too.
+            crate::app::interrupt::install().context("installing the Ctrl-C handler")?;
             let (client, link) = cli.connect()?;
             let tracking = track::start(client, &options)?;
             track_to_end(&link, tracking, run, &command)
@@ -616,8 +622,8 @@ fn track_to_end(
 ) -> anyhow::Result<ExitCode> {
     let limits = tracking.session().config().alarms;
     let link = link.to_string();
-    // Ctrl-C ends the run after the scan in hand, with its summary; twice, at once.
-    crate::app::interrupt::install().context("installing the Ctrl-C handler")?;
+    // Ctrl-C ends the run after the scan in hand, with its summary; twice, at once (the
+    // handler is installed before the run is wired).
     let use_tui = !args.plain && std::io::IsTerminal::is_terminal(&std::io::stdout());
     if use_tui {
         let mut state = crate::display::DisplayState::new(link.clone());

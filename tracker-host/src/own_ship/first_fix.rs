@@ -30,7 +30,8 @@ pub fn first_live_fix(spec: &InSpec, wait: Duration) -> anyhow::Result<Option<Or
     };
     let mut nav = OwnShipNav::new(Origin::default(), crate::app::today(), None).keep_fixes();
     let until = Instant::now() + wait;
-    while Instant::now() < until {
+    // Ctrl-C ends the wait (and then the run, with its summary).
+    while Instant::now() < until && !crate::app::interrupt::interrupted() {
         for line in live.available() {
             nav.feed(&line);
             if let Some(&(_, lat_deg, lon_deg)) = nav.fixes().first() {
