@@ -26,6 +26,15 @@ fn a_closed_pipe_is_not_a_panic() {
     assert_ne!(out.status.code(), Some(101), "{stderr}");
 }
 
+/// Sends `child` SIGINT, as Ctrl-C in its terminal would.
+fn ctrl_c(child: &std::process::Child) {
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(sent.success());
+}
+
 #[test]
 fn ctrl_c_ends_a_run_with_its_summary() {
     let dir = tempfile::tempdir().unwrap();
@@ -45,11 +54,7 @@ fn ctrl_c_ends_a_run_with_its_summary() {
         line.clear();
         assert_ne!(out.read_line(&mut line).unwrap(), 0, "ended before scan 2");
     }
-    let interrupted = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(interrupted.success());
+    ctrl_c(&child);
     let mut rest = String::new();
     std::io::Read::read_to_string(&mut out, &mut rest).unwrap();
     let status = child.wait().unwrap();
@@ -87,11 +92,7 @@ fn ctrl_c_while_waiting_for_the_first_fix_ends_the_run_with_its_summary() {
         assert_ne!(err.read_line(&mut line).unwrap(), 0, "no wait for a fix");
     }
     let started = std::time::Instant::now();
-    let interrupted = Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
-        .status()
-        .unwrap();
-    assert!(interrupted.success());
+    ctrl_c(&child);
     let out = child.wait_with_output().unwrap();
     assert!(out.status.success(), "{:?}", out.status);
     // Not the whole 30 s wait.

@@ -928,6 +928,7 @@ pub fn run_tui(
         let period = run.scan_period_s().unwrap_or(2.5);
         Duration::from_secs_f64((SILENT_PERIODS * period).max(SILENT_MIN_S))
     };
+    let mut silence_alarm_after = silent_after(run);
     let live = run.is_live();
     let mut terminal = ratatui::init();
     let result = (|| -> anyhow::Result<u64> {
@@ -962,7 +963,7 @@ pub fn run_tui(
                 last_scan = Instant::now();
             }
             let silent = last_scan.elapsed();
-            state.radar_silent_s = (silent >= silent_after(run)).then_some(silent.as_secs());
+            state.radar_silent_s = (silent >= silence_alarm_after).then_some(silent.as_secs());
             terminal.draw(|f| render(f, state, &view))?;
             // Paused or ended, nothing is due: wait for keys without spinning.
             let wait = if state.ended || state.paused {
@@ -991,6 +992,8 @@ pub fn run_tui(
                     done += 1;
                     next_due += interval;
                     last_scan = Instant::now();
+                    // Measured anew with each scan, not each redraw.
+                    silence_alarm_after = silent_after(run);
                 }
                 Polled::Waiting => {}
                 // The last picture stays up to be looked at, as a radar's does.
