@@ -306,7 +306,8 @@ fn a_minutes_last_scan() -> tracker_host::session::ScanReport {
 
 /// A source whose clock is its own (a plots file counting from 0 s) has its targets and own
 /// ship sent at this host's time and date (OpenCPN draws nothing from sentences without
-/// them), not at 1970's; a UTC source is sent at its own.
+/// them), not at 1970's; a UTC source is sent at its own, on the bridge's UTC when a live
+/// NMEA source's differs from this computer's clock.
 #[test]
 fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
     let mut out = TargetsOut::new(sink(), Origin::default(), true);
@@ -364,6 +365,18 @@ fn a_clock_that_is_not_utc_is_sent_as_the_time_of_sending() {
         "{ttm} {tll} {rmc} {rmc_date}: the scan's time is {} s",
         report.time_s
     );
+    // A live NMEA source 3 h behind this computer's clock: sent on the bridge's UTC, as
+    // own ship is (a plotter with the ship's GNSS would otherwise see every target 3 h off).
+    report.utc_offset_s = -3.0 * 3600.0;
+    let ([ttm, tll, rmc, _], rmc_line) = times(&mut out, &report);
+    let bridge = report.time_s - 3.0 * 3600.0;
+    assert!(
+        ttm.starts_with(&utc(bridge).0) && tll == ttm && rmc == ttm,
+        "{ttm} {tll} {rmc}: the bridge's time is {bridge} s"
+    );
+    assert!((sent(&rmc_line) - bridge).abs() < 0.006, "{rmc_line}");
+    assert_eq!(report.utc_s(), Some(bridge));
+    report.utc_offset_s = 0.0;
     report.time_is_utc = false;
     report.time_s = 42.0;
     let before = tracker_host::utc::now_s();

@@ -164,6 +164,9 @@ impl Run {
         let mut report = self.session.scan(&scan.radar, &own)?;
         report.echoes = scan.echoes.clone();
         report.time_is_utc = self.plots.time_is_utc();
+        if report.time_is_utc {
+            report.utc_offset_s = self.own_ship.utc_offset_s();
+        }
         let mut heard = self.plots.take_ais();
         heard.extend(self.own_ship.take_ais());
         if !heard.is_empty() || self.ais.is_some() {

@@ -147,15 +147,17 @@ impl DisplayState {
                 self.scale_chosen = true;
             }
         }
-        // Lost tracked targets (the device says lost), by their numbers; a failed acquisition
-        // is not an alarm.
+        // Lost tracked targets (the device says lost, or a silence of the radar cancelled
+        // them), by their numbers; a failed acquisition is not an alarm.
         self.lost = view
             .ended
             .iter()
             .filter(|e| {
-                view.tracks
-                    .iter()
-                    .any(|t| t.track == e.track && t.status == TrackStatus::Lost)
+                view.silence.is_some()
+                    || view
+                        .tracks
+                        .iter()
+                        .any(|t| t.track == e.track && t.status == TrackStatus::Lost)
             })
             .map(TargetData::label)
             .collect();
@@ -331,7 +333,7 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             Span::raw(format!(
                 "scan {}{gap}{}{gap}{link}{}{gap}plots {}{gap}{tracked} {}{gap}{acquiring} {}",
                 view.scan,
-                crate::utc::scan_time_label(view.time_s, view.time_is_utc),
+                view.time_label(),
                 state.link,
                 view.plots.len(),
                 view.tracked(),
@@ -772,6 +774,9 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
             .into_iter()
             .map(|(_, text)| Line::styled(text, alarm)),
     );
+    if let Some(silence) = &view.silence {
+        lines.push(Line::styled(silence.to_string(), alarm));
+    }
     for id in &state.lost {
         lines.push(Line::styled(
             format!("LOST TARGET {id}"),
@@ -1404,6 +1409,42 @@ pub(crate) mod tests {
             "{lines:?}"
         );
         assert!(screen(&state, &view).contains("NO RADAR DATA for 12 s"));
+    }
+
+    #[test]
+    fn targets_cancelled_by_a_silence_are_lost_targets_with_its_alarm() {
+        let (mut state, mut view) = alarming(16);
+        let shown = view.targets.clone();
+        assert!(!shown.is_empty());
+        // As the session reports a scan after a silence: no tracks, the shown ones ended.
+        view.tracks.clear();
+        view.targets.clear();
+        view.ended = shown.clone();
+        view.silence = Some(crate::session::Silence {
+            gap_s: 36.1,
+            rotations_missed: 13,
+            targets_lost: shown.len(),
+        });
+        state.observe(&view);
+        assert_eq!(state.lost.len(), shown.len());
+        let text: Vec<String> = alarm_lines(&state, &view, false)
+            .iter()
+            .map(|l| l.to_string())
+            .collect();
+        let said = format!(
+            "RADAR SILENT 36.1 s (13 rotations missed): {} targets lost",
+            shown.len()
+        );
+        assert!(text.iter().any(|l| l.starts_with(&said)), "{text:?}");
+        let label = shown[0].label();
+        assert!(
+            text.iter().any(|l| *l == format!("LOST TARGET {label}")),
+            "{text:?}"
+        );
+        // Without the silence, ends the device did not call lost are no alarm.
+        view.silence = None;
+        state.observe(&view);
+        assert!(state.lost.is_empty());
     }
 
     /// A live radar that sends nothing: the run waits the time given and goes on; a

@@ -44,7 +44,7 @@ pub fn header(r: &ScanReport) -> String {
     let mut s = format!(
         "scan {:>4}  {}  plots {:>3}  targets tracked {:>3}  acquiring {:>3}  {}",
         r.scan,
-        crate::utc::scan_time_label(r.time_s, r.time_is_utc),
+        r.time_label(),
         r.plots.len(),
         r.tracked(),
         r.acquiring(),
@@ -55,6 +55,9 @@ pub fn header(r: &ScanReport) -> String {
     }
     for a in r.own.alarms() {
         s += &format!("\n  {a}");
+    }
+    if let Some(silence) = &r.silence {
+        s += &format!("\n  {silence}");
     }
     if let Some(note) = &r.skipped {
         s += &format!("\n  {note}");

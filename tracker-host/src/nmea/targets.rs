@@ -226,16 +226,14 @@ impl TargetsOut {
     /// `TTM` and `TLL`, `TTM` alone while own ship has had no position fix and the origin
     /// is not its position ([`TargetsOut::with_origin_known`]).
     ///
-    /// Times are the scan's when its clock is UTC. A source whose clock counts from an
+    /// Times are the scan's when its clock is UTC, on the bridge's time
+    /// ([`ScanReport::utc_s`]: a live NMEA source's UTC, whatever this computer's clock
+    /// says, as own ship is). A source whose clock counts from an
     /// epoch of its own (a plots file from 0 s) is sent with the time it is sent at, this
     /// host's clock: 1970 would be false, and OpenCPN 5.10 draws neither targets nor own
     /// ship from sentences whose UTC and date are empty (tried).
     pub fn scan_sentences(&mut self, report: &ScanReport) -> Vec<String> {
-        let time_s = if report.time_is_utc {
-            report.time_s
-        } else {
-            crate::utc::now_s()
-        };
+        let time_s = report.utc_s().unwrap_or_else(crate::utc::now_s);
         // Before own ship's first fix a target's range and bearing are known (TTM), its
         // latitude and longitude are not, unless the operator said where own ship is: TLL
         // would put it where the default frame starts, in another sea. (Dead reckoning goes

@@ -200,6 +200,14 @@ pub trait OwnShipSource {
         Vec::new()
     }
 
+    /// The bridge's UTC less the scans' clock, s: added to a scan's time for the UTC shown
+    /// and sent to plotters, so that they carry the time own ship is on. Non-zero only
+    /// for a live NMEA source whose UTC is more than [`CLOCK_APPLIED_S`] from this
+    /// computer's clock (a PC on board without a time server); 0 otherwise.
+    fn utc_offset_s(&self) -> f64 {
+        0.0
+    }
+
     /// What became of the AIS sentences, for sources that read NMEA.
     fn ais_counts(&self) -> Option<crate::ais::AisCounts> {
         None
@@ -433,6 +441,10 @@ impl OwnShipSource for NmeaOwnShip {
 
     fn nmea_counts(&self) -> Option<NavCounts> {
         Some(self.nav.counts().clone())
+    }
+
+    fn utc_offset_s(&self) -> f64 {
+        self.clock_offset_s()
     }
 
     fn finish(&mut self) {
@@ -795,6 +807,11 @@ mod tests {
         let offset = own.offset_s.unwrap();
         assert!((offset + 3.0 * 3600.0 + 0.5).abs() < 1e-6, "{offset}");
         assert_eq!(own.clock_offset_s(), offset);
+        assert_eq!(
+            OwnShipSource::utc_offset_s(&own),
+            offset,
+            "the UTC sent and shown"
+        );
         // On the bridge's time, at the last epoch: where the sentences put it (the
         // headings, untimed, did not carry the filter ahead of them).
         let at = own.nav.own_ship_at(bridge_s + 9.0).unwrap();

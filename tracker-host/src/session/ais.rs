@@ -598,6 +598,7 @@ mod tests {
             scan,
             time_s,
             time_is_utc,
+            utc_offset_s: 0.0,
             own,
             plots: Vec::new(),
             plots_m: Vec::new(),
@@ -612,6 +613,7 @@ mod tests {
             paired: Vec::new(),
             merged: Vec::new(),
             echoes: None,
+            silence: None,
         };
         picture.scan(&mut report, &[(time_s, heard)]);
         report

@@ -33,6 +33,7 @@ use tracker_core::filter::{FilterConfig, FilterKind};
 use tracker_core::geo::{self, EastNorth};
 use tracker_core::icd::fixed::position_on_grid;
 use tracker_core::icd::{GatedPlots, Plot, TrackCommand, TrackState, TrackStatus, TrackerConfig};
+use tracker_core::track::LOST_AFTER_COASTS;
 
 use crate::link::{Client, ClientStats};
 use crate::own_ship::OwnShip;
@@ -106,6 +107,11 @@ pub struct ScanReport {
     /// Whether that clock is UTC (s since 1970-01-01): a plots file's times may count from
     /// any epoch, and are then shown as such, not as UTC.
     pub time_is_utc: bool,
+    /// The bridge's UTC less `time_s`, s: a live NMEA source's UTC when it is more than 5 s
+    /// from this computer's clock, the scans' ([`crate::own_ship::OwnShipSource::utc_offset_s`]);
+    /// else 0. Own ship is on the bridge's time; so are the UTC shown and sent
+    /// ([`ScanReport::utc_s`]).
+    pub utc_offset_s: f64,
     /// Own ship the scan was tracked from.
     pub own: OwnShip,
     /// The scan's plots, as received.
@@ -140,9 +146,45 @@ pub struct ScanReport {
     pub merged: Vec<ais::Candidate>,
     /// The rotation's echoes, when the plots came from a radar (for the display).
     pub echoes: Option<std::sync::Arc<crate::radar::EchoImage>>,
+    /// The radar was silent before this scan for longer than a track coasts: every track
+    /// was cancelled first, and the targets shown before are in `ended`.
+    pub silence: Option<Silence>,
+}
+
+/// A silence of the radar longer than a track coasts ([`Session::scan`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Silence {
+    /// Time since the scan before, s.
+    pub gap_s: f64,
+    /// Rotations missed at the antenna period the scans had before it.
+    pub rotations_missed: u32,
+    /// Numbered targets lost by it.
+    pub targets_lost: usize,
+}
+
+impl std::fmt::Display for Silence {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "RADAR SILENT {:.1} s ({} rotations missed): {} targets lost, acquiring again",
+            self.gap_s, self.rotations_missed, self.targets_lost
+        )
+    }
 }
 
 impl ScanReport {
+    /// The scan's UTC, s since 1970-01-01, on the bridge's time (`time_s` with
+    /// `utc_offset_s`); `None` when the scans' clock is not UTC.
+    pub fn utc_s(&self) -> Option<f64> {
+        self.time_is_utc.then_some(self.time_s + self.utc_offset_s)
+    }
+
+    /// The scan's time as shown: UTC on the bridge's time, or the plots file's own clock
+    /// (`t hh:mm:ss`).
+    pub fn time_label(&self) -> String {
+        crate::utc::scan_time_label(self.utc_s().unwrap_or(self.time_s), self.time_is_utc)
+    }
+
     /// The radar targets drawn as radar targets: with the AIS symbol for associated ships
     /// ([`ais::AssociatedSymbol::Ais`]), all but those paired or shown as an AIS target
     /// ([`ScanReport::merged`]), which are drawn as that AIS target; with the radar
@@ -243,6 +285,8 @@ pub struct Session {
     /// The last few scan intervals, s: the trend's interval is their median, so that a
     /// scan lost or late does not make it (and the minute it counts) twice as long.
     intervals: std::collections::VecDeque<f64>,
+    /// Tracks in the device's last report.
+    tracks_held: usize,
 }
 
 impl Session {
@@ -265,6 +309,7 @@ impl Session {
             lost: Default::default(),
             trend: None,
             intervals: Default::default(),
+            tracks_held: 0,
         })
     }
 
@@ -315,9 +360,7 @@ impl Session {
             }
             self.intervals.push_back(dt);
         }
-        let mut sorted: Vec<f64> = self.intervals.iter().copied().collect();
-        sorted.sort_by(f64::total_cmp);
-        let Some(&scan_s) = sorted.get(sorted.len() / 2) else {
+        let Some(scan_s) = self.scan_interval_s() else {
             return;
         };
         let close = |a: f64, b: f64| (a - b).abs() <= 0.01 * b;
@@ -332,7 +375,33 @@ impl Session {
         }
     }
 
+    /// The median of the last [`TREND_INTERVALS`] scan intervals, s: the antenna period as
+    /// the scans have come; `None` before the second scan.
+    fn scan_interval_s(&self) -> Option<f64> {
+        let mut sorted: Vec<f64> = self.intervals.iter().copied().collect();
+        sorted.sort_by(f64::total_cmp);
+        sorted.get(sorted.len() / 2).copied()
+    }
+
+    /// Rotations missed before a scan `gap_s` after the one before, when that many that
+    /// every track would have been lost had they come empty ([`LOST_AFTER_COASTS`]): the
+    /// radar was silent (a power cut, a network down, a transmitter on standby). The tracks
+    /// are not believed after it: their gates have grown over the gap until they take any
+    /// echo, and a harbour's moored boats became targets at 11–13 kn with a CPA alarm after
+    /// 35 s of silence (a user trial, 2026-12-04). A professional ARPA loses them and
+    /// acquires again.
+    fn rotations_missed(&self, gap_s: f64) -> Option<u32> {
+        let period_s = self.scan_interval_s()?;
+        let missed = (gap_s / period_s).round() - 1.0;
+        (missed >= f64::from(LOST_AFTER_COASTS)).then_some(missed.min(f64::from(u32::MAX)) as u32)
+    }
+
     /// Tracks one scan seen from `own`.
+    ///
+    /// After a silence of more rotations than a confirmed track coasts
+    /// ([`LOST_AFTER_COASTS`], at the median of the last scan intervals), every track is
+    /// cancelled first and the targets shown are reported lost
+    /// ([`ScanReport::ended`]), with an event: tracking starts again from this scan.
     ///
     /// # Errors
     /// A scan not later than the one before (by at least a millisecond), the link failing,
@@ -355,6 +424,17 @@ impl Session {
                 radar.scan,
                 radar.time_s
             );
+        }
+        let gap_s = self
+            .last_time_ms
+            .map(|last| (time_ms - last) as f64 / 1000.0);
+        let silence = gap_s
+            .filter(|_| self.tracks_held > 0)
+            .and_then(|gap| Some((gap, self.rotations_missed(gap)?)));
+        if silence.is_some() {
+            self.device.command(TrackCommand::CancelAll)?;
+            self.firm.clear();
+            self.lost.clear();
         }
         // Rounded as the wire rounds them, so the device holds the very same plots.
         let plots_m: Vec<EastNorth> = radar
@@ -380,9 +460,6 @@ impl Session {
             let gates = &live;
             associate::associate(mode, gates, &plots_m, gate, |t| firm.contains(&t))
         });
-        let interval_s = self
-            .last_time_ms
-            .map(|last| (time_ms - last) as f64 / 1000.0);
         self.last_time_ms = Some(time_ms);
         let stats = self.device.client().stats();
         if stats.late_answers > 0 && !self.warned_slow {
@@ -412,6 +489,7 @@ impl Session {
                     scan: radar.scan,
                     time_s: radar.time_s,
                     time_is_utc: true,
+                    utc_offset_s: 0.0,
                     own: *own,
                     plots: radar.plots.clone(),
                     plots_m,
@@ -426,22 +504,36 @@ impl Session {
                     paired: Vec::new(),
                     merged: Vec::new(),
                     echoes: None,
+                    silence: None,
                 });
             }
             Err(e) => return Err(e),
         };
         self.firm = firm_tracks(&tracks);
         self.lost = lost_tracks(&tracks);
-        self.update_trend(interval_s);
+        self.tracks_held = tracks.len();
+        self.update_trend(gap_s);
         let numbered = self
             .numbers
             .scan(own, &tracks, &self.config.alarms, self.trend.as_ref());
+        let silence = silence.map(|(gap_s, rotations_missed)| Silence {
+            gap_s,
+            rotations_missed,
+            targets_lost: numbered.ended.len(),
+        });
+        if let Some(s) = &silence {
+            self.events.push(format!(
+                "scan {}: {s}; every track was cancelled",
+                radar.scan
+            ));
+        }
         let host_time = started.elapsed();
         self.host_times.push(host_time);
         Ok(ScanReport {
             scan: radar.scan,
             time_s: radar.time_s,
             time_is_utc: true,
+            utc_offset_s: 0.0,
             own: *own,
             plots: radar.plots.clone(),
             plots_m,
@@ -456,6 +548,7 @@ impl Session {
             paired: Vec::new(),
             merged: Vec::new(),
             echoes: None,
+            silence,
         })
     }
 
@@ -476,6 +569,7 @@ impl Session {
         let tracks = self.device.restart_host()?;
         self.firm = firm_tracks(&tracks);
         self.lost = lost_tracks(&tracks);
+        self.tracks_held = tracks.len();
         Ok(tracks)
     }
 
