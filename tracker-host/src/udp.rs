@@ -84,9 +84,38 @@ pub fn recv_from(socket: &UdpSocket, buf: &mut [u8]) -> io::Result<Received> {
     }
 }
 
+/// This computer's IPv4 interfaces, as `name address` (`eth0 192.168.1.3`), for an
+/// operator who gave an address that is none of them; empty where they cannot be listed
+/// (not Linux).
+pub fn ipv4_interfaces() -> Vec<String> {
+    #[cfg(target_os = "linux")]
+    {
+        let Ok(addrs) = nix::ifaddrs::getifaddrs() else {
+            return Vec::new();
+        };
+        addrs
+            .filter_map(|a| {
+                let v4 = std::net::SocketAddrV4::from(*a.address?.as_sockaddr_in()?);
+                Some(format!("{} {}", a.interface_name, v4.ip()))
+            })
+            .collect()
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        Vec::new()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn the_loopback_interface_is_listed() {
+        let here = ipv4_interfaces();
+        assert!(here.iter().any(|i| i.ends_with(" 127.0.0.1")), "{here:?}");
+    }
 
     /// A socket whose buffer is flooded while nobody reads: the kernel's drops are counted,
     /// and the datagrams kept are read with their sender.

@@ -2,7 +2,8 @@
 //! capture's datagrams sent again, at their recorded pace, to their multicast groups on the
 //! loopback interface (nothing leaves the machine), received by the binary, decoded,
 //! extracted and tracked, then ended with Ctrl-C once it has tracked every whole rotation. The spokes, rotations and plots must be
-//! those of the same capture read as a file, and nothing may be lost on the way. (The
+//! those of the same capture read as a file, and nothing may be lost on the way; a second
+//! radar sending the same spokes to the same group from another address is ignored. (The
 //! binary listens where a real 3G sends, 236.6.7.8:6678: anything else sending there on this
 //! machine while the test runs, a replay or a radar, is counted too and fails it.)
 #![cfg(target_os = "linux")]
@@ -120,6 +121,20 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
     sender.set_multicast_if_v4(&Ipv4Addr::LOCALHOST).unwrap();
     sender.set_multicast_loop_v4(true).unwrap();
     let sender: UdpSocket = sender.into();
+    // A second radar on the same network and group (two scanners on one bridge), here at
+    // 127.0.0.2, sending the same spokes just after the first: the first heard is tracked.
+    let second = socket2::Socket::new(
+        socket2::Domain::IPV4,
+        socket2::Type::DGRAM,
+        Some(socket2::Protocol::UDP),
+    )
+    .unwrap();
+    second
+        .bind(&SocketAddrV4::new(Ipv4Addr::new(127, 0, 0, 2), 0).into())
+        .unwrap();
+    second.set_multicast_if_v4(&Ipv4Addr::LOCALHOST).unwrap();
+    second.set_multicast_loop_v4(true).unwrap();
+    let second: UdpSocket = second.into();
     let start = Instant::now();
     for (t, dst, payload) in &datagrams {
         if let Some(wait) =
@@ -128,6 +143,7 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
             std::thread::sleep(wait);
         }
         sender.send_to(payload, dst).unwrap();
+        second.send_to(payload, dst).unwrap();
     }
     // Every whole rotation tracked (however far behind a slow machine is), the partial
     // last one's spokes read, then Ctrl-C: the run ends with its summary.
@@ -164,8 +180,17 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
     // Only the spoke group is joined (the radar's reports go to others).
     let spoke_datagrams = datagrams.iter().filter(|d| d.1.port() == 6678).count();
     assert_eq!(
-        l["live"]["received"], spoke_datagrams,
-        "spoke datagrams sent, received"
+        l["live"]["received"],
+        2 * spoke_datagrams,
+        "spoke datagrams sent by the two radars, received"
+    );
+    assert_eq!(l["other_radar"], "127.0.0.2");
+    assert_eq!(l["other_radar_datagrams"], spoke_datagrams);
+    assert!(
+        stdout.contains(&format!(
+            "{spoke_datagrams} spoke datagrams from a second radar at 127.0.0.2 ignored"
+        )),
+        "{stdout}"
     );
     assert_eq!(l["live"]["dropped"], 0);
     assert_eq!(l["live"]["kernel_dropped"], 0);

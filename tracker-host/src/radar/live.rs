@@ -141,8 +141,22 @@ impl LiveReceiver {
             current: None,
         };
         for e in endpoints {
-            let socket = join(e, interface)
-                .with_context(|| format!("joining {}:{} on {interface}", e.group, e.port))?;
+            let socket = join(e, interface).map_err(|err| {
+                let mut why = format!("joining {}:{} on {interface}", e.group, e.port);
+                // ENODEV: the address is no interface's here (a typo, the radar's own
+                // address, or the network cable's interface not up).
+                let no_such = err
+                    .downcast_ref::<std::io::Error>()
+                    .is_some_and(|io| io.raw_os_error() == Some(19));
+                let here = crate::udp::ipv4_interfaces();
+                if no_such && !here.is_empty() {
+                    why += &format!(
+                        " ({interface} is not an address of this computer's: give the address of the interface on the radar's network, one of {})",
+                        here.join(", ")
+                    );
+                }
+                err.context(why)
+            })?;
             if !crate::udp::count_kernel_drops(&socket) {
                 counters.uncounted.fetch_add(1, Ordering::Relaxed);
             }
@@ -304,5 +318,27 @@ fn receive(
             }
             Err(TrySendError::Disconnected(_)) => return,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An interface address that is none of this computer's (a typo, the radar's own
+    /// address) is told as such, with the addresses that would do.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn an_address_of_no_interface_here_is_told_with_those_that_are() {
+        // TEST-NET-3 (RFC 5737): on no interface of a test machine.
+        let nowhere = Ipv4Addr::new(203, 0, 113, 77);
+        let e =
+            LiveReceiver::open(&NAVICO_SPOKE_GROUPS, nowhere).expect_err("joined on no interface");
+        let text = format!("{e:#}");
+        assert!(
+            text.contains("203.0.113.77 is not an address of this computer's")
+                && text.contains(" 127.0.0.1"),
+            "{text}"
+        );
     }
 }

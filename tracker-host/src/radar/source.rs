@@ -49,6 +49,11 @@ pub struct RadarStats {
     pub other_datagrams: u64,
     /// Navico scanner-type reports taken.
     pub navico_reports: u64,
+    /// The radar tracked: the sender of the first spoke datagram.
+    pub radar_address: Option<Ipv4Addr>,
+    /// Spoke datagrams from another sender on the same groups (a second radar on the
+    /// network), ignored, and the first such sender.
+    pub other_radar: Option<(Ipv4Addr, u64)>,
     /// The Navico decoder's counts: frames, spokes, faults by kind, headings.
     pub navico: NavicoCounts,
     /// The Navico spoke stream: rotations, ranges, order.
@@ -97,6 +102,8 @@ pub struct SpokeSource {
     datagrams: u64,
     other_datagrams: u64,
     navico_reports: u64,
+    radar_address: Option<Ipv4Addr>,
+    other_radar: Option<(Ipv4Addr, u64)>,
     last: Option<(RadarKind, SpokeMeta)>,
     live_deadline: Option<Instant>,
 }
@@ -155,6 +162,8 @@ impl SpokeSource {
             datagrams: 0,
             other_datagrams: 0,
             navico_reports: 0,
+            radar_address: None,
+            other_radar: None,
             last: None,
             live_deadline: None,
         }
@@ -207,6 +216,17 @@ impl SpokeSource {
             // Saturating: a time before 1970 becomes 0.
             let time_ms = (d.time_s * 1000.0).round() as u64;
             let kind = route(d.payload, d.dst.port());
+            // One radar's spokes: a second radar sending to the same group (two scanners on
+            // one network) would mix two pictures into one rotation. The first sender's are
+            // tracked; the others' are counted and told.
+            if kind.is_some() {
+                let from = *d.src.ip();
+                if *self.radar_address.get_or_insert(from) != from {
+                    let other = self.other_radar.get_or_insert((from, 0));
+                    other.1 += 1;
+                    continue;
+                }
+            }
             let fed = match kind {
                 Some(RadarKind::Navico) => self.navico.feed(d.payload, time_ms).is_ok(),
                 Some(RadarKind::Garmin) => self.garmin.feed(d.payload, time_ms).is_ok(),
@@ -280,6 +300,8 @@ impl SpokeSource {
             live,
             datagrams: self.datagrams,
             other_datagrams: self.other_datagrams,
+            radar_address: self.radar_address,
+            other_radar: self.other_radar,
             navico_reports: self.navico_reports,
             navico: *self.navico.counts(),
             navico_spokes: self.navico_spokes.clone(),

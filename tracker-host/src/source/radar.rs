@@ -106,7 +106,8 @@ pub struct RadarCounts {
     pub too_small: u64,
     /// Blobs dropped: the extractor's open blobs were full.
     pub blobs_dropped: u64,
-    /// Range changes and out-of-order spokes that restarted extraction.
+    /// Range scale and spoke format changes and out-of-order spokes that restarted
+    /// extraction (the rotation's open blobs dropped, a new rotation begun).
     pub restarts: u64,
     /// Rotations whose turn was measured from the picture (the fixed heading in use).
     pub yaw_measured: u64,
@@ -117,6 +118,12 @@ pub struct RadarCounts {
     /// The capture file ends in the middle of a record, or its gzip stream is cut short:
     /// read up to there ([`crate::radar::CaptureStats::truncated_file`]).
     pub capture_truncated: bool,
+    /// Spoke datagrams from a second radar on the same groups, ignored (only the first
+    /// sender's are tracked).
+    pub other_radar_datagrams: u64,
+    /// That second radar's address.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub other_radar: Option<std::net::Ipv4Addr>,
     /// A live radar's datagrams: received, dropped by the reader, dropped by the kernel.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub live: Option<crate::radar::live::LiveStats>,
@@ -141,7 +148,7 @@ impl std::fmt::Display for RadarCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} scans, {} spokes, {:.1} point plots and {:.1} extended returns a scan; {} plots without heading, {} over the {} limit, {} blobs dropped, {} restarts",
+            "{} scans, {} spokes, {:.1} point plots and {:.1} extended returns a scan; {} plots without heading, {} over the {} limit, {} blobs dropped, {} extraction restarts (a new range scale or spoke format, spokes out of order)",
             self.scans,
             self.spokes,
             self.plots_per_scan(),
@@ -161,6 +168,13 @@ impl std::fmt::Display for RadarCounts {
         }
         if let Some(p) = &self.plot_scores {
             write!(f, "; plots against truth: {p}")?;
+        }
+        if let Some(other) = self.other_radar {
+            write!(
+                f,
+                "; {} spoke datagrams from a second radar at {other} ignored (one radar is tracked: the first heard)",
+                self.other_radar_datagrams
+            )?;
         }
         if let Some(live) = &self.live {
             write!(f, "; live: {live}")?;
@@ -347,6 +361,10 @@ impl RadarPlotSource {
             .capture
             .is_some_and(|x| x.truncated_file);
         c.live = self.spokes.stats().live;
+        if let Some((other, n)) = self.spokes.stats().other_radar {
+            c.other_radar = Some(other);
+            c.other_radar_datagrams = n;
+        }
         (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
         c
