@@ -90,7 +90,8 @@ pub struct DisplayState {
     pub limits: AlarmLimits,
     /// Link name for the title.
     pub link: String,
-    /// The last operator command's refusal, shown until the next command.
+    /// The answer to the last operator command (done, or the device's refusal), shown
+    /// until the next command.
     pub message: Option<String>,
     /// The scale was fitted to a radar's range (once, at its first picture) or chosen by
     /// the operator.
@@ -323,6 +324,24 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     } else {
         ""
     };
+    let counts = |gap: &str, link: &str, tracked: &str, acquiring: &str| {
+        format!(
+            "scan {}{gap}{}{gap}{link}{}{gap}plots {}{gap}{tracked} {}{gap}{acquiring} {}",
+            view.scan,
+            view.time_label(),
+            state.link,
+            view.plots.len(),
+            view.tracked(),
+            view.acquiring(),
+        )
+    };
+    let mut first = counts(gap, link, tracked, acquiring);
+    // A wide pane that still cannot hold the line (PAUSED in front of it at about 160
+    // columns) takes the short words, so that no count is cut off at its end.
+    let inner = usize::from(area.width.saturating_sub(2));
+    if "ARPA ".len() + run_state.len() + first.chars().count() > inner {
+        first = counts(" ", "", "trk", "acq");
+    }
     let text = vec![
         Line::from(vec![
             Span::styled("ARPA ", Style::default().add_modifier(Modifier::BOLD)),
@@ -330,15 +349,7 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
                 run_state,
                 Style::default().add_modifier(Modifier::REVERSED | Modifier::BOLD),
             ),
-            Span::raw(format!(
-                "scan {}{gap}{}{gap}{link}{}{gap}plots {}{gap}{tracked} {}{gap}{acquiring} {}",
-                view.scan,
-                view.time_label(),
-                state.link,
-                view.plots.len(),
-                view.tracked(),
-                view.acquiring(),
-            )),
+            Span::raw(first),
         ]),
         Line::raw(if narrow {
             own_ship_line(&view.own).replace("  ", " ")
@@ -850,7 +861,26 @@ pub fn key(run: &mut Run, state: &mut DisplayState, key: char, view: &ScanReport
         Action::CancelAll => Some(TrackCommand::CancelAll),
     };
     if let Some(c) = command {
-        state.message = run.session_mut().command(c).err().map(|e| format!("{e:#}"));
+        state.message = Some(match run.session_mut().command(c) {
+            Err(e) => format!("{e:#}"),
+            // Said at once: the picture changes only with the next rotation, which a
+            // silent radar may not send for a while.
+            Ok(()) => match c {
+                TrackCommand::CancelAll => {
+                    "all targets cancelled: gone from the next rotation".to_string()
+                }
+                TrackCommand::Cancel { track } => format!(
+                    "target {} cancelled: gone from the next rotation",
+                    view.targets
+                        .iter()
+                        .find(|t| t.track == track)
+                        .map_or_else(|| format!("(track {track})"), TargetData::label)
+                ),
+                TrackCommand::Acquire { .. } => {
+                    "acquiring the nearest plot no track holds: shown as acquiring from its next plot".to_string()
+                }
+            },
+        });
     }
     false
 }
@@ -1575,6 +1605,31 @@ pub(crate) mod tests {
     }
 
     #[test]
+    fn the_headers_counts_are_never_cut_off_paused_or_ended() {
+        let (mut state, view) = alarming(20);
+        let tail = format!("acq {}", view.acquiring());
+        let long_tail = format!("acquiring {}", view.acquiring());
+        // Every pane width from the narrow layout's limit to a wide terminal's.
+        for width in 80..=130u16 {
+            for (paused, ended) in [(false, false), (true, false), (false, true)] {
+                state.paused = paused;
+                state.ended = ended;
+                let mut terminal = Terminal::new(TestBackend::new(width, 5)).unwrap();
+                terminal
+                    .draw(|f| render_header(f, f.area(), &state, &view))
+                    .unwrap();
+                let buffer = terminal.backend().buffer();
+                let line: String = (0..width).map(|x| buffer[(x, 1)].symbol()).collect();
+                let line = line.trim_end_matches(['│', ' ']);
+                assert!(
+                    line.ends_with(&tail) || line.ends_with(&long_tail),
+                    "{width} columns, paused {paused}, ended {ended}: {line}"
+                );
+            }
+        }
+    }
+
+    #[test]
     fn refused_commands_are_messages_and_the_run_goes_on() {
         let mut d = demo();
         let mut state = DisplayState::new("inproc".into());
@@ -1588,7 +1643,17 @@ pub(crate) mod tests {
         assert!(!key(&mut d, &mut state, '↓', &view));
         let selected = state.selected.expect("a target selected");
         assert!(!key(&mut d, &mut state, 'c', &view));
-        assert_eq!(state.message, None);
+        let done = state.message.clone().expect("the cancel answered at once");
+        let label = view
+            .targets
+            .iter()
+            .find(|t| t.track == selected)
+            .unwrap()
+            .label();
+        assert_eq!(
+            done,
+            format!("target {label} cancelled: gone from the next rotation")
+        );
         assert!(!key(&mut d, &mut state, 'c', &view));
         let m = state.message.clone().expect("the refusal shown");
         assert!(
@@ -1598,6 +1663,12 @@ pub(crate) mod tests {
         // The run goes on; the cancelled target is gone.
         let view = step(&mut d);
         assert!(!view.tracks.iter().any(|t| t.track == selected));
+        // Cancel all: answered at once, the picture empty from the next scan.
+        assert!(!key(&mut d, &mut state, 'C', &view));
+        assert_eq!(
+            state.message.as_deref(),
+            Some("all targets cancelled: gone from the next rotation")
+        );
         assert!(key(&mut d, &mut state, 'q', &view), "q quits");
     }
 }
