@@ -84,6 +84,20 @@ pub fn recv_from(socket: &UdpSocket, buf: &mut [u8]) -> io::Result<Received> {
     }
 }
 
+/// True for "no such device" (ENODEV): joining a group on an address that is no
+/// interface's, or on any interface (`0.0.0.0`) with no route for multicast. Linux only.
+pub fn is_no_such_device(e: &io::Error) -> bool {
+    #[cfg(target_os = "linux")]
+    {
+        e.raw_os_error() == Some(nix::errno::Errno::ENODEV as i32)
+    }
+    #[cfg(not(target_os = "linux"))]
+    {
+        let _ = e;
+        false
+    }
+}
+
 /// This computer's IPv4 interfaces, as `name address` (`eth0 192.168.1.3`), for an
 /// operator who gave an address that is none of them; empty where they cannot be listed
 /// (not Linux).

@@ -573,7 +573,18 @@ fn ipv4(
 /// Ethernet frames carrying a UDP datagram to `dst`:`port`, in fragments of `mtu` bytes of
 /// IP payload when it does not fit.
 fn udp_frames(payload: &[u8], id: u16, dst: [u8; 4], port: u16, mtu: usize) -> Vec<Vec<u8>> {
-    let src = [10, 0, 0, 2];
+    udp_frames_from([10, 0, 0, 2], payload, id, dst, port, mtu)
+}
+
+/// As [`udp_frames`], sent from `src`.
+fn udp_frames_from(
+    src: [u8; 4],
+    payload: &[u8],
+    id: u16,
+    dst: [u8; 4],
+    port: u16,
+    mtu: usize,
+) -> Vec<Vec<u8>> {
     let mut udp = Vec::new();
     udp.extend_from_slice(&5000u16.to_be_bytes());
     udp.extend_from_slice(&port.to_be_bytes());
@@ -684,6 +695,57 @@ fn datagrams(
         out.push((d.time_s, d.dst.port(), d.payload.to_vec()));
     }
     (out, r.stats())
+}
+
+/// Two radars on one group: the first whose spokes decode is tracked, the other's spokes
+/// counted and ignored; once the one tracked has been silent for `RADAR_GONE_S` (a radar
+/// back from a power cycle with a new address) the other is taken.
+#[test]
+fn a_second_radar_on_the_group_is_ignored_until_the_first_falls_silent() {
+    use tracker_host::radar::source::RADAR_GONE_S;
+    let dir = tempfile::tempdir().unwrap();
+    let (all, _) = datagrams(
+        &capture("radar_pi-4g-noheading-merrimac.pcap.gz"),
+        CaptureOptions::default(),
+    );
+    let spokes: Vec<Vec<u8>> = all
+        .into_iter()
+        .filter(|d| d.1 == 6678)
+        .map(|d| d.2)
+        .take(30)
+        .collect();
+    let (first, second) = ([10, 56, 0, 158], [10, 56, 0, 159]);
+    let group = [236, 6, 7, 8];
+    let mut frames: Vec<(f64, Vec<u8>)> = Vec::new();
+    let mut id = 0u16;
+    let mut send = |frames: &mut Vec<(f64, Vec<u8>)>, t: f64, src: [u8; 4], p: &[u8]| {
+        id += 1;
+        for f in udp_frames_from(src, p, id, group, 6678, 1480) {
+            frames.push((t, f));
+        }
+    };
+    for (i, p) in spokes.iter().enumerate() {
+        let t = 1000.0 + 0.1 * i as f64;
+        send(&mut frames, t, first, p);
+        send(&mut frames, t + 0.01, second, p);
+    }
+    let back = 1000.0 + 3.0 + RADAR_GONE_S + 1.0;
+    for (i, p) in spokes.iter().enumerate() {
+        send(&mut frames, back + 0.1 * i as f64, second, p);
+    }
+    let path = write_temp(dir.path(), "two.pcap", &pcap(&frames));
+    let mut source = SpokeSource::from_capture(&path, CaptureOptions::default()).unwrap();
+    let mut n = 0;
+    while source.next_spoke().unwrap().is_some() {
+        n += 1;
+    }
+    let stats = source.stats();
+    assert_eq!(stats.other_radar, Some((Ipv4Addr::from(second), 30)));
+    assert_eq!(stats.radar_changes, 1);
+    assert_eq!(stats.radar_address, Some(Ipv4Addr::from(second)));
+    // The first radar's spokes, then the second's after the silence: none mixed.
+    assert_eq!(n, stats.navico.spokes);
+    assert_eq!(stats.navico.frames, 60, "{stats:?}");
 }
 
 #[test]

@@ -7,7 +7,7 @@
 use tracker_core::filter::FilterKind;
 use tracker_core::icd::Plot;
 use tracker_core::track::LOST_AFTER_COASTS;
-use tracker_host::link::{Client, InprocTransport};
+use tracker_host::link::{Client, InprocReset, InprocTransport};
 use tracker_host::own_ship::OwnShip;
 use tracker_host::session::{ScanReport, Session, SessionConfig};
 use tracker_host::source::RadarScan;
@@ -30,15 +30,19 @@ fn scene(time_s: f64) -> Vec<Plot> {
 struct Scans {
     session: Session,
     scan: u32,
+    power: InprocReset,
 }
 
 impl Scans {
     fn new() -> Self {
         let config = SessionConfig::tracking_plots_of(FilterKind::KalmanCv, 10.0);
-        let client = Client::new(Box::new(InprocTransport::new()));
+        let transport = InprocTransport::new();
+        let power = transport.reset_handle();
+        let client = Client::new(Box::new(transport));
         Scans {
             session: Session::start(client, config).unwrap(),
             scan: 0,
+            power,
         }
     }
 
@@ -138,4 +142,29 @@ fn the_first_scans_and_a_slow_antenna_are_not_a_silence() {
         assert!(r.ended.is_empty(), "scan {k}: {:?}", r.ended);
     }
     assert!(s.silence_events().is_empty());
+}
+
+#[test]
+fn a_device_reset_in_the_same_power_cut_is_noticed_and_configured_again() {
+    // The cancel after a silence must not hide a reset: a fresh device holds no tracks, as
+    // a cancelled one does, but runs its default configuration until configured again.
+    let mut s = Scans::new();
+    for k in 0..20 {
+        s.at(PERIOD_S * f64::from(k));
+    }
+    s.power.reset();
+    let t = PERIOD_S * 19.0 + 35.0;
+    let after = s.at(t);
+    assert_eq!(after.ended.len(), 2, "{:?}", after.ended);
+    assert!(after.silence.is_some());
+    let events = s.session.events();
+    assert!(
+        events.iter().any(|e| e.contains("firmware reset detected")),
+        "{events:?}"
+    );
+    let mut again = None;
+    for k in 1..12 {
+        again = Some(s.at(t + PERIOD_S * f64::from(k)));
+    }
+    assert_eq!(again.unwrap().targets.len(), 2);
 }

@@ -786,7 +786,12 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
             .map(|(_, text)| Line::styled(text, alarm)),
     );
     if let Some(silence) = &view.silence {
-        lines.push(Line::styled(silence.to_string(), alarm));
+        let text = if narrow {
+            silence.short()
+        } else {
+            silence.to_string()
+        };
+        lines.push(Line::styled(text, alarm));
     }
     for id in &state.lost {
         lines.push(Line::styled(
@@ -1462,7 +1467,7 @@ pub(crate) mod tests {
             .map(|l| l.to_string())
             .collect();
         let said = format!(
-            "RADAR SILENT 36.1 s (13 rotations missed): {} targets lost",
+            "RADAR SILENT: no scan for 36.1 s (13 rotations missed): {} targets lost",
             shown.len()
         );
         assert!(text.iter().any(|l| l.starts_with(&said)), "{text:?}");
@@ -1471,6 +1476,12 @@ pub(crate) mod tests {
             text.iter().any(|l| *l == format!("LOST TARGET {label}")),
             "{text:?}"
         );
+        let narrow: Vec<String> = alarm_lines(&state, &view, true)
+            .iter()
+            .map(|l| l.to_string())
+            .collect();
+        let short = format!("RADAR SILENT 36 s: {} LOST", shown.len());
+        assert!(narrow.contains(&short), "{narrow:?}");
         // Without the silence, ends the device did not call lost are no alarm.
         view.silence = None;
         state.observe(&view);

@@ -98,7 +98,10 @@ impl ScanSink for Plain {
         }
         let text = match self.mode {
             PlainMode::Table => format!("{}\n{}", header(r), self.table(r)),
-            PlainMode::Progress { every } if r.scan.is_multiple_of(every.max(1)) => {
+            // A silence of the radar is told when it ends, whatever the scan's number.
+            PlainMode::Progress { every }
+                if r.scan.is_multiple_of(every.max(1)) || r.silence.is_some() =>
+            {
                 format!("{}\n", header(r))
             }
             PlainMode::Progress { .. } => return Ok(()),

@@ -144,14 +144,20 @@ impl LiveReceiver {
             let socket = join(e, interface).map_err(|err| {
                 let mut why = format!("joining {}:{} on {interface}", e.group, e.port);
                 // ENODEV: the address is no interface's here (a typo, the radar's own
-                // address, or the network cable's interface not up).
+                // address, the network cable's interface not up), or, for any interface,
+                // there is no route for multicast (a PC with no default gateway).
                 let no_such = err
                     .downcast_ref::<std::io::Error>()
-                    .is_some_and(|io| io.raw_os_error() == Some(19));
+                    .is_some_and(crate::udp::is_no_such_device);
                 let here = crate::udp::ipv4_interfaces();
                 if no_such && !here.is_empty() {
+                    let what = if interface.is_unspecified() {
+                        "no interface has a route for multicast".to_string()
+                    } else {
+                        format!("{interface} is not an address of this computer's")
+                    };
                     why += &format!(
-                        " ({interface} is not an address of this computer's: give the address of the interface on the radar's network, one of {})",
+                        " ({what}: give the address of the interface on the radar's network, one of {})",
                         here.join(", ")
                     );
                 }

@@ -54,6 +54,8 @@ pub struct RadarStats {
     /// Spoke datagrams from another sender on the same groups (a second radar on the
     /// network), ignored, and the first such sender.
     pub other_radar: Option<(Ipv4Addr, u64)>,
+    /// Times the radar tracked changed: it was silent [`RADAR_GONE_S`] while another sent.
+    pub radar_changes: u64,
     /// The Navico decoder's counts: frames, spokes, faults by kind, headings.
     pub navico: NavicoCounts,
     /// The Navico spoke stream: rotations, ranges, order.
@@ -84,6 +86,10 @@ impl RadarStats {
     }
 }
 
+/// A radar silent this long gives way to another sender on its groups, s (the display's
+/// no-radar-data alarm comes at the same time).
+pub const RADAR_GONE_S: f64 = 10.0;
+
 enum Input {
     Capture(Box<CaptureReader>),
     Live(LiveReceiver),
@@ -103,7 +109,10 @@ pub struct SpokeSource {
     other_datagrams: u64,
     navico_reports: u64,
     radar_address: Option<Ipv4Addr>,
+    /// When the radar tracked was last decoded (s, the datagrams' clock).
+    radar_heard_s: Option<f64>,
     other_radar: Option<(Ipv4Addr, u64)>,
+    radar_changes: u64,
     last: Option<(RadarKind, SpokeMeta)>,
     live_deadline: Option<Instant>,
 }
@@ -163,7 +172,9 @@ impl SpokeSource {
             other_datagrams: 0,
             navico_reports: 0,
             radar_address: None,
+            radar_heard_s: None,
             other_radar: None,
+            radar_changes: 0,
             last: None,
             live_deadline: None,
         }
@@ -217,15 +228,22 @@ impl SpokeSource {
             let time_ms = (d.time_s * 1000.0).round() as u64;
             let kind = route(d.payload, d.dst.port());
             // One radar's spokes: a second radar sending to the same group (two scanners on
-            // one network) would mix two pictures into one rotation. The first sender's are
-            // tracked; the others' are counted and told.
-            if kind.is_some() {
-                let from = *d.src.ip();
-                if *self.radar_address.get_or_insert(from) != from {
+            // one network) would mix two pictures into one rotation. The first sender whose
+            // spokes decode is tracked; the others' are counted and told, unless the one
+            // tracked has been silent for RADAR_GONE_S (a radar back from a power cycle
+            // with another address): then the next to decode is.
+            let from = *d.src.ip();
+            if kind.is_some() && self.radar_address.is_some_and(|a| a != from) {
+                let gone = self
+                    .radar_heard_s
+                    .is_some_and(|t| d.time_s - t > RADAR_GONE_S);
+                if !gone {
                     let other = self.other_radar.get_or_insert((from, 0));
                     other.1 += 1;
                     continue;
                 }
+                self.radar_address = None;
+                self.radar_changes += 1;
             }
             let fed = match kind {
                 Some(RadarKind::Navico) => self.navico.feed(d.payload, time_ms).is_ok(),
@@ -239,6 +257,8 @@ impl SpokeSource {
             if fed {
                 self.active = kind;
                 self.time_s = d.time_s;
+                self.radar_address.get_or_insert(from);
+                self.radar_heard_s = Some(d.time_s);
             }
         }
         let (kind, spoke, stream) = match self.active {
@@ -302,6 +322,7 @@ impl SpokeSource {
             other_datagrams: self.other_datagrams,
             radar_address: self.radar_address,
             other_radar: self.other_radar,
+            radar_changes: self.radar_changes,
             navico_reports: self.navico_reports,
             navico: *self.navico.counts(),
             navico_spokes: self.navico_spokes.clone(),

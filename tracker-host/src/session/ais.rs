@@ -223,6 +223,9 @@ pub struct AisPicture {
     /// The scans' clock is UTC ([`ScanReport::time_is_utc`]): the log's times are written
     /// with a `Z` only then.
     clock_is_utc: bool,
+    /// The bridge's UTC less the scans' clock ([`ScanReport::utc_offset_s`]): the log's
+    /// times are the bridge's, as the display's and the plotters' are.
+    utc_offset_s: f64,
 }
 
 impl AisPicture {
@@ -236,6 +239,7 @@ impl AisPicture {
             events: crate::event_log::EventLog::default(),
             counts: PairingCounts::default(),
             clock_is_utc: true,
+            utc_offset_s: 0.0,
         }
     }
 
@@ -257,7 +261,12 @@ impl AisPicture {
 
     /// The time of an event at `t` as the log writes it.
     fn when(&self, t: f64) -> String {
-        crate::utc::scan_time_label(t, self.clock_is_utc)
+        let offset_s = if self.clock_is_utc {
+            self.utc_offset_s
+        } else {
+            0.0
+        };
+        crate::utc::scan_time_label(t + offset_s, self.clock_is_utc)
     }
 
     fn log(&mut self, event: String) {
@@ -269,6 +278,7 @@ impl AisPicture {
     pub fn scan(&mut self, report: &mut ScanReport, heard: &[(f64, AisReport)]) {
         let t = report.time_s;
         self.clock_is_utc = report.time_is_utc;
+        self.utc_offset_s = report.utc_offset_s;
         for (time_s, r) in heard {
             self.table.report(*time_s, r);
         }

@@ -262,6 +262,20 @@ impl DeviceLink {
         Ok(())
     }
 
+    /// Drops every track after a silence of the radar: first a handshake, since a power
+    /// cut that silenced the radar may have reset the device too (its tracks gone, so the
+    /// every-track-gone check would not see it after a cancel): a reset device is
+    /// configured again, holding no tracks; else its tracks are cancelled.
+    ///
+    /// # Errors
+    /// The link failed, or the device refused the configuration or the cancel.
+    pub fn cancel_all_after_silence(&mut self, scan: u32) -> anyhow::Result<()> {
+        if !self.recover_from_reset(scan)? {
+            self.command(TrackCommand::CancelAll)?;
+        }
+        Ok(())
+    }
+
     /// One scan through the device: the plots (`plots_m`, local frame, already on the
     /// wire's grid so that both sides hold the same values), the rough gates, `associate`'s
     /// choice, the track states. A device that was reset meanwhile is configured again and
@@ -399,14 +413,14 @@ impl DeviceLink {
         Ok(states)
     }
 
-    /// After a refused request: handshakes again, and if the device has a new boot id it
-    /// was reset. Then it is configured again and the caller redoes the scan; the tracks
+    /// After a refused request (or a silence of the radar): handshakes again, and if the
+    /// device has a new boot id it was reset. Then it is configured again and the caller redoes the scan; the tracks
     /// come back through initiation. Returns whether it was a reset.
     fn recover_from_reset(&mut self, scan: u32) -> anyhow::Result<bool> {
         let info = self
             .client
             .hello()
-            .context("handshake after a refused request")?;
+            .context("handshake to check for a device reset")?;
         if info.boot_id == self.boot_id {
             return Ok(false);
         }

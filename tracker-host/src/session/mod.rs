@@ -166,10 +166,31 @@ impl std::fmt::Display for Silence {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "RADAR SILENT {:.1} s ({} rotations missed): {} targets lost, acquiring again",
+            "RADAR SILENT: no scan for {:.1} s ({} rotations missed): {} targets lost, acquiring again",
             self.gap_s, self.rotations_missed, self.targets_lost
         )
     }
+}
+
+impl Silence {
+    /// The alarm in a few words, for a narrow alarm box: the figures first.
+    pub fn short(&self) -> String {
+        format!(
+            "RADAR SILENT {:.0} s: {} LOST",
+            self.gap_s, self.targets_lost
+        )
+    }
+}
+
+/// A refusal, a report not believed or an answer that never came whole: it costs the scan,
+/// not the session.
+fn costs_the_scan(e: &anyhow::Error) -> bool {
+    e.downcast_ref::<device::Refused>().is_some()
+        || e.downcast_ref::<device::InvalidReport>().is_some()
+        || matches!(
+            e.downcast_ref::<crate::link::RequestError>(),
+            Some(crate::link::RequestError::Lost)
+        )
 }
 
 impl ScanReport {
@@ -261,6 +282,14 @@ fn lost_tracks(tracks: &[TrackState]) -> std::collections::BTreeSet<u16> {
         .collect()
 }
 
+/// Tracks among `tracks` the device still holds (not reported lost).
+fn held_tracks(tracks: &[TrackState]) -> usize {
+    tracks
+        .iter()
+        .filter(|t| t.status != TrackStatus::Lost)
+        .count()
+}
+
 /// The host half of the tracker.
 pub struct Session {
     device: DeviceLink,
@@ -285,8 +314,10 @@ pub struct Session {
     /// The last few scan intervals, s: the trend's interval is their median, so that a
     /// scan lost or late does not make it (and the minute it counts) twice as long.
     intervals: std::collections::VecDeque<f64>,
-    /// Tracks in the device's last report.
+    /// Tracks the device holds after its last report (those reported lost are dropped).
     tracks_held: usize,
+    /// A silence whose tracks were cancelled, not told yet (its scan was skipped).
+    pending_silence: Option<(f64, u32)>,
 }
 
 impl Session {
@@ -310,6 +341,7 @@ impl Session {
             trend: None,
             intervals: Default::default(),
             tracks_held: 0,
+            pending_silence: None,
         })
     }
 
@@ -432,9 +464,22 @@ impl Session {
             .filter(|_| self.tracks_held > 0)
             .and_then(|gap| Some((gap, self.rotations_missed(gap)?)));
         if silence.is_some() {
-            self.device.command(TrackCommand::CancelAll)?;
+            if let Err(e) = self.device.cancel_all_after_silence(radar.scan) {
+                if !costs_the_scan(&e) {
+                    return Err(e);
+                }
+                // Not cancelled: the scan is not tracked and its time not taken, so the next
+                // scan finds the silence again and tries again.
+                let why = format!("scan {} skipped: {e:#}", radar.scan);
+                self.events.push(why.clone());
+                self.skipped += 1;
+                return Ok(self.skipped_report(radar, own, Vec::new(), started, why));
+            }
             self.firm.clear();
             self.lost.clear();
+            self.tracks_held = 0;
+            // Told with the scan that is tracked next (this one, unless it is skipped).
+            self.pending_silence = silence;
         }
         // Rounded as the wire rounds them, so the device holds the very same plots.
         let plots_m: Vec<EastNorth> = radar
@@ -472,55 +517,30 @@ impl Session {
         }
         let (association, tracks) = match done {
             Ok(done) => done,
-            // A refusal, a report not believed or an answer that never came whole costs this
-            // scan, not the session.
-            Err(e)
-                if e.downcast_ref::<device::Refused>().is_some()
-                    || e.downcast_ref::<device::InvalidReport>().is_some()
-                    || matches!(
-                        e.downcast_ref::<crate::link::RequestError>(),
-                        Some(crate::link::RequestError::Lost)
-                    ) =>
-            {
+            Err(e) if costs_the_scan(&e) => {
                 let why = format!("scan {} skipped: {e}", radar.scan);
                 self.events.push(why.clone());
                 self.skipped += 1;
-                return Ok(ScanReport {
-                    scan: radar.scan,
-                    time_s: radar.time_s,
-                    time_is_utc: true,
-                    utc_offset_s: 0.0,
-                    own: *own,
-                    plots: radar.plots.clone(),
-                    plots_m,
-                    tracks: Vec::new(),
-                    targets: Vec::new(),
-                    acquiring: Vec::new(),
-                    ended: Vec::new(),
-                    association: Associated::default(),
-                    host_time: started.elapsed(),
-                    skipped: Some(why),
-                    ais: Vec::new(),
-                    paired: Vec::new(),
-                    merged: Vec::new(),
-                    echoes: None,
-                    silence: None,
-                });
+                return Ok(self.skipped_report(radar, own, plots_m, started, why));
             }
             Err(e) => return Err(e),
         };
         self.firm = firm_tracks(&tracks);
         self.lost = lost_tracks(&tracks);
-        self.tracks_held = tracks.len();
-        self.update_trend(gap_s);
+        self.tracks_held = held_tracks(&tracks);
+        // A silence is no antenna period: it would make the next one look like one.
+        self.update_trend(gap_s.filter(|_| silence.is_none()));
         let numbered = self
             .numbers
             .scan(own, &tracks, &self.config.alarms, self.trend.as_ref());
-        let silence = silence.map(|(gap_s, rotations_missed)| Silence {
-            gap_s,
-            rotations_missed,
-            targets_lost: numbered.ended.len(),
-        });
+        let silence = self
+            .pending_silence
+            .take()
+            .map(|(gap_s, rotations_missed)| Silence {
+                gap_s,
+                rotations_missed,
+                targets_lost: numbered.ended.len(),
+            });
         if let Some(s) = &silence {
             self.events.push(format!(
                 "scan {}: {s}; every track was cancelled",
@@ -552,6 +572,38 @@ impl Session {
         })
     }
 
+    /// The report of a scan not tracked: no tracks, `why` said.
+    fn skipped_report(
+        &self,
+        radar: &RadarScan,
+        own: &OwnShip,
+        plots_m: Vec<EastNorth>,
+        started: Instant,
+        why: String,
+    ) -> ScanReport {
+        ScanReport {
+            scan: radar.scan,
+            time_s: radar.time_s,
+            time_is_utc: true,
+            utc_offset_s: 0.0,
+            own: *own,
+            plots: radar.plots.clone(),
+            plots_m,
+            tracks: Vec::new(),
+            targets: Vec::new(),
+            acquiring: Vec::new(),
+            ended: Vec::new(),
+            association: Associated::default(),
+            host_time: started.elapsed(),
+            skipped: Some(why),
+            ais: Vec::new(),
+            paired: Vec::new(),
+            merged: Vec::new(),
+            echoes: None,
+            silence: None,
+        }
+    }
+
     /// Sends an operator command (acquire, cancel) to the device.
     ///
     /// # Errors
@@ -569,7 +621,7 @@ impl Session {
         let tracks = self.device.restart_host()?;
         self.firm = firm_tracks(&tracks);
         self.lost = lost_tracks(&tracks);
-        self.tracks_held = tracks.len();
+        self.tracks_held = held_tracks(&tracks);
         Ok(tracks)
     }
 

@@ -124,6 +124,8 @@ pub struct RadarCounts {
     /// That second radar's address.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub other_radar: Option<std::net::Ipv4Addr>,
+    /// Times the radar tracked changed address (silent 10 s while another sent).
+    pub radar_changes: u64,
     /// A live radar's datagrams: received, dropped by the reader, dropped by the kernel.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub live: Option<crate::radar::live::LiveStats>,
@@ -174,6 +176,13 @@ impl std::fmt::Display for RadarCounts {
                 f,
                 "; {} spoke datagrams from a second radar at {other} ignored (one radar is tracked: the first heard)",
                 self.other_radar_datagrams
+            )?;
+        }
+        if self.radar_changes > 0 {
+            write!(
+                f,
+                "; the radar tracked changed {} times (silent 10 s while another sent)",
+                self.radar_changes
             )?;
         }
         if let Some(live) = &self.live {
@@ -365,6 +374,7 @@ impl RadarPlotSource {
             c.other_radar = Some(other);
             c.other_radar_datagrams = n;
         }
+        c.radar_changes = self.spokes.stats().radar_changes;
         (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
         c
