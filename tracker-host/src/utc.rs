@@ -8,6 +8,32 @@ pub fn now_s() -> f64 {
         .map_or(0.0, |d| d.as_secs_f64())
 }
 
+/// UTC as this host's clock read it when the clock was started, running on from there on
+/// the monotonic clock: times for live data that a step of the host's clock (NTP, or a
+/// time source arriving on a PC that had none) neither jumps nor reverses. A step forward
+/// read as time passing would look like a radar silent for that long, and lose every
+/// target ([`crate::session::Session::scan`]).
+#[derive(Clone, Copy, Debug)]
+pub struct SteadyUtc {
+    utc0_s: f64,
+    t0: std::time::Instant,
+}
+
+impl SteadyUtc {
+    /// Starts at this host's clock's now.
+    pub fn start() -> Self {
+        SteadyUtc {
+            utc0_s: now_s(),
+            t0: std::time::Instant::now(),
+        }
+    }
+
+    /// Now, s since 1970-01-01 00:00 UTC: the start's time and the time since.
+    pub fn now_s(&self) -> f64 {
+        self.utc0_s + self.t0.elapsed().as_secs_f64()
+    }
+}
+
 /// `hh:mm:ss` of a time in s, the time of day it falls on.
 fn time_of_day(time_s: f64) -> String {
     let t = time_s.rem_euclid(86_400.0) as u64;
@@ -57,6 +83,19 @@ pub fn offset_label(offset_s: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_steady_clock_starts_at_the_hosts_and_never_goes_back() {
+        let clock = SteadyUtc::start();
+        let first = clock.now_s();
+        assert!((first - now_s()).abs() < 1.0, "{first}");
+        let mut last = first;
+        for _ in 0..1000 {
+            let t = clock.now_s();
+            assert!(t >= last, "{t} after {last}");
+            last = t;
+        }
+    }
 
     #[test]
     fn a_clock_that_is_not_utc_is_not_labelled_utc() {

@@ -131,6 +131,9 @@ impl LiveReceiver {
     /// its group (no such interface, no multicast route).
     pub fn open(endpoints: &[Endpoint], interface: Ipv4Addr) -> anyhow::Result<Self> {
         let (tx, rx) = mpsc::sync_channel(QUEUE);
+        // One clock for every group's datagrams: arrival times in one order, and no step of
+        // this computer's clock taken for a radar's silence.
+        let clock = crate::utc::SteadyUtc::start();
         let stop = Arc::new(AtomicBool::new(false));
         let counters = Arc::new(Counters::default());
         let mut receiver = LiveReceiver {
@@ -170,7 +173,7 @@ impl LiveReceiver {
             let dst = SocketAddrV4::new(e.group, e.port);
             let thread = std::thread::Builder::new()
                 .name(format!("radar {dst}"))
-                .spawn(move || receive(&socket, dst, &tx, &stop, &counters))
+                .spawn(move || receive(&socket, dst, &tx, &stop, &counters, clock))
                 .context("starting a receiving thread")?;
             receiver.threads.push(thread);
         }
@@ -272,6 +275,7 @@ fn receive(
     tx: &SyncSender<anyhow::Result<Received>>,
     stop: &AtomicBool,
     counters: &Counters,
+    clock: crate::utc::SteadyUtc,
 ) {
     // The largest UDP payload.
     let mut buf = vec![0u8; 65536];
@@ -299,7 +303,7 @@ fn receive(
                 return;
             }
         };
-        let time_s = crate::utc::now_s();
+        let time_s = clock.now_s();
         if let Some(k) = r.kernel_drops {
             let new = k.wrapping_sub(kernel_drops);
             kernel_drops = k;
