@@ -104,8 +104,14 @@ pub struct DisplayState {
     /// no-radar-data alarm.
     pub radar_silent_s: Option<u64>,
     trails: BTreeMap<u16, VecDeque<EastNorth>>,
+    /// Lost targets not acknowledged yet, oldest first.
     lost: Vec<String>,
+    /// The last silence of the radar, not acknowledged yet.
+    silence: Option<crate::session::Silence>,
 }
+
+/// Lost-target alarms held for acknowledgement, at most (the oldest give way).
+const MAX_UNACKNOWLEDGED: usize = 99;
 
 impl DisplayState {
     /// 6 NM scale, relative 6-minute vectors.
@@ -126,6 +132,7 @@ impl DisplayState {
             radar_silent_s: None,
             trails: BTreeMap::new(),
             lost: Vec::new(),
+            silence: None,
         }
     }
 
@@ -149,19 +156,27 @@ impl DisplayState {
             }
         }
         // Lost tracked targets (the device says lost, or a silence of the radar cancelled
-        // them), by their numbers; a failed acquisition is not an alarm.
-        self.lost = view
-            .ended
-            .iter()
-            .filter(|e| {
-                view.silence.is_some()
-                    || view
-                        .tracks
-                        .iter()
-                        .any(|t| t.track == e.track && t.status == TrackStatus::Lost)
-            })
-            .map(TargetData::label)
-            .collect();
+        // them), by their numbers; a failed acquisition is not an alarm. Both alarms stand
+        // until the operator acknowledges them (IEC 62388's lost-target alarm): shown for
+        // one scan, 2.5 s, they were easily missed.
+        for e in view.ended.iter().filter(|e| {
+            view.silence.is_some()
+                || view
+                    .tracks
+                    .iter()
+                    .any(|t| t.track == e.track && t.status == TrackStatus::Lost)
+        }) {
+            let label = e.label();
+            if !self.lost.contains(&label) {
+                if self.lost.len() == MAX_UNACKNOWLEDGED {
+                    self.lost.remove(0);
+                }
+                self.lost.push(label);
+            }
+        }
+        if view.silence.is_some() {
+            self.silence = view.silence;
+        }
         for t in &view.targets {
             let trail = self.trails.entry(t.track).or_default();
             trail.push_back(t.position_m);
@@ -202,6 +217,11 @@ impl DisplayState {
             'p' => self.paused = !self.paused,
             'e' => self.echoes = !self.echoes,
             'C' => return Action::CancelAll,
+            // Enter: the lost-target and radar-silence alarms acknowledged.
+            '\n' => {
+                self.lost.clear();
+                self.silence = None;
+            }
             'c' => {
                 if let Some(id) = self.selected {
                     return Action::Cancel(id);
@@ -703,7 +723,7 @@ fn fit(name: &str, suffix: &str) -> String {
 /// The alarm box's key help, drawn under the alarms while there is room.
 const ALARM_HELP: [&str; 2] = [
     "+/- range, v vectors, [/] vector length, ↑↓ select",
-    "a acquire, c cancel, C cancel all, e echoes, p pause, q quit",
+    "a acquire, c cancel, C cancel all, e echoes, p pause, q quit, Enter acknowledge",
 ];
 
 /// The alarm box's height in rows (borders included): room for every line and the help,
@@ -785,7 +805,7 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
             .into_iter()
             .map(|(_, text)| Line::styled(text, alarm)),
     );
-    if let Some(silence) = &view.silence {
+    if let Some(silence) = &state.silence {
         let text = if narrow {
             silence.short()
         } else {
@@ -918,6 +938,7 @@ fn next_key(wait: std::time::Duration) -> anyhow::Result<Option<char>> {
         KeyCode::Up => Some('↑'),
         KeyCode::Down => Some('↓'),
         KeyCode::Esc => Some('q'),
+        KeyCode::Enter => Some('\n'),
         _ => None,
     })
 }
@@ -1482,8 +1503,21 @@ pub(crate) mod tests {
             .collect();
         let short = format!("RADAR SILENT 36 s: {} LOST", shown.len());
         assert!(narrow.contains(&short), "{narrow:?}");
-        // Without the silence, ends the device did not call lost are no alarm.
+        // They stand over the scans after it until acknowledged (Enter).
         view.silence = None;
+        view.ended.clear();
+        state.observe(&view);
+        assert_eq!(state.lost.len(), shown.len());
+        assert!(alarm_lines(&state, &view, false)
+            .iter()
+            .any(|l| l.to_string().starts_with("RADAR SILENT")));
+        assert_eq!(state.key('\n', Some(&view)), Action::None);
+        assert!(state.lost.is_empty());
+        assert!(!alarm_lines(&state, &view, false)
+            .iter()
+            .any(|l| l.to_string().starts_with("RADAR SILENT")));
+        // Without a silence, ends the device did not call lost are no alarm.
+        view.ended = shown;
         state.observe(&view);
         assert!(state.lost.is_empty());
     }
