@@ -473,7 +473,7 @@ impl Session {
                 let why = format!("scan {} skipped: {e:#}", radar.scan);
                 self.events.push(why.clone());
                 self.skipped += 1;
-                return Ok(self.skipped_report(radar, own, Vec::new(), started, why));
+                return Ok(Self::skipped_report(radar, own, Vec::new(), started, why));
             }
             self.firm.clear();
             self.lost.clear();
@@ -521,7 +521,7 @@ impl Session {
                 let why = format!("scan {} skipped: {e}", radar.scan);
                 self.events.push(why.clone());
                 self.skipped += 1;
-                return Ok(self.skipped_report(radar, own, plots_m, started, why));
+                return Ok(Self::skipped_report(radar, own, plots_m, started, why));
             }
             Err(e) => return Err(e),
         };
@@ -550,36 +550,37 @@ impl Session {
         let host_time = started.elapsed();
         self.host_times.push(host_time);
         Ok(ScanReport {
-            scan: radar.scan,
-            time_s: radar.time_s,
-            time_is_utc: true,
-            utc_offset_s: 0.0,
-            own: *own,
-            plots: radar.plots.clone(),
-            plots_m,
             tracks,
             targets: numbered.tracked,
             acquiring: numbered.acquiring,
             ended: numbered.ended,
             association,
-            host_time,
-            skipped: None,
-            ais: Vec::new(),
-            paired: Vec::new(),
-            merged: Vec::new(),
-            echoes: None,
             silence,
+            ..Self::report_of(radar, own, plots_m, host_time)
         })
     }
 
-    /// The report of a scan not tracked: no tracks, `why` said.
+    /// The report of a scan not tracked, `why` said.
     fn skipped_report(
-        &self,
         radar: &RadarScan,
         own: &OwnShip,
         plots_m: Vec<EastNorth>,
         started: Instant,
         why: String,
+    ) -> ScanReport {
+        ScanReport {
+            skipped: Some(why),
+            ..Self::report_of(radar, own, plots_m, started.elapsed())
+        }
+    }
+
+    /// A scan's report with its plots and nothing tracked: what the tracked and the
+    /// skipped scans' reports fill in.
+    fn report_of(
+        radar: &RadarScan,
+        own: &OwnShip,
+        plots_m: Vec<EastNorth>,
+        host_time: Duration,
     ) -> ScanReport {
         ScanReport {
             scan: radar.scan,
@@ -594,8 +595,8 @@ impl Session {
             acquiring: Vec::new(),
             ended: Vec::new(),
             association: Associated::default(),
-            host_time: started.elapsed(),
-            skipped: Some(why),
+            host_time,
+            skipped: None,
             ais: Vec::new(),
             paired: Vec::new(),
             merged: Vec::new(),
