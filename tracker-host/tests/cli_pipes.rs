@@ -8,12 +8,7 @@ use std::process::{Command, Stdio};
 
 #[test]
 fn a_closed_pipe_is_not_a_panic() {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_tracker-host"))
-        .args(["--link", "inproc", "demo", "--plain", "--duration", "120"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = spawn_piped(&["--link", "inproc", "demo", "--plain", "--duration", "120"]);
     let mut first = String::new();
     BufReader::new(child.stdout.take().unwrap())
         .read_line(&mut first)
@@ -24,6 +19,26 @@ fn a_closed_pipe_is_not_a_panic() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert_ne!(out.status.code(), Some(101), "{stderr}");
+}
+
+/// The binary with `args`, its standard output and error piped to the test.
+fn spawn_piped(args: &[&str]) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_tracker-host"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap()
+}
+
+/// Reads `from` up to and including the first line that `wanted` takes; fails as `what`
+/// when the stream ends first.
+fn read_until(from: &mut impl BufRead, wanted: impl Fn(&str) -> bool, what: &str) {
+    let mut line = String::new();
+    while !wanted(&line) {
+        line.clear();
+        assert_ne!(from.read_line(&mut line).unwrap(), 0, "{what}");
+    }
 }
 
 /// Sends `child` SIGINT, as Ctrl-C in its terminal would.
@@ -40,20 +55,24 @@ fn ctrl_c_ends_a_run_with_its_summary() {
     let dir = tempfile::tempdir().unwrap();
     let json = dir.path().join("s.json");
     // Paced at real time: ten minutes, stopped after its first scans.
-    let mut child = Command::new(env!("CARGO_BIN_EXE_tracker-host"))
-        .args(["--link", "inproc", "demo", "--plain", "--speedup", "1"])
-        .args(["--duration", "600", "--summary-json"])
-        .arg(&json)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = spawn_piped(&[
+        "--link",
+        "inproc",
+        "demo",
+        "--plain",
+        "--speedup",
+        "1",
+        "--duration",
+        "600",
+        "--summary-json",
+        &json.display().to_string(),
+    ]);
     let mut out = BufReader::new(child.stdout.take().unwrap());
-    let mut line = String::new();
-    while !line.starts_with("scan    2") {
-        line.clear();
-        assert_ne!(out.read_line(&mut line).unwrap(), 0, "ended before scan 2");
-    }
+    read_until(
+        &mut out,
+        |l| l.starts_with("scan    2"),
+        "ended before scan 2",
+    );
     ctrl_c(&child);
     let mut rest = String::new();
     std::io::Read::read_to_string(&mut out, &mut rest).unwrap();
@@ -76,21 +95,19 @@ fn ctrl_c_while_waiting_for_the_first_fix_ends_the_run_with_its_summary() {
         .local_addr()
         .unwrap()
         .port();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_tracker-host"))
-        .args(["--link", "inproc", "demo", "--plain", "--nmea-in"])
-        .arg(format!("udp:{port}"))
-        .arg("--summary-json")
-        .arg(&json)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let nmea_in = format!("udp:{port}");
+    let mut child = spawn_piped(&[
+        "--link",
+        "inproc",
+        "demo",
+        "--plain",
+        "--nmea-in",
+        &nmea_in,
+        "--summary-json",
+        &json.display().to_string(),
+    ]);
     let mut err = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    while !line.contains("first fix") {
-        line.clear();
-        assert_ne!(err.read_line(&mut line).unwrap(), 0, "no wait for a fix");
-    }
+    read_until(&mut err, |l| l.contains("first fix"), "no wait for a fix");
     let started = std::time::Instant::now();
     ctrl_c(&child);
     let out = child.wait_with_output().unwrap();

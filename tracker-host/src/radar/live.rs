@@ -152,8 +152,12 @@ impl LiveReceiver {
                 let no_such = err
                     .downcast_ref::<std::io::Error>()
                     .is_some_and(crate::udp::is_no_such_device);
-                let here = crate::udp::ipv4_interfaces();
-                if no_such && !here.is_empty() {
+                let here = if no_such {
+                    crate::udp::ipv4_interfaces()
+                } else {
+                    Vec::new()
+                };
+                if !here.is_empty() {
                     let what = if interface.is_unspecified() {
                         "no interface has a route for multicast".to_string()
                     } else {

@@ -109,8 +109,6 @@ pub struct SpokeSource {
     other_datagrams: u64,
     navico_reports: u64,
     radar_address: Option<Ipv4Addr>,
-    /// When the radar tracked was last decoded (s, the datagrams' clock).
-    radar_heard_s: Option<f64>,
     other_radar: Option<(Ipv4Addr, u64)>,
     radar_changes: u64,
     last: Option<(RadarKind, SpokeMeta)>,
@@ -172,7 +170,6 @@ impl SpokeSource {
             other_datagrams: 0,
             navico_reports: 0,
             radar_address: None,
-            radar_heard_s: None,
             other_radar: None,
             radar_changes: 0,
             last: None,
@@ -234,9 +231,8 @@ impl SpokeSource {
             // with another address): then the next to decode is.
             let from = *d.src.ip();
             if kind.is_some() && self.radar_address.is_some_and(|a| a != from) {
-                let gone = self
-                    .radar_heard_s
-                    .is_some_and(|t| d.time_s - t > RADAR_GONE_S);
+                // `time_s` is the last datagram decoded: the radar tracked's.
+                let gone = d.time_s - self.time_s > RADAR_GONE_S;
                 if !gone {
                     let other = self.other_radar.get_or_insert((from, 0));
                     other.1 += 1;
@@ -258,7 +254,6 @@ impl SpokeSource {
                 self.active = kind;
                 self.time_s = d.time_s;
                 self.radar_address.get_or_insert(from);
-                self.radar_heard_s = Some(d.time_s);
             }
         }
         let (kind, spoke, stream) = match self.active {

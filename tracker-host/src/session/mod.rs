@@ -471,9 +471,7 @@ impl Session {
                 // Not cancelled: the scan is not tracked and its time not taken, so the next
                 // scan finds the silence again and tries again.
                 let why = format!("scan {} skipped: {e:#}", radar.scan);
-                self.events.push(why.clone());
-                self.skipped += 1;
-                return Ok(Self::skipped_report(radar, own, Vec::new(), started, why));
+                return Ok(self.skip(radar, own, Vec::new(), started, why));
             }
             self.firm.clear();
             self.lost.clear();
@@ -519,9 +517,7 @@ impl Session {
             Ok(done) => done,
             Err(e) if costs_the_scan(&e) => {
                 let why = format!("scan {} skipped: {e}", radar.scan);
-                self.events.push(why.clone());
-                self.skipped += 1;
-                return Ok(Self::skipped_report(radar, own, plots_m, started, why));
+                return Ok(self.skip(radar, own, plots_m, started, why));
             }
             Err(e) => return Err(e),
         };
@@ -560,14 +556,17 @@ impl Session {
         })
     }
 
-    /// The report of a scan not tracked, `why` said.
-    fn skipped_report(
+    /// A scan not tracked: `why` told as an event, counted, and its report.
+    fn skip(
+        &mut self,
         radar: &RadarScan,
         own: &OwnShip,
         plots_m: Vec<EastNorth>,
         started: Instant,
         why: String,
     ) -> ScanReport {
+        self.events.push(why.clone());
+        self.skipped += 1;
         ScanReport {
             skipped: Some(why),
             ..Self::report_of(radar, own, plots_m, started.elapsed())

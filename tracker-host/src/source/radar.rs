@@ -364,17 +364,15 @@ impl RadarPlotSource {
             c.blobs_dropped = s.blobs_dropped;
             c.restarts = s.range_changes + s.out_of_order + s.format_changes;
         }
-        c.capture_truncated = self
-            .spokes
-            .stats()
-            .capture
-            .is_some_and(|x| x.truncated_file);
-        c.live = self.spokes.stats().live;
-        if let Some((other, n)) = self.spokes.stats().other_radar {
+        // Built once: it copies the spoke streams' counts.
+        let stats = self.spokes.stats();
+        c.capture_truncated = stats.capture.is_some_and(|x| x.truncated_file);
+        c.live = stats.live;
+        if let Some((other, n)) = stats.other_radar {
             c.other_radar = Some(other);
             c.other_radar_datagrams = n;
         }
-        c.radar_changes = self.spokes.stats().radar_changes;
+        c.radar_changes = stats.radar_changes;
         (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
         c
