@@ -613,6 +613,16 @@ fn udp_frames_from(
         .collect()
 }
 
+/// The spokes a capture file gives, counted, and the source read to its end.
+fn spokes_of(path: &Path) -> (u64, SpokeSource) {
+    let mut source = SpokeSource::from_capture(path, CaptureOptions::default()).unwrap();
+    let mut n = 0;
+    while source.next_spoke().unwrap().is_some() {
+        n += 1;
+    }
+    (n, source)
+}
+
 /// A legacy pcap (µs, Ethernet) of frames with their times.
 fn pcap(frames: &[(f64, Vec<u8>)]) -> Vec<u8> {
     let mut out = Vec::new();
@@ -733,12 +743,7 @@ fn a_second_radar_on_the_group_is_ignored_until_the_first_falls_silent() {
     for (i, p) in spokes.iter().enumerate() {
         send(&mut frames, back + 0.1 * i as f64, second, p);
     }
-    let path = write_temp(dir.path(), "two.pcap", &pcap(&frames));
-    let mut source = SpokeSource::from_capture(&path, CaptureOptions::default()).unwrap();
-    let mut n = 0;
-    while source.next_spoke().unwrap().is_some() {
-        n += 1;
-    }
+    let (n, source) = spokes_of(&write_temp(dir.path(), "two.pcap", &pcap(&frames)));
     let stats = source.stats();
     assert_eq!(stats.other_radar, Some((Ipv4Addr::from(second), 30)));
     assert_eq!(stats.radar_changes, 1);
@@ -928,12 +933,7 @@ fn spoke_ports_count_bad_packets() {
             t += 1.0;
         }
     }
-    let path = write_temp(dir.path(), "ports.pcap", &pcap(&frames));
-    let mut source = SpokeSource::from_capture(&path, CaptureOptions::default()).unwrap();
-    let mut n = 0;
-    while source.next_spoke().unwrap().is_some() {
-        n += 1;
-    }
+    let (n, source) = spokes_of(&write_temp(dir.path(), "ports.pcap", &pcap(&frames)));
     let s = source.stats();
     assert_eq!(n, 1);
     assert_eq!(s.garmin.faults.get(Fault::Truncated), 1);
