@@ -5,13 +5,14 @@
 //! Keys: `+`/`-` range scale, `v` relative/true vectors, `[`/`]` vector length, `↑`/`↓`
 //! select a target, `a` acquire the nearest untracked plot, `c` cancel the selected target,
 //! `C` cancel all, `e` radar echoes on/off (a radar source's last rotation, under the plots
-//! and tracks), `p` pause, `q` quit.
+//! and tracks), `p` pause (the picture; a live radar is tracked on), `q` quit.
 //!
 //! [`render`] draws one frame from plain data, so tests drive it headless with ratatui's
 //! `TestBackend` and read the screen back. [`plain`] prints the target table as text
 //! instead, scan by scan or as progress lines.
 
 pub mod plain;
+mod shown;
 
 use std::collections::{BTreeMap, VecDeque};
 
@@ -82,8 +83,11 @@ pub struct DisplayState {
     pub vector_length: usize,
     /// Selected track number.
     pub selected: Option<u16>,
-    /// Paused: scans stop until unpaused.
+    /// Paused: the picture stays until unpaused (a file's scans wait; a live radar's are
+    /// tracked on: the `shown` module).
     pub paused: bool,
+    /// Scans tracked behind the paused picture (a live radar's).
+    pub scans_since_paused: u64,
     /// The source has ended: the last picture stays until the operator quits.
     pub ended: bool,
     /// CPA/TCPA alarm limits.
@@ -122,6 +126,7 @@ impl DisplayState {
             vector_length: 3,
             selected: None,
             paused: false,
+            scans_since_paused: 0,
             ended: false,
             limits: AlarmLimits::default(),
             link,
@@ -339,6 +344,9 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     // The run's state first, where a narrow terminal cannot cut it off.
     let run_state = if state.ended {
         "END OF INPUT: q to quit "
+    } else if state.paused && state.scans_since_paused > 0 {
+        // A live radar tracked on behind the picture.
+        &format!("PAUSED +{} ", state.scans_since_paused)
     } else if state.paused {
         "PAUSED "
     } else {
@@ -995,7 +1003,7 @@ pub fn run_tui(
     let result = (|| -> anyhow::Result<u64> {
         // The first scan: keys are answered while a live radar is silent.
         let started = Instant::now();
-        let mut view = loop {
+        let view = loop {
             if crate::app::interrupt::interrupted() {
                 return Ok(0);
             }
@@ -1010,35 +1018,44 @@ pub fn run_tui(
                 return Ok(0);
             }
         };
-        state.observe(&view);
+        let mut shown = shown::Shown::new(state, view);
         let mut done = 1u64;
         let mut next_due = Instant::now() + interval;
         let mut last_scan = Instant::now();
+        // A file's scans wait while paused; a live radar's are tracked on.
+        let waiting = |state: &DisplayState| state.ended || (state.paused && !live);
         loop {
             // SIGTERM (the terminal's Ctrl-C comes as a key, below).
             if crate::app::interrupt::interrupted() {
                 return Ok(done);
             }
             // Silence is a live radar's, and only while scans are wanted.
-            if !live || state.paused || state.ended {
+            if !live || state.ended {
                 last_scan = Instant::now();
             }
             let silent = last_scan.elapsed();
             state.radar_silent_s = (silent >= silence_alarm_after).then_some(silent.as_secs());
-            terminal.draw(|f| render(f, state, &view))?;
+            state.scans_since_paused = shown.since_paused();
+            terminal.draw(|f| render(f, state, shown.view()))?;
             // Paused or ended, nothing is due: wait for keys without spinning.
-            let wait = if state.ended || state.paused {
+            let wait = if waiting(state) {
                 Duration::from_millis(200)
             } else {
                 next_due.saturating_duration_since(Instant::now())
             };
             if let Some(c) = next_key(wait)? {
-                if key(run, state, c, &view) {
+                if key(run, state, c, shown.latest()) {
                     return Ok(done);
                 }
+                if c == 'p' && live {
+                    state.message = state.paused.then(|| {
+                        "picture paused: the radar is tracked on, alarms too (p resumes)".into()
+                    });
+                }
+                shown.follow(state);
                 continue;
             }
-            if state.ended || state.paused {
+            if waiting(state) {
                 // Scans resume at their pace, not in a burst to catch up.
                 next_due = next_due.max(Instant::now());
                 continue;
@@ -1048,8 +1065,7 @@ pub fn run_tui(
             }
             match run.poll(LIVE_POLL)? {
                 Polled::Scan(next) => {
-                    view = *next;
-                    state.observe(&view);
+                    shown.take(state, *next);
                     done += 1;
                     next_due += interval;
                     last_scan = Instant::now();
@@ -1089,7 +1105,7 @@ pub(crate) mod tests {
     use ratatui::Terminal;
     use tracker_core::filter::FilterKind;
 
-    fn demo() -> Run {
+    pub(crate) fn demo() -> Run {
         let options = DemoOptions::new(
             tracker_core::sim::ScenarioKind::OpenSea,
             12,
@@ -1101,7 +1117,7 @@ pub(crate) mod tests {
     }
 
     /// The next scan (the demo runs 24).
-    fn step(d: &mut Run) -> ScanReport {
+    pub(crate) fn step(d: &mut Run) -> ScanReport {
         d.step().unwrap().unwrap()
     }
 
@@ -1647,6 +1663,8 @@ pub(crate) mod tests {
         state.ended = false;
         state.paused = true;
         assert!(header(&state).contains("ARPA PAUSED scan"));
+        state.scans_since_paused = 12;
+        assert!(header(&state).contains("ARPA PAUSED +12 scan"));
     }
 
     #[test]
@@ -1658,6 +1676,8 @@ pub(crate) mod tests {
         for width in 80..=130u16 {
             for (paused, ended) in [(false, false), (true, false), (false, true)] {
                 state.paused = paused;
+                // A live radar paused for 40 minutes.
+                state.scans_since_paused = if paused { 999 } else { 0 };
                 state.ended = ended;
                 let mut terminal = Terminal::new(TestBackend::new(width, 5)).unwrap();
                 terminal
