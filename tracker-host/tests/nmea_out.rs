@@ -1,6 +1,6 @@
 //! What a chart plotter gets: over an hour of the main job's picture, no target number is
 //! shared by two live targets in any scan, a number stays with its track, and every track
-//! that ends is sent once as lost (`L`); positions are valid in every hemisphere and across
+//! that ends, or is still shown when the run ends, is sent once as lost (`L`); positions are valid in every hemisphere and across
 //! the antimeridian; own ship goes out when asked.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -114,6 +114,21 @@ fn an_hour_of_targets_keeps_numbers_unique_and_sends_every_end_once() {
         shown = now;
     }
     assert_eq!(scans, 1440);
+    // The run's end takes every target off the plotter, once each, where it was last sent.
+    let before = out.counts().lost_sent;
+    let mut ended = BTreeSet::new();
+    for pair in out.end_sentences().chunks(2) {
+        let ttm = fields(&pair[0]);
+        assert_eq!(fields(&pair[1])[8], "L", "{}", pair[1]);
+        assert_eq!(ttm[12], "L", "{}", pair[0]);
+        let number: u8 = ttm[1].parse().unwrap();
+        assert!(shown.contains_key(&number), "L for {number}, not shown");
+        assert!(ended.insert(number), "L twice for {number}");
+    }
+    assert_eq!(ended, shown.keys().copied().collect::<BTreeSet<_>>());
+    assert!(!ended.is_empty());
+    assert_eq!(out.counts().lost_sent, before + ended.len() as u64);
+    assert!(out.end_sentences().is_empty(), "ended once");
     // Tracked targets lost (38): failed acquisitions are never numbered, so never end.
     assert!(lost_sent > 30, "{lost_sent} ends over the hour");
     assert!(numbered > 40 * 1000, "{numbered} target reports");

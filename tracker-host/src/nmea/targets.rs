@@ -5,7 +5,10 @@
 //! Targets go under their target numbers (01–99, unique, kept for a track's life: see
 //! [`crate::session::numbers`]), the same the display and the table show: tracked ones as
 //! `T`, acquiring ones (a second plot) as `Q`, and a target that ends (lost, or an
-//! acquisition that failed) once as `L`, after which its number is free.
+//! acquisition that failed) once as `L`, after which its number is free. When the run
+//! ends (the source's end, `q`, Ctrl-C) every target still on the plotter is sent as `L`:
+//! a plotter keeps a target it was not told of as live until its own timeout (OpenCPN
+//! drew the last scan's targets on, tried).
 //!
 //! Course and speed are true (over ground) when own ship's motion is known; otherwise they
 //! are sent relative and marked `R`.
@@ -177,6 +180,10 @@ pub struct TargetsOut {
     origin_known: bool,
     own_ship: bool,
     counts: TargetsOutCounts,
+    /// Targets on the plotter now (sent `T` or `Q`, not yet `L`), by number, as last sent.
+    on_plotter: std::collections::BTreeMap<u8, (Option<String>, TargetData)>,
+    /// The last scan's time, own ship's position and whether `TLL` could go.
+    last: Option<(f64, [f32; 2], bool)>,
 }
 
 impl TargetsOut {
@@ -197,6 +204,8 @@ impl TargetsOut {
             origin_known: false,
             own_ship,
             counts: TargetsOutCounts::default(),
+            on_plotter: std::collections::BTreeMap::new(),
+            last: None,
         }
     }
 
@@ -265,13 +274,40 @@ impl TargetsOut {
                 }
                 if status == 'L' {
                     self.counts.lost_sent += 1;
+                    self.on_plotter.remove(&number);
                 } else {
                     self.counts.targets_sent += 1;
+                    self.on_plotter
+                        .insert(number, (name.map(str::to_string), *d));
                 }
             }
         }
         if self.own_ship {
             out.extend(own_ship_sentences(&report.own, &self.origin, time_s));
+        }
+        self.last = Some((time_s, report.own.position_m, position_unknown));
+        out
+    }
+
+    /// The run's end: every target still on the plotter as `L`, where it was last sent,
+    /// at the last scan's time; after this none is on it.
+    pub fn end_sentences(&mut self) -> Vec<String> {
+        let Some((time_s, own_m, position_unknown)) = self.last else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for (number, (name, data)) in std::mem::take(&mut self.on_plotter) {
+            let t = PlotterTarget {
+                number,
+                name: name.as_deref(),
+                status: 'L',
+                data,
+            };
+            out.push(ttm(&t, time_s));
+            if !position_unknown {
+                out.push(tll(&t, &self.origin, own_m, time_s));
+            }
+            self.counts.lost_sent += 1;
         }
         out
     }
@@ -280,6 +316,12 @@ impl TargetsOut {
 impl ScanSink for TargetsOut {
     fn scan(&mut self, _: &SourceScan, report: &ScanReport) -> anyhow::Result<()> {
         let sentences = self.scan_sentences(report);
+        self.out.send(&sentences);
+        Ok(())
+    }
+
+    fn finish(&mut self) -> anyhow::Result<()> {
+        let sentences = self.end_sentences();
         self.out.send(&sentences);
         Ok(())
     }
