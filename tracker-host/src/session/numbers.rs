@@ -121,11 +121,13 @@ impl TargetNumbers {
             .iter()
             .filter(|t| shown(t))
             .map(|t| {
+                let last = self.last.get(&t.track);
                 let d = TargetData {
                     // Once known, kept for the track's life ([`super::trend`]).
                     trend_known: t.status.is_firm()
-                        && (self.last.get(&t.track).is_some_and(|d| d.trend_known)
+                        && (last.is_some_and(|d| d.trend_known)
                             || trend.is_none_or(|m| m.known(t))),
+                    alarm_held: last.is_some_and(|d| d.dangerous(limits)),
                     ..TargetData::new(own, t)
                 };
                 (t, d)
@@ -206,6 +208,7 @@ impl TargetNumbers {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use tracker_core::geo::METRES_PER_NM;
 
     fn track(id: u16, status: TrackStatus, hits: u16, north: f32) -> TrackState {
         TrackState {
@@ -226,6 +229,57 @@ mod tests {
             AlarmLimits::default(),
             TrendModel::new(40.0, 2.5, 20.0).unwrap(),
         )
+    }
+
+    /// A target whose CPA crosses the limit and back with its velocity's noise is one
+    /// alarm, not one a crossing; it ends once the CPA is clear of the widened limit, and
+    /// a minute after the target has passed.
+    #[test]
+    fn an_alarm_stays_on_through_a_cpa_that_jitters_about_its_limit() {
+        let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
+        let limits = AlarmLimits::default();
+        let mut n = TargetNumbers::new(MAX_TARGET_NUMBER);
+        // 5 km north, heading south at 5 m/s, passing `cpa_m` to the east of own ship.
+        let heading_to_pass = |north: f32, cpa_m: f32| {
+            let v = 5.0f32;
+            let angle = (cpa_m / north).asin();
+            TrackState {
+                velocity_mps: [v * angle.sin(), -v * angle.cos()],
+                age_scans: 40,
+                ..track(10, TrackStatus::Confirmed, 0x3ff, north)
+            }
+        };
+        let mut alarm = |north: f32, cpa_nm: f32| {
+            let t = heading_to_pass(north, cpa_nm * METRES_PER_NM);
+            let s = n.scan(&own, &[t], &limits, None);
+            s.tracked[0].dangerous(&limits)
+        };
+        let mut raises = 0;
+        let mut on = false;
+        for (i, cpa_nm) in [0.95, 1.05, 0.97, 1.1, 0.99, 1.15, 0.9].iter().enumerate() {
+            let now = alarm(3000.0 - 10.0 * i as f32, *cpa_nm);
+            raises += u32::from(now && !on);
+            on = now;
+        }
+        assert_eq!((raises, on), (1, true), "one alarm, still on");
+        // Clear of 1.2 NM: off; back under the limit: a new alarm.
+        assert!(!alarm(2900.0, 1.25));
+        assert!(!alarm(2890.0, 1.1), "not held once off");
+        assert!(alarm(2880.0, 0.9));
+        // Passed: the TCPA a little negative holds it, a minute past ends it.
+        let passing = |tcpa_s: f32| TrackState {
+            position_m: [100.0, 5.0 * tcpa_s],
+            velocity_mps: [0.0, -5.0],
+            age_scans: 40,
+            ..track(10, TrackStatus::Confirmed, 0x3ff, 0.0)
+        };
+        let mut at = |tcpa_s: f32| {
+            let s = n.scan(&own, &[passing(tcpa_s)], &limits, None);
+            s.tracked[0].dangerous(&limits)
+        };
+        assert!(at(-10.0));
+        assert!(at(-50.0));
+        assert!(!at(-70.0));
     }
 
     /// Confirmed track 10, 5 km north, `age` scans old with `hits`.

@@ -45,7 +45,22 @@ pub struct TargetData {
     /// and TCPA, and the CPA/TCPA alarm ([`super::trend`]). Taken as known by
     /// [`TargetData::new`]; the session's numbering sets it for each scan's targets.
     pub trend_known: bool,
+    /// Its CPA/TCPA alarm was on last scan ([`TargetData::dangerous`] with the session's
+    /// limits): held then until the target is clear of the limits widened by
+    /// [`ALARM_CLEAR_FACTOR`], or [`ALARM_PASSED_S`] past its CPA. Set by the session's
+    /// numbering; `false` from [`TargetData::new`].
+    pub alarm_held: bool,
 }
+
+/// An alarm once on stays on until the target's CPA or TCPA is this many times its limit.
+/// A CPA near the limit moves across it with the velocity's noise from scan to scan: on
+/// the Solent an alarm was raised again and again on one target (21 times in 20 minutes on
+/// the worst, 201 raises on 23 targets), each one a new alarm for the navigator.
+pub const ALARM_CLEAR_FACTOR: f32 = 1.2;
+
+/// … or once it is this long past its CPA, s (a TCPA that jitters about zero while the
+/// target is abeam does not end the alarm).
+pub const ALARM_PASSED_S: f32 = 60.0;
 
 impl TargetData {
     /// Computes the target data of a track seen from own ship.
@@ -80,6 +95,7 @@ impl TargetData {
             velocity_mps: t.velocity_mps,
             true_motion_known: own.quality.motion_known,
             trend_known: true,
+            alarm_held: false,
         }
     }
 
@@ -89,12 +105,21 @@ impl TargetData {
     }
 
     /// True when the target will pass closer than `cpa_limit_m` within `tcpa_limit_s`, its
-    /// motion being known ([`TargetData::trend_known`]).
+    /// motion being known ([`TargetData::trend_known`]); an alarm held from the last scan
+    /// ([`TargetData::alarm_held`]) within the limits widened by [`ALARM_CLEAR_FACTOR`]
+    /// and until [`ALARM_PASSED_S`] past its CPA.
     pub fn dangerous(&self, limits: &AlarmLimits) -> bool {
+        let within = |cpa_m: f32, tcpa_from_s: f32, tcpa_to_s: f32| {
+            self.cpa_m < cpa_m && self.tcpa_s >= tcpa_from_s && self.tcpa_s < tcpa_to_s
+        };
         self.trend_known
-            && self.cpa_m < limits.cpa_m
-            && self.tcpa_s >= 0.0
-            && self.tcpa_s < limits.tcpa_s
+            && (within(limits.cpa_m, 0.0, limits.tcpa_s)
+                || self.alarm_held
+                    && within(
+                        limits.cpa_m * ALARM_CLEAR_FACTOR,
+                        -ALARM_PASSED_S,
+                        limits.tcpa_s * ALARM_CLEAR_FACTOR,
+                    ))
     }
 }
 
