@@ -41,7 +41,11 @@ def main(path):
             msg = pynmea2.parse(line, check=True)
             kind = msg.sentence_type
             if kind == "TTM":
+                # A target whose motion is not known yet (acquiring, Q; a failed acquisition's
+                # L) goes with its course empty, as IEC 61162-1 sends a value not available.
                 for field in (msg.bearing, msg.cog):
+                    if field in (None, "") and field is msg.cog:
+                        continue
                     if not 0.0 <= float(field) < 360.0:
                         sys.exit(f"line {n}: angle {field} out of 0-359.9: {line}")
             elif kind == "TLL":

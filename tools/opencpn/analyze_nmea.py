@@ -31,7 +31,7 @@ for t, s in lines:
     elif k == 'TLL':
         cur['tll'][f[1]] = dict(t=t, lat=dm(f[2], f[3]), lon=dm(f[4], f[5]), name=f[6], st=f[8])
     elif k == 'RMC':
-        own = dict(t=t, lat=dm(f[3], f[4]), lon=dm(f[5], f[6]), sog=float(f[7]), cog=float(f[8] or 0), utc=f[1], date=f[9])
+        own = dict(t=t, lat=dm(f[3], f[4]), lon=dm(f[5], f[6]), sog=float(f[7] or 0), cog=float(f[8] or 0), utc=f[1], date=f[9])
         cur['own'] = own; scans.append(cur); cur = {'ttm': {}, 'tll': {}}
 print(f'sentences: {dict(kinds)}; bad checksums: {bad_ck}; longer than 82 chars: {too_long}; scans: {len(scans)}')
 nums = set(); stat = collections.Counter()
