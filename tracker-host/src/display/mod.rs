@@ -144,22 +144,13 @@ impl DisplayState {
     /// Takes a new scan: extends the trails, notes lost tracks, keeps the selection valid;
     /// at a radar's first picture, fits the scale to its range (the smallest that holds it).
     pub fn observe(&mut self, view: &ScanReport) {
-        if let (false, Some(image)) = (self.scale_chosen, &view.echoes) {
-            let nm = image.range_m / METRES_PER_NM;
-            if nm > 0.0 {
-                self.range_scale = RANGE_SCALES_NM
-                    .iter()
-                    .position(|s| *s >= nm)
-                    .unwrap_or(RANGE_SCALES_NM.len() - 1);
-                // A vector a quarter of the scale long at 20 kn, in the lengths offered.
-                let minutes = RANGE_SCALES_NM[self.range_scale] / 4.0 / 20.0 * 60.0;
-                self.vector_length = VECTOR_MINUTES
-                    .iter()
-                    .rposition(|m| *m <= minutes)
-                    .unwrap_or(0);
-                self.scale_chosen = true;
-            }
-        }
+        self.observe_alarms(view);
+        self.observe_picture(view);
+    }
+
+    /// The lost-target and radar-silence alarms a scan raises (taken from every scan
+    /// tracked, the picture paused or not).
+    pub fn observe_alarms(&mut self, view: &ScanReport) {
         // Lost tracked targets (the device says lost, or a silence of the radar cancelled
         // them), by their numbers; a failed acquisition is not an alarm. Both alarms stand
         // until the operator acknowledges them (IEC 62388's lost-target alarm): shown for
@@ -181,6 +172,28 @@ impl DisplayState {
         }
         if view.silence.is_some() {
             self.silence = view.silence;
+        }
+    }
+
+    /// The picture a scan draws: the scale fitted at a radar's first picture, the trails,
+    /// the selection kept to targets shown (only from scans drawn: a paused picture's
+    /// trails stay as they were).
+    pub fn observe_picture(&mut self, view: &ScanReport) {
+        if let (false, Some(image)) = (self.scale_chosen, &view.echoes) {
+            let nm = image.range_m / METRES_PER_NM;
+            if nm > 0.0 {
+                self.range_scale = RANGE_SCALES_NM
+                    .iter()
+                    .position(|s| *s >= nm)
+                    .unwrap_or(RANGE_SCALES_NM.len() - 1);
+                // A vector a quarter of the scale long at 20 kn, in the lengths offered.
+                let minutes = RANGE_SCALES_NM[self.range_scale] / 4.0 / 20.0 * 60.0;
+                self.vector_length = VECTOR_MINUTES
+                    .iter()
+                    .rposition(|m| *m <= minutes)
+                    .unwrap_or(0);
+                self.scale_chosen = true;
+            }
         }
         for t in &view.targets {
             let trail = self.trails.entry(t.track).or_default();
@@ -311,6 +324,19 @@ const NARROW_ALARM_COLUMNS: u16 = 50;
 
 /// Draws one frame: PPI on the left, header, table and alarms on the right.
 pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
+    render_paused(frame, state, view, view);
+}
+
+/// As [`render`], the picture and the table of `picture` (paused) under the alarms of
+/// `latest` (the scan tracked last): an alarm raised while the picture is paused is shown
+/// at once.
+pub fn render_paused(
+    frame: &mut Frame,
+    state: &DisplayState,
+    picture: &ScanReport,
+    latest: &ScanReport,
+) {
+    let view = picture;
     let area = frame.area();
     let columns = Layout::default()
         .direction(Direction::Horizontal)
@@ -318,7 +344,7 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
         .split(area);
     render_ppi(frame, columns[0], state, view);
     // Made once: the box's height depends on them.
-    let alarms = alarm_lines(state, view, columns[1].width < NARROW_ALARM_COLUMNS);
+    let alarms = alarm_lines(state, latest, columns[1].width < NARROW_ALARM_COLUMNS);
     let right = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
@@ -763,7 +789,11 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
         .radar_silent_s
         .map(|s| {
             Line::styled(
-                format!("NO RADAR DATA for {s} s: the picture is the last received"),
+                if state.paused {
+                    format!("NO RADAR DATA for {s} s")
+                } else {
+                    format!("NO RADAR DATA for {s} s: the picture is the last received")
+                },
                 alarm,
             )
         })
@@ -884,8 +914,17 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, mut lines:
 
 /// Applies an operator key to the display and, for a command, to the device; returns true
 /// for quit. A command the device refuses is a message on the display, never an exit.
-pub fn key(run: &mut Run, state: &mut DisplayState, key: char, view: &ScanReport) -> bool {
+pub fn key(
+    run: &mut Run,
+    state: &mut DisplayState,
+    key: char,
+    drawn: &ScanReport,
+    latest: &ScanReport,
+) -> bool {
     use tracker_core::icd::TrackCommand;
+    // A plot to acquire is one of the scan tracked last; a target is selected among those
+    // drawn (a paused picture's).
+    let view = if key == 'a' { latest } else { drawn };
     let command = match state.key(key, Some(view)) {
         Action::None => None,
         Action::Quit => return true,
@@ -894,16 +933,19 @@ pub fn key(run: &mut Run, state: &mut DisplayState, key: char, view: &ScanReport
         Action::CancelAll => Some(TrackCommand::CancelAll),
     };
     if let Some(c) = command {
+        let gone = if state.paused {
+            "gone from the picture when it resumes (p)"
+        } else {
+            "gone from the next rotation"
+        };
         state.message = Some(match run.session_mut().command(c) {
             Err(e) => format!("{e:#}"),
             // Said at once: the picture changes only with the next rotation, which a
             // silent radar may not send for a while.
             Ok(()) => match c {
-                TrackCommand::CancelAll => {
-                    "all targets cancelled: gone from the next rotation".to_string()
-                }
+                TrackCommand::CancelAll => format!("all targets cancelled: {gone}"),
                 TrackCommand::Cancel { track } => format!(
-                    "target {} cancelled: gone from the next rotation",
+                    "target {} cancelled: {gone}",
                     view.targets
                         .iter()
                         .find(|t| t.track == track)
@@ -1036,7 +1078,7 @@ pub fn run_tui(
             let silent = last_scan.elapsed();
             state.radar_silent_s = (silent >= silence_alarm_after).then_some(silent.as_secs());
             state.scans_since_paused = shown.since_paused();
-            terminal.draw(|f| render(f, state, shown.view()))?;
+            terminal.draw(|f| render_paused(f, state, shown.view(), shown.latest()))?;
             // Paused or ended, nothing is due: wait for keys without spinning.
             let wait = if waiting(state) {
                 Duration::from_millis(200)
@@ -1044,7 +1086,7 @@ pub fn run_tui(
                 next_due.saturating_duration_since(Instant::now())
             };
             if let Some(c) = next_key(wait)? {
-                if key(run, state, c, shown.latest()) {
+                if key(run, state, c, shown.view(), shown.latest()) {
                     return Ok(done);
                 }
                 if c == 'p' && live {
@@ -1705,9 +1747,9 @@ pub(crate) mod tests {
         }
         // Select a target, cancel it, and cancel it again within the scan: the second is
         // refused by the device (no such track).
-        assert!(!key(&mut d, &mut state, '↓', &view));
+        assert!(!key(&mut d, &mut state, '↓', &view, &view));
         let selected = state.selected.expect("a target selected");
-        assert!(!key(&mut d, &mut state, 'c', &view));
+        assert!(!key(&mut d, &mut state, 'c', &view, &view));
         let done = state.message.clone().expect("the cancel answered at once");
         let label = view
             .targets
@@ -1719,7 +1761,7 @@ pub(crate) mod tests {
             done,
             format!("target {label} cancelled: gone from the next rotation")
         );
-        assert!(!key(&mut d, &mut state, 'c', &view));
+        assert!(!key(&mut d, &mut state, 'c', &view, &view));
         let m = state.message.clone().expect("the refusal shown");
         assert!(
             m.contains("cancel refused") && m.contains("no longer"),
@@ -1729,11 +1771,11 @@ pub(crate) mod tests {
         let view = step(&mut d);
         assert!(!view.tracks.iter().any(|t| t.track == selected));
         // Cancel all: answered at once, the picture empty from the next scan.
-        assert!(!key(&mut d, &mut state, 'C', &view));
+        assert!(!key(&mut d, &mut state, 'C', &view, &view));
         assert_eq!(
             state.message.as_deref(),
             Some("all targets cancelled: gone from the next rotation")
         );
-        assert!(key(&mut d, &mut state, 'q', &view), "q quits");
+        assert!(key(&mut d, &mut state, 'q', &view, &view), "q quits");
     }
 }

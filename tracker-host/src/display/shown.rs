@@ -2,8 +2,9 @@
 //!
 //! A file's scans wait while the display is paused. A live radar's do not: an ARPA goes on
 //! tracking while its operator reads the table, so every scan is still tracked and its
-//! alarms (a lost target, a radar gone silent) still raised, while the picture stays as it
-//! was paused. Resuming shows the latest scan. Before, pausing a live radar stopped reading
+//! alarms (a lost target, a radar gone silent, a CPA/TCPA alarm: the alarm box is the latest
+//! scan's) still raised, while the picture, the table and the trails stay as they were
+//! paused. Resuming shows the latest scan. Before, pausing a live radar stopped reading
 //! it: its queue overflowed after a few seconds (about 7 s of the Garmin xHD), and on
 //! resuming the gap read as a radar silence that lost every target.
 
@@ -46,14 +47,15 @@ impl Shown {
         self.since_paused
     }
 
-    /// A scan tracked: observed by `state` whatever the picture does (so that its alarms
-    /// are raised), and drawn unless the picture is paused.
+    /// A scan tracked: its alarms raised whatever the picture does, and drawn (with its
+    /// trails) unless the picture is paused.
     pub fn take(&mut self, state: &mut DisplayState, report: ScanReport) {
-        state.observe(&report);
+        state.observe_alarms(&report);
         if state.paused {
             self.latest = Some(Box::new(report));
             self.since_paused += 1;
         } else {
+            state.observe_picture(&report);
             self.view = report;
             self.latest = None;
             self.since_paused = 0;
@@ -61,9 +63,10 @@ impl Shown {
     }
 
     /// After a key: a picture no longer paused shows the latest scan.
-    pub fn follow(&mut self, state: &DisplayState) {
+    pub fn follow(&mut self, state: &mut DisplayState) {
         if !state.paused {
             if let Some(latest) = self.latest.take() {
+                state.observe_picture(&latest);
                 self.view = *latest;
             }
             self.since_paused = 0;
@@ -106,10 +109,58 @@ mod tests {
         assert!(state.silence.is_some());
         let first = shown.view().scan;
         state.key('p', None);
-        shown.follow(&state);
+        shown.follow(&mut state);
         assert_eq!(shown.view().scan, first + 4, "resumed at the latest scan");
         assert_eq!(shown.since_paused(), 0);
         shown.take(&mut state, step(&mut run));
         assert_eq!(shown.view().scan, first + 5);
+    }
+
+    /// While paused, a CPA/TCPA alarm of a scan tracked behind the picture is shown at
+    /// once, and the paused picture's trails do not grow.
+    #[test]
+    fn a_paused_picture_shows_the_latest_scans_alarms_and_keeps_its_trails() {
+        use ratatui::backend::TestBackend;
+        use ratatui::Terminal;
+        let screen = |state: &DisplayState, shown: &Shown| {
+            let mut terminal = Terminal::new(TestBackend::new(160, 40)).unwrap();
+            terminal
+                .draw(|f| super::super::render_paused(f, state, shown.view(), shown.latest()))
+                .unwrap();
+            let buffer = terminal.backend().buffer().clone();
+            (0..buffer.area.height)
+                .flat_map(|y| (0..buffer.area.width).map(move |x| (x, y)))
+                .map(|(x, y)| buffer[(x, y)].symbol().to_string())
+                .collect::<String>()
+        };
+        let mut run = demo();
+        let mut state = DisplayState::new("inproc".into());
+        let mut shown = Shown::new(&mut state, step(&mut run));
+        for _ in 0..6 {
+            shown.take(&mut state, step(&mut run));
+        }
+        let track = shown.view().targets[0].track;
+        let trail = |state: &DisplayState| state.trails.get(&track).map_or(0, |t| t.len());
+        let before = trail(&state);
+        assert!(!screen(&state, &shown).contains("CPA/TCPA ALARM"));
+        state.key('p', None);
+        for _ in 0..3 {
+            shown.take(&mut state, step(&mut run));
+        }
+        assert_eq!(trail(&state), before, "a paused picture's trails stay");
+        // The next scan tracked has a target closing on own ship.
+        let mut closing = step(&mut run);
+        let t = &mut closing.targets[0];
+        (t.cpa_m, t.tcpa_s, t.trend_known) = (100.0, 120.0, true);
+        shown.take(&mut state, closing);
+        assert!(screen(&state, &shown).contains("CPA/TCPA ALARM"));
+        assert_eq!(shown.view().scan + 4, shown.latest().scan);
+        state.key('p', None);
+        shown.follow(&mut state);
+        assert_eq!(
+            trail(&state),
+            before + 1,
+            "resumed: the latest position added"
+        );
     }
 }
