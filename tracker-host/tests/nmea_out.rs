@@ -438,3 +438,49 @@ fn without_a_fix_targets_go_without_a_position() {
     let given = kinds(&mut placed, &report);
     assert_eq!(given.get("RATLL"), Some(&targets), "{given:?}");
 }
+
+/// Through the product's own path (`--nmea-out tcp:PORT` on a run that ends, a plotter
+/// connected): every number the plotter was sent as tracked or acquiring is last sent as
+/// lost (`L`), so no target stays drawn as live once the tracker has stopped.
+#[test]
+fn a_run_that_ends_leaves_no_target_on_the_plotter() {
+    use std::io::BufRead;
+    let port = std::net::TcpListener::bind("127.0.0.1:0")
+        .unwrap()
+        .local_addr()
+        .unwrap()
+        .port();
+    let mut options = DemoOptions::new(ScenarioKind::Crossing, 8, 5, 120.0, FilterKind::KalmanCv);
+    options.outputs.nmea_out = Some(OutSpec::Tcp(port));
+    let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+    let plotter = std::net::TcpStream::connect(("127.0.0.1", port)).unwrap();
+    plotter
+        .set_read_timeout(Some(std::time::Duration::from_secs(10)))
+        .unwrap();
+    // Reads until the tracker closes the connection (the run dropped).
+    let reader = std::thread::spawn(move || {
+        let mut last: BTreeMap<String, String> = BTreeMap::new();
+        for line in std::io::BufReader::new(plotter).lines() {
+            let Ok(s) = line else { break };
+            if s.starts_with("$RATTM") {
+                let f = fields(&s);
+                last.insert(f[1].clone(), f[12].clone());
+            }
+        }
+        last
+    });
+    let mut shown_at_end = 0;
+    while let Some(report) = run.step().unwrap() {
+        shown_at_end = report.targets.iter().filter(|t| t.number.is_some()).count();
+    }
+    drop(run);
+    let last = reader.join().unwrap();
+    assert!(shown_at_end > 0, "targets shown at the end");
+    assert!(!last.is_empty());
+    for (number, status) in &last {
+        assert_eq!(
+            status, "L",
+            "number {number} left on the plotter as {status}"
+        );
+    }
+}

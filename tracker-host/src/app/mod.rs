@@ -138,7 +138,7 @@ pub fn today() -> i64 {
     (crate::utc::now_s() / 86_400.0).floor() as i64
 }
 
-/// The sinks `o` asks for.
+/// The sinks `o` asks for; the snapshot draws alarms at `alarms`, the session's limits.
 ///
 /// # Errors
 /// A file cannot be created or a socket not opened.
@@ -146,6 +146,7 @@ pub fn sinks(
     o: &Outputs,
     origin: Origin,
     origin_known: bool,
+    alarms: crate::session::target::AlarmLimits,
 ) -> anyhow::Result<Vec<Box<dyn ScanSink>>> {
     let mut sinks: Vec<Box<dyn ScanSink>> = Vec::new();
     if let Some(spec) = &o.nmea_out {
@@ -166,7 +167,7 @@ pub fn sinks(
     if let Some(p) = &o.snapshot {
         sinks.push(Box::new(crate::record::snapshot::Snapshot::new(
             p.clone(),
-            crate::session::target::AlarmLimits::default(),
+            alarms,
             o.associated_symbol,
         )));
     }

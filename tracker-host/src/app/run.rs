@@ -190,19 +190,24 @@ impl Run {
         Ok(Polled::Scan(Box::new(report)))
     }
 
-    /// Finishes every sink (flushes recordings); later steps return `None`.
+    /// Finishes every sink (flushes recordings, takes the targets off the plotters), each
+    /// whatever the others did; later steps return `None`.
     ///
     /// # Errors
-    /// A sink's final write failed.
+    /// A sink's final write failed (the first such error; the other sinks are finished).
     pub fn finish(&mut self) -> anyhow::Result<()> {
+        let mut first = Ok(());
         if !self.finished {
             self.finished = true;
             self.own_ship.finish();
             for sink in &mut self.sinks {
-                sink.finish()?;
+                let done = sink.finish();
+                if first.is_ok() {
+                    first = done;
+                }
             }
         }
-        Ok(())
+        first
     }
 
     /// Runs to the source's end, calling `show` after each scan. With `speedup`, scans are

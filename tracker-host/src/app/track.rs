@@ -103,6 +103,6 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
         ..SessionConfig::tracking_plots_of(o.filter, sigma_m)
     };
     let session = Session::start(client, config)?;
-    let sinks = sinks(&o.outputs, origin, origin_known)?;
+    let sinks = sinks(&o.outputs, origin, origin_known, o.alarms)?;
     Ok(Run::new(source, own_ship, session, sinks).with_origin(origin))
 }

@@ -629,8 +629,12 @@ fn track_to_end(
         let mut state = crate::display::DisplayState::new(link.clone());
         state.limits = limits;
         state.associated = args.associated_symbol.into();
-        crate::display::run_tui(&mut tracking, &mut state, args.speedup())?;
-        tracking.finish()?;
+        let ran = crate::display::run_tui(&mut tracking, &mut state, args.speedup());
+        // Finished whatever happened: plotters are told the targets are gone, recordings
+        // flushed.
+        let finished = tracking.finish();
+        ran?;
+        finished?;
     } else {
         let mode = if args.plain {
             PlainMode::Table
@@ -638,7 +642,10 @@ fn track_to_end(
             PlainMode::Progress { every: 24 }
         };
         tracking.add_sink(Box::new(Plain::new(mode, limits)));
-        tracking.run_to_end(args.speedup(), |_| {})?;
+        if let Err(e) = tracking.run_to_end(args.speedup(), |_| {}) {
+            let _ = tracking.finish();
+            return Err(e);
+        }
     }
     let mut report = tracking.report(&link);
     report.command = command.to_vec();

@@ -183,6 +183,31 @@ impl NmeaOut {
     }
 }
 
+impl NmeaOut {
+    /// The run's end: over TCP, waits up to `within` for every client to take what is
+    /// queued for it (the targets' ends: nothing is sent after them that would carry the
+    /// rest out). UDP has nothing queued.
+    pub fn drain(&mut self, within: std::time::Duration) {
+        let NmeaOut::Tcp(_, clients, counts) = self else {
+            return;
+        };
+        let deadline = std::time::Instant::now() + within;
+        loop {
+            clients.retain_mut(|c| {
+                let alive = flush(c);
+                if !alive {
+                    counts.gone += 1;
+                }
+                alive
+            });
+            if clients.iter().all(|c| c.queue.is_empty()) || std::time::Instant::now() >= deadline {
+                return;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+    }
+}
+
 /// Writes what the client will take now; `false` when it is gone.
 fn flush(c: &mut Client) -> bool {
     use std::io::ErrorKind::{Interrupted, WouldBlock};

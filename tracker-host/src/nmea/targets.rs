@@ -323,9 +323,13 @@ impl ScanSink for TargetsOut {
     fn finish(&mut self) -> anyhow::Result<()> {
         let sentences = self.end_sentences();
         self.out.send(&sentences);
+        self.out.drain(END_DRAIN);
         Ok(())
     }
 }
+
+/// How long the run's end waits for TCP plotters to take the targets' ends.
+const END_DRAIN: std::time::Duration = std::time::Duration::from_secs(1);
 
 /// The status letter a target of `group` (`T` tracked, `Q` acquiring, `L` lost) is sent
 /// with: a tracked target whose motion's trend is not known yet is still acquiring (`Q`),
