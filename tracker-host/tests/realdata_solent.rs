@@ -149,3 +149,45 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
         );
     }
 }
+
+/// Own ship's heading (its simulated gyro, sent as `HDT`) is its course while it makes way
+/// and held while it is stopped: 234586000 lies moored at first, its fixes centimetres
+/// apart, and the course between them pointed anywhere (its `HDT` swung 52–212° on a
+/// plotter).
+#[test]
+fn own_ships_heading_is_held_while_it_is_stopped() {
+    use tracker_core::geo::{course_speed, MPS_PER_KNOT};
+    use tracker_host::source::ais_truth::{AisTruthSource, MAX_GAP_S};
+    use tracker_host::source::PlotSource;
+    let options = AisTruthOptions {
+        path: realdata::file("ais/stonesoup-SolentAIS_20160112_130211.csv"),
+        own_mmsi: 234_586_000,
+        start_s: None,
+        duration_s: None,
+        seed: 1,
+        still_gap_s: MAX_GAP_S,
+    };
+    let origin = tracker_host::origin::Origin::default();
+    let mut source = AisTruthSource::open(&options, &origin).unwrap();
+    let (mut stopped, mut under_way) = (0u32, 0u32);
+    let mut last: Option<f32> = None;
+    while let Some(scan) = source.next_scan().unwrap() {
+        let own = scan.own_ship.unwrap();
+        let heading = own.heading_rad.unwrap();
+        let (course, speed) = course_speed(own.velocity_mps);
+        if speed < 0.5 * MPS_PER_KNOT {
+            stopped += 1;
+            if let Some(h) = last {
+                assert_eq!(heading, h, "scan {}: turned while stopped", scan.radar.scan);
+            }
+        } else {
+            under_way += 1;
+            assert_eq!(heading, course, "scan {}", scan.radar.scan);
+        }
+        last = Some(heading);
+    }
+    assert!(
+        stopped > 100 && under_way > 100,
+        "{stopped} stopped, {under_way} under way"
+    );
+}

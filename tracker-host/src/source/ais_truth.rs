@@ -265,7 +265,14 @@ pub struct AisTruthSource {
     heard: Vec<(f64, AisReport)>,
     sent: u64,
     dropped: u64,
+    /// Own ship's heading, rad: its course while it makes way, held while it is stopped.
+    own_heading_rad: f32,
 }
+
+/// Below this speed, m/s (0.5 kn), own ship's course over ground is no heading: a moored
+/// ship's track between fixes centimetres apart points anywhere (its `HDT` swung 52–212°
+/// in the Solent's first minutes, seen in OpenCPN), and its gyro would read steady.
+const OWN_HEADING_FROM_MPS: f32 = 0.5 * tracker_core::geo::MPS_PER_KNOT;
 
 impl AisTruthSource {
     /// Reads the file and places own ship.
@@ -318,6 +325,7 @@ impl AisTruthSource {
             decoder: AisDecoder::new(),
             heard: Vec::new(),
             sent: 0,
+            own_heading_rad: 0.0,
             dropped: 0,
         })
     }
@@ -424,8 +432,12 @@ impl PlotSource for AisTruthSource {
                 .map(|(m, p, v, _)| (self.ids.get(m).copied().unwrap_or(0), f(*p), f(*v))),
             &mut out,
         );
+        let (course_rad, speed_mps) = tracker_core::geo::course_speed(f(own_v));
+        if speed_mps >= OWN_HEADING_FROM_MPS {
+            self.own_heading_rad = course_rad;
+        }
         let own = OwnShip {
-            heading_rad: Some(tracker_core::geo::course_speed(f(own_v)).0),
+            heading_rad: Some(self.own_heading_rad),
             ..OwnShip::at(own_m, f(own_v))
         };
         let targets = out
