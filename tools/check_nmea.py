@@ -2,7 +2,8 @@
 """Independent check of the sentences tracker-host sends to chart plotters (TTM, TLL, own
 ship's RMC/HDT/OSD), with pynmea2: every sentence parses with a valid checksum, every TLL
 position is where the `# expect LAT LON` line after it says (within 1e-4 degrees), bearings
-and courses are within 0-359.9.
+and courses are within 0-359.9 (a course may be empty: a target whose motion is not
+known yet).
 
 Usage: check_nmea.py FILE    (exit 0 when every sentence passes)
 """
@@ -43,9 +44,8 @@ def main(path):
             if kind == "TTM":
                 # A target whose motion is not known yet (acquiring, Q; a failed acquisition's
                 # L) goes with its course empty, as IEC 61162-1 sends a value not available.
-                for field in (msg.bearing, msg.cog):
-                    if field in (None, "") and field is msg.cog:
-                        continue
+                angles = [msg.bearing] + ([] if msg.cog in (None, "") else [msg.cog])
+                for field in angles:
                     if not 0.0 <= float(field) < 360.0:
                         sys.exit(f"line {n}: angle {field} out of 0-359.9: {line}")
             elif kind == "TLL":

@@ -33,6 +33,9 @@ for t, s in lines:
     elif k == 'RMC':
         own = dict(t=t, lat=dm(f[3], f[4]), lon=dm(f[5], f[6]), sog=float(f[7] or 0), cog=float(f[8] or 0), utc=f[1], date=f[9])
         cur['own'] = own; scans.append(cur); cur = {'ttm': {}, 'tll': {}}
+# The run's end: every target still shown goes as L after the last scan's RMC.
+if cur['ttm'] and own is not None:
+    cur['own'] = own; scans.append(cur)
 print(f'sentences: {dict(kinds)}; bad checksums: {bad_ck}; longer than 82 chars: {too_long}; scans: {len(scans)}')
 nums = set(); stat = collections.Counter()
 # TTM vs TLL consistency (TTM range/bearing from the RMC sent in the same scan)
