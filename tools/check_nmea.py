@@ -44,6 +44,8 @@ def main(path):
             if kind == "TTM":
                 # A target whose motion is not known yet (acquiring, Q; a failed acquisition's
                 # L) goes with its course empty, as IEC 61162-1 sends a value not available.
+                if msg.bearing in (None, ""):
+                    sys.exit(f"line {n}: no bearing: {line}")
                 angles = [msg.bearing] + ([] if msg.cog in (None, "") else [msg.cog])
                 for field in angles:
                     if not 0.0 <= float(field) < 360.0:

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Which range scale fits a Navico capture's echoes to the AIS ships recorded beside it?
 
-A research check, outside the product (which decodes 4G/HALO ranges as `large x small / 512`,
-the formula of radar_pi and mayara). For each trial scale S (metres across the spoke's
+A research check, outside the product (which decodes a 4G or HALO spoke's range as radar_pi
+and mayara do: `small / 4` when `large` is 0x80, as in the 4G capture). For each trial scale S (metres across the spoke's
 samples) and each heading H (0-359 degrees), the mean echo occupancy (fraction of rotations
 with a sample of at least level 8) at the places of the AIS ships that stand still (SOG
 under 0.5 kn), seen from own ship's mean GPS position; it prints, per scale, the score at the
@@ -11,7 +11,9 @@ scale whose best heading is the ship's known heading, well above the rest, is th
 echoes agree with.
 
 Usage: navico_range_fit.py CAPTURE.pcap[.gz] NMEA_LOG --heading DEG [--scales 195,780,926]
-Needs pyais (tools/stonesoup-requirements.txt has it). Pure Python otherwise; a few minutes.
+Needs pyais (3.3.1, as tools/ais_reference.py; `pip install pyais==3.3.1`). Pure Python
+otherwise; a few seconds. Captures: pcap with microsecond times, Ethernet or Linux cooked
+(SLL) link layers.
 """
 import argparse
 import collections
@@ -31,6 +33,10 @@ def spokes(path, group=(236, 6, 7, 8), port=6678):
     head = f.read(24)
     assert struct.unpack("<I", head[:4])[0] == 0xA1B2C3D4, "pcap (microseconds) only"
     link = struct.unpack("<I", head[20:24])[0]
+    # Bytes before the IP header: Ethernet, Linux cooked capture (SLL); nothing else read.
+    skip = {1: 14, 113: 16}.get(link)
+    if skip is None:
+        raise SystemExit(f"{path}: link type {link} not read (Ethernet or Linux SLL only)")
     frags = collections.defaultdict(dict)
     while True:
         rec = f.read(16)
@@ -38,7 +44,9 @@ def spokes(path, group=(236, 6, 7, 8), port=6678):
             return
         _, _, incl, _ = struct.unpack("<IIII", rec)
         data = f.read(incl)
-        ip = data[14:] if link == 1 else data
+        ip = data[skip:]
+        if link == 1 and data[12:14] == b"\x81\x00":
+            ip = data[18:]  # a VLAN tag
         if len(ip) < 20 or ip[0] >> 4 != 4 or ip[9] != 17 or tuple(ip[16:20]) != group:
             continue
         ihl = (ip[0] & 15) * 4
@@ -71,7 +79,9 @@ def occupancy(path):
     """Per spoke (2048) and range bin (256): the fraction of rotations with an echo."""
     hits = [[0] * BINS for _ in range(2048)]
     seen = [0] * 2048
+    count = 0
     for angle, data in spokes(path):
+        count += 1
         a = (angle // 2) % 2048
         seen[a] += 1
         row = hits[a]
@@ -79,6 +89,8 @@ def occupancy(path):
             b0, b1 = data[2 * j], data[2 * j + 1]
             if max(b0 & 15, b0 >> 4, b1 & 15, b1 >> 4) >= LEVEL:
                 row[j] += 1
+    if count == 0:
+        raise SystemExit(f"{path}: no Navico spokes (236.6.7.8:6678) found")
     return [[h / max(n, 1) for h in row] for row, n in zip(hits, seen)]
 
 
@@ -104,6 +116,8 @@ def still_ships(log):
             fragments = []
             if m["msg_type"] in (1, 2, 3, 18, 19) and m.get("lat") is not None and abs(m["lat"]) < 91:
                 ships[m["mmsi"]].append((m["lat"], m["lon"], m.get("speed") or 0.0))
+    if not own:
+        raise SystemExit(f"{log}: no RMC with a position: own ship unknown")
     lat0 = sum(p[0] for p in own) / len(own)
     lon0 = sum(p[1] for p in own) / len(own)
     out = []
@@ -153,7 +167,8 @@ def main():
             continue
         by_heading = [score(occ, inside, s, h) for h in range(360)]
         best = max(range(360), key=lambda h: by_heading[h])
-        rank = 1 + sum(x > by_heading[given] for x in by_heading)
+        # Ties count against the heading given (a flat score ranks it last, not first).
+        rank = sum(x >= by_heading[given] for x in by_heading)
         print(
             f"| {s:.0f} | {len(inside)} | {by_heading[given]:.3f} | {rank} | {best} | "
             f"{by_heading[best]:.3f} | {sum(by_heading) / 360:.3f} |"

@@ -951,6 +951,9 @@ pub fn key(
                         .find(|t| t.track == track)
                         .map_or_else(|| format!("(track {track})"), TargetData::label)
                 ),
+                TrackCommand::Acquire { .. } if state.paused => {
+                    "acquiring the nearest plot no track holds in the scan tracked last: shown when the picture resumes (p)".to_string()
+                }
                 TrackCommand::Acquire { .. } => {
                     "acquiring the nearest plot no track holds: shown as acquiring from its next plot".to_string()
                 }

@@ -297,6 +297,11 @@ impl AisTruthSource {
                 o.own_mmsi
             );
         }
+        let own_first_course_rad = tracks
+            .vessels
+            .get(&o.own_mmsi)
+            .and_then(|fixes| fixes.iter().find(|f| f.sog_kn >= 0.5))
+            .map_or(0.0, |f| f.cog_deg.to_radians() as f32);
         let mmsi_of: Vec<u32> = tracks.vessels.keys().copied().collect();
         let ids = mmsi_of
             .iter()
@@ -325,7 +330,8 @@ impl AisTruthSource {
             decoder: AisDecoder::new(),
             heard: Vec::new(),
             sent: 0,
-            own_heading_rad: 0.0,
+            // Until it first makes way, the course it then takes (the file has no headings).
+            own_heading_rad: own_first_course_rad,
             dropped: 0,
         })
     }
