@@ -327,16 +327,15 @@ pub fn render(frame: &mut Frame, state: &DisplayState, view: &ScanReport) {
     render_paused(frame, state, view, view);
 }
 
-/// As [`render`], the picture and the table of `picture` (paused) under the alarms of
+/// As [`render`], the picture and the table of `view` (paused) under the alarms of
 /// `latest` (the scan tracked last): an alarm raised while the picture is paused is shown
 /// at once.
 pub fn render_paused(
     frame: &mut Frame,
     state: &DisplayState,
-    picture: &ScanReport,
+    view: &ScanReport,
     latest: &ScanReport,
 ) {
-    let view = picture;
     let area = frame.area();
     let columns = Layout::default()
         .direction(Direction::Horizontal)
@@ -926,6 +925,12 @@ pub fn key(
     // drawn (a paused picture's).
     let view = if key == 'a' { latest } else { drawn };
     let command = match state.key(key, Some(view)) {
+        Action::None if key == 'p' && run.is_live() => {
+            state.message = state
+                .paused
+                .then(|| "picture paused: the radar is tracked on, alarms too (p resumes)".into());
+            None
+        }
         Action::None => None,
         Action::Quit => return true,
         Action::Acquire(plot) => Some(TrackCommand::Acquire { plot }),
@@ -1091,11 +1096,6 @@ pub fn run_tui(
             if let Some(c) = next_key(wait)? {
                 if key(run, state, c, shown.view(), shown.latest()) {
                     return Ok(done);
-                }
-                if c == 'p' && live {
-                    state.message = state.paused.then(|| {
-                        "picture paused: the radar is tracked on, alarms too (p resumes)".into()
-                    });
                 }
                 shown.follow(state);
                 continue;

@@ -188,18 +188,13 @@ impl NmeaOut {
     /// queued for it (the targets' ends: nothing is sent after them that would carry the
     /// rest out). UDP has nothing queued.
     pub fn drain(&mut self, within: std::time::Duration) {
-        let NmeaOut::Tcp(_, clients, counts) = self else {
-            return;
-        };
         let deadline = std::time::Instant::now() + within;
         loop {
-            clients.retain_mut(|c| {
-                let alive = flush(c);
-                if !alive {
-                    counts.gone += 1;
-                }
-                alive
-            });
+            // Nothing new: the clients' queues written as far as they read.
+            self.send(&[]);
+            let NmeaOut::Tcp(_, clients, _) = self else {
+                return;
+            };
             if clients.iter().all(|c| c.queue.is_empty()) || std::time::Instant::now() >= deadline {
                 return;
             }

@@ -268,10 +268,13 @@ impl TargetsOut {
                     status: plotter_status(status, d),
                     data: *d,
                 };
-                out.push(ttm(&t, time_s));
-                if !position_unknown {
-                    out.push(tll(&t, &self.origin, report.own.position_m, time_s));
-                }
+                self.push_target(
+                    &mut out,
+                    &t,
+                    time_s,
+                    report.own.position_m,
+                    position_unknown,
+                );
                 if status == 'L' {
                     self.counts.lost_sent += 1;
                     self.on_plotter.remove(&number);
@@ -303,13 +306,25 @@ impl TargetsOut {
                 status: 'L',
                 data,
             };
-            out.push(ttm(&t, time_s));
-            if !position_unknown {
-                out.push(tll(&t, &self.origin, own_m, time_s));
-            }
+            self.push_target(&mut out, &t, time_s, own_m, position_unknown);
             self.counts.lost_sent += 1;
         }
         out
+    }
+
+    /// One target's `TTM`, and its `TLL` unless own ship's position is unknown.
+    fn push_target(
+        &self,
+        out: &mut Vec<String>,
+        t: &PlotterTarget<'_>,
+        time_s: f64,
+        own_m: [f32; 2],
+        position_unknown: bool,
+    ) {
+        out.push(ttm(t, time_s));
+        if !position_unknown {
+            out.push(tll(t, &self.origin, own_m, time_s));
+        }
     }
 }
 
