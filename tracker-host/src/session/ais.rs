@@ -218,6 +218,9 @@ pub struct AisPicture {
     gates: PairingGates,
     pairs: BTreeMap<u16, Pair>,
     streaks: BTreeMap<(u16, u32), u32>,
+    /// The radar targets shown as AIS targets last scan, with the scans in a row each has
+    /// been held without fitting as a candidate ([`AisPicture::hold_candidates`]).
+    shown: BTreeMap<(u16, u32), u32>,
     events: crate::event_log::EventLog,
     counts: PairingCounts,
     /// The scans' clock is UTC ([`ScanReport::time_is_utc`]): the log's times are written
@@ -236,6 +239,7 @@ impl AisPicture {
             gates,
             pairs: BTreeMap::new(),
             streaks: BTreeMap::new(),
+            shown: BTreeMap::new(),
             events: crate::event_log::EventLog::default(),
             counts: PairingCounts::default(),
             clock_is_utc: true,
@@ -447,7 +451,11 @@ impl AisPicture {
             }
         }
         display.sort_by(|a, b| a.0.total_cmp(&b.0));
-        report.merged = self.candidates(&display);
+        let mut merged = self.candidates(&display);
+        self.hold_candidates(&mut merged, |track, mmsi| {
+            within(track, mmsi, gates.keep_factor).is_some()
+        });
+        report.merged = merged;
         report.paired = self
             .pairs
             .iter()
@@ -508,6 +516,30 @@ impl AisPicture {
         out.extend(grouped);
         out.sort_by_key(|x| (x.track, x.mmsi));
         out
+    }
+
+    /// Keeps last scan's radar targets shown as AIS targets that are not this scan's
+    /// candidates, as a pair is kept: while `kept(track, mmsi)` (within the pair's wide
+    /// gates, [`PairingGates::keep_factor`]) for up to [`PairingGates::scans_to_part`] scans
+    /// in a row, unless the track or the AIS target is paired or shown otherwise. Without
+    /// it, a fit that crossed the merge cost or the gates for a scan drew the radar target
+    /// apart beside its ship's AIS symbol for that scan (docs/ais.md: ship-scans shown
+    /// twice 278 → 239 and 413 → 369 on the two Solent runs).
+    fn hold_candidates(&mut self, merged: &mut Vec<Candidate>, kept: impl Fn(u16, u32) -> bool) {
+        let mut shown: BTreeMap<(u16, u32), u32> =
+            merged.iter().map(|c| ((c.track, c.mmsi), 0)).collect();
+        let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
+        for (&(track, mmsi), &held) in &self.shown {
+            let free = !self.pairs.contains_key(&track)
+                && !paired_mmsi.contains(&mmsi)
+                && !merged.iter().any(|c| c.mmsi == mmsi || c.track == track);
+            if free && held < self.gates.scans_to_part && kept(track, mmsi) {
+                merged.push(Candidate { track, mmsi });
+                shown.insert((track, mmsi), held + 1);
+            }
+        }
+        merged.sort_by_key(|x| (x.track, x.mmsi));
+        self.shown = shown;
     }
 
     fn part_where(&mut self, f: impl Fn(&Pair) -> bool, t: f64, why: &str) {
@@ -663,5 +695,30 @@ mod tests {
             assert!(paired.starts_with(&format!("{time}: ")), "{paired}");
             assert!(paired.contains("paired with AIS"), "{paired}");
         }
+    }
+
+    #[test]
+    fn a_radar_target_shown_as_an_ais_target_is_held_as_a_pair_is() {
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        let gates = PairingGates::default();
+        let shown = vec![Candidate {
+            track: 7,
+            mmsi: 235_000_001,
+        }];
+        // Young, shown as the AIS target on position; then settled, its velocity (still)
+        // 5.1 m/s off the ship's: outside the gates (3.5 m/s), inside the wide ones
+        // (5.25): held for the scans a pair takes to part, then drawn apart.
+        let mut picture = AisPicture::new(origin, gates);
+        assert_eq!(scan_one(&mut picture, origin, 0, 3).merged, shown);
+        for scan in 1..=gates.scans_to_part {
+            let r = scan_with(&mut picture, origin, scan, 20, [0.0, 0.0], true);
+            assert_eq!(r.merged, shown, "scan {scan}");
+        }
+        let r = scan_with(&mut picture, origin, 4, 20, [0.0, 0.0], true);
+        assert!(r.merged.is_empty(), "{r:?}");
+        // Outside the wide gates too (9.5 m/s off): drawn apart at once.
+        let mut picture = AisPicture::new(origin, gates);
+        assert_eq!(scan_one(&mut picture, origin, 0, 3).merged, shown);
+        assert!(scan_one(&mut picture, origin, 1, 20).merged.is_empty());
     }
 }
