@@ -7,12 +7,12 @@
 //! radar track swapped to a ship moored or sailing beside them, or to where an AIS target of
 //! a ship out of the truth still stood); at most 1 % on a track that follows no ship (coasting
 //! tracks of ships whose truth ended); at most 5 % of the scans a radar target is shown as an
-//! AIS target on another ship (4.1 % and 1.8 %), and at most 0.1 % of ship-scans hidden (a
+//! AIS target on another ship (4.0 % and 1.8 %), and at most 0.1 % of ship-scans hidden (a
 //! ship with no AIS target held whose radar target is shown as another's AIS target: 36 and
-//! 3); at most 4 % of the ship-scans with a track and AIS shown twice (a track drawn apart
-//! while the ship's AIS target is held: 0.9 % and 2.7 %); at least 95 % of the ships with a
-//! track and AIS associated (paired, or shown as their AIS target) within 300 s of their
-//! track and on average within 45 s (measured 5 s and 210 s, 18 s and 20 s on average), and
+//! 3); at most 2 % of the ship-scans with a track and AIS shown twice (a track drawn apart
+//! while the ship's AIS target is held: 0.5 % and 1.9 %); at least 95 % of the ships with a
+//! track and AIS associated (paired, or shown as their AIS target) within 60 s of their
+//! track and on average within 45 s (measured 2.5 s and 17.5 s, 18 s and 7 s on average), and
 //! 90 % paired at some time. (Seed 1, measured on 2026-12-04, since the vessels are placed
 //! about own ship at its latitude; docs/ais.md has the figures over seeds 1–3.)
 
@@ -134,17 +134,22 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
         assert!(p.merged_wrong * 20 <= merged, "{p:?}");
         let ship_scans = p.pairs_correct + p.merged_correct + p.ships_unpaired;
         assert!(p.ships_hidden * 1000 <= ship_scans, "{p:?}");
-        assert!(p.ships_unpaired * 100 <= ship_scans * 4, "{p:?}");
+        // Shown twice: 0.5 % / 1.9 % of the ship-scans (0.66 % / 2.4 % before a radar
+        // target shown as an AIS target was held, and shown so just outside the velocity
+        // gate).
+        assert!(p.ships_unpaired * 50 <= ship_scans, "{p:?}");
         assert!(
             p.ships_associated * 20 >= p.ships_with_track_and_ais * 19,
             "{p:?}"
         );
         // The mean within 45 s; the 95th percentile of 37 ships is the 36th's delay, set by
-        // the one or two whose first track was lost before it fitted (a moored ship getting
-        // under way, its first track 8 m/s off): 2.5–210 s over seeds 1–3 (docs/ais.md).
+        // the one or two whose first track fitted last: 2.5–22.5 s over seeds 1–3 since a
+        // settled track just outside the velocity gate is shown as its AIS target (2.5–210
+        // s before: a moored ship getting under way, its first track 8 m/s off; docs/ais.md).
+        // One ship's delay: bounded at 60 s, not at what seed 1 reached.
         assert!(p.time_to_associate_mean_s <= 45.0, "{p:?}");
         assert!(
-            p.time_to_associate_p95_s.is_some_and(|t| t <= 300.0),
+            p.time_to_associate_p95_s.is_some_and(|t| t <= 60.0),
             "{p:?}"
         );
     }

@@ -25,7 +25,10 @@
 //! - while a radar target and an AIS target fit but are not paired, the radar target is
 //!   shown as the AIS target ([`Candidate`], `ScanReport::merged`), so the ship is not
 //!   shown twice while its pair is confirmed, nor while it cannot be told which of
-//!   several ships in one cell it is.
+//!   several ships in one cell it is; a young track, or a settled one whose velocity is
+//!   just outside the gate, fits on position alone; and a radar target so shown stays so
+//!   for a few scans after it stops fitting, as a pair is kept
+//!   (`AisPicture::hold_candidates`).
 
 use std::collections::BTreeMap;
 
@@ -79,9 +82,10 @@ pub struct PairingGates {
     /// [`PairingGates::scans_to_part`] scans in a row.
     pub ambiguity_margin: f32,
     /// A radar target is shown as an AIS target ([`Candidate`]) only while its cost is at
-    /// most this (13.3: 99 % of a chi-square of 4 degrees of freedom, position and
-    /// velocity), and only for the AIS targets that fit it within
-    /// [`PairingGates::ambiguity_margin`] of its best.
+    /// most this (6 by default; 13.3 would be 99 % of a chi-square of 4 degrees of freedom,
+    /// position and velocity), and only for the AIS targets that fit it within
+    /// [`PairingGates::ambiguity_margin`] of its best; once so shown, it is held while
+    /// within the wide gates (`AisPicture::hold_candidates`).
     pub merge_cost: f32,
     /// A track younger than this many scans has its velocity gate and sigma widened by
     /// this over its age: its first velocities are rough.
@@ -156,7 +160,8 @@ pub struct Pairing {
 /// cell): the ship is shown once, as the AIS target (IEC 62388 §11.4: a radar target and
 /// an AIS target of one ship are shown as one, the AIS symbol by default), and the radar
 /// target is not drawn apart. Each AIS target takes at most one radar target, its best
-/// within the gates; one radar target may stand for several AIS targets.
+/// within the gates (or one held from the last scans); one radar target may stand for
+/// several AIS targets.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Candidate {
     /// The radar track.
@@ -219,7 +224,7 @@ pub struct AisPicture {
     pairs: BTreeMap<u16, Pair>,
     streaks: BTreeMap<(u16, u32), u32>,
     /// The radar targets shown as AIS targets last scan, with the scans in a row each has
-    /// been held without fitting as a candidate ([`AisPicture::hold_candidates`]).
+    /// been held without fitting as a candidate (`AisPicture::hold_candidates`).
     shown: BTreeMap<(u16, u32), u32>,
     events: crate::event_log::EventLog,
     counts: PairingCounts,
@@ -431,21 +436,27 @@ impl AisPicture {
         // A young track's velocity (from its first plots, a few metres over 2.5 s) may be
         // far off its ship's even with the widened gate: it is shown as an AIS target it
         // fits on position alone until it has settled (never paired so), rather than apart
-        // beside the ship's own symbol. Measured on the Solent (docs/ais.md).
+        // beside the ship's own symbol. A settled one whose velocity is just outside the
+        // gate (within the pair's wide gate, a track lagging its ship's turn) is shown so
+        // too. Measured on the Solent (docs/ais.md).
         let mut display = costs.clone();
         for x in targets.values() {
-            if f32::from(x.age_scans) >= gates.settled_scans
-                || self.pairs.contains_key(&x.track)
-                || costs.iter().any(|(_, t, _)| *t == x.track)
-            {
+            if self.pairs.contains_key(&x.track) || costs.iter().any(|(_, t, _)| *t == x.track) {
                 continue;
             }
+            let settled = f32::from(x.age_scans) >= gates.settled_scans;
             for a in ais
                 .iter()
                 .filter(|a| near(x, a) && !paired_mmsi.contains(&a.mmsi))
             {
                 let (d, cost) = position(x, a);
-                if d <= gates.position_m {
+                let velocity_fits = !settled
+                    || gap(x.velocity_mps, a.velocity_mps)
+                        <= gates.velocity_mps * gates.keep_factor;
+                // … and then only an AIS target no radar target fits within the gates: the
+                // weaker fit does not take it from a better one, nor hide an echo near it.
+                let fitted = settled && costs.iter().any(|(_, _, m)| *m == a.mmsi);
+                if d <= gates.position_m && velocity_fits && !fitted {
                     display.push((cost, x.track, a.mmsi));
                 }
             }
@@ -521,7 +532,9 @@ impl AisPicture {
     /// Keeps last scan's radar targets shown as AIS targets that are not this scan's
     /// candidates, as a pair is kept: while `kept(track, mmsi)` (within the pair's wide
     /// gates, [`PairingGates::keep_factor`]) for up to [`PairingGates::scans_to_part`] scans
-    /// in a row, unless the track or the AIS target is paired or shown otherwise. Without
+    /// in a row, unless the track or the AIS target is paired, the track is one of this
+    /// scan's candidates, or the AIS target is shown on another track (a radar target held
+    /// for two AIS targets keeps both). Without
     /// it, a fit that crossed the merge cost or the gates for a scan drew the radar target
     /// apart beside its ship's AIS symbol for that scan (docs/ais.md: ship-scans shown
     /// twice 278 → 239 and 413 → 369 on the two Solent runs).
@@ -529,10 +542,12 @@ impl AisPicture {
         let mut shown: BTreeMap<(u16, u32), u32> =
             merged.iter().map(|c| ((c.track, c.mmsi), 0)).collect();
         let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
+        let fresh = merged.clone();
         for (&(track, mmsi), &held) in &self.shown {
             let free = !self.pairs.contains_key(&track)
                 && !paired_mmsi.contains(&mmsi)
-                && !merged.iter().any(|c| c.mmsi == mmsi || c.track == track);
+                && !fresh.iter().any(|c| c.track == track)
+                && !merged.iter().any(|c| c.mmsi == mmsi);
             if free && held < self.gates.scans_to_part && kept(track, mmsi) {
                 merged.push(Candidate { track, mmsi });
                 shown.insert((track, mmsi), held + 1);
@@ -613,6 +628,53 @@ mod tests {
         velocity_mps: [f32; 2],
         time_is_utc: bool,
     ) -> ScanReport {
+        scan_at(
+            picture,
+            origin,
+            scan,
+            age_scans,
+            velocity_mps,
+            time_is_utc,
+            20.0,
+        )
+    }
+
+    /// As [`scan_with`], the radar target `east_m` east of the AIS target.
+    fn scan_at(
+        picture: &mut AisPicture,
+        origin: Origin,
+        scan: u32,
+        age_scans: u16,
+        velocity_mps: [f32; 2],
+        time_is_utc: bool,
+        east_m: f32,
+    ) -> ScanReport {
+        let track = Radar {
+            track: 7,
+            east_m,
+            velocity_mps,
+            age_scans,
+        };
+        scan_tracks(picture, origin, scan, time_is_utc, &[track])
+    }
+
+    /// A radar track in [`scan_tracks`].
+    struct Radar {
+        track: u16,
+        /// East of the AIS target, m.
+        east_m: f32,
+        velocity_mps: [f32; 2],
+        age_scans: u16,
+    }
+
+    /// One scan with the AIS target of [`scan_one`] heard and `tracks` beside it.
+    fn scan_tracks(
+        picture: &mut AisPicture,
+        origin: Origin,
+        scan: u32,
+        time_is_utc: bool,
+        tracks: &[Radar],
+    ) -> ScanReport {
         use crate::session::target::TargetData;
         use tracker_core::icd::{TrackState, TrackStatus};
         let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
@@ -627,14 +689,17 @@ mod tests {
             cog_deg: Some(90.0),
             ..AisReport::default()
         };
-        let track = TrackState {
-            track: 7,
-            status: TrackStatus::Confirmed,
-            position_m: [20.0, 1_000.0],
-            velocity_mps,
-            age_scans,
-            hit_history: 0b111,
-        };
+        let tracks: Vec<TrackState> = tracks
+            .iter()
+            .map(|r| TrackState {
+                track: r.track,
+                status: TrackStatus::Confirmed,
+                position_m: [r.east_m, 1_000.0],
+                velocity_mps: r.velocity_mps,
+                age_scans: r.age_scans,
+                hit_history: 0b111,
+            })
+            .collect();
         let time_s = 1_000.0 + 2.5 * f64::from(scan);
         let mut report = ScanReport {
             scan,
@@ -644,8 +709,8 @@ mod tests {
             own,
             plots: Vec::new(),
             plots_m: Vec::new(),
-            tracks: vec![track],
-            targets: vec![TargetData::new(&own, &track)],
+            targets: tracks.iter().map(|t| TargetData::new(&own, t)).collect(),
+            tracks,
             acquiring: Vec::new(),
             ended: Vec::new(),
             association: Default::default(),
@@ -705,20 +770,73 @@ mod tests {
             track: 7,
             mmsi: 235_000_001,
         }];
-        // Young, shown as the AIS target on position; then settled, its velocity (still)
-        // 5.1 m/s off the ship's: outside the gates (3.5 m/s), inside the wide ones
-        // (5.25): held for the scans a pair takes to part, then drawn apart.
+        // Young, shown as the AIS target on position; then settled, on the ship's velocity
+        // but 160 m off its AIS position: outside the gates (150 m), inside the wide ones
+        // (225 m): held for the scans a pair takes to part, then drawn apart.
+        let east = [10.0 * 1852.0 / 3600.0, 0.0];
         let mut picture = AisPicture::new(origin, gates);
         assert_eq!(scan_one(&mut picture, origin, 0, 3).merged, shown);
-        for scan in 1..=gates.scans_to_part {
-            let r = scan_with(&mut picture, origin, scan, 20, [0.0, 0.0], true);
-            assert_eq!(r.merged, shown, "scan {scan}");
+        for scan in 1..=gates.scans_to_part + 1 {
+            let r = scan_at(&mut picture, origin, scan, 20, east, true, 160.0);
+            if scan <= gates.scans_to_part {
+                assert_eq!(r.merged, shown, "scan {scan}");
+            } else {
+                assert!(r.merged.is_empty(), "{r:?}");
+            }
+            assert!(r.paired.is_empty(), "{r:?}");
         }
-        let r = scan_with(&mut picture, origin, 4, 20, [0.0, 0.0], true);
-        assert!(r.merged.is_empty(), "{r:?}");
-        // Outside the wide gates too (9.5 m/s off): drawn apart at once.
+        // Outside the wide gates (velocity 9.5 m/s off): drawn apart at once.
         let mut picture = AisPicture::new(origin, gates);
         assert_eq!(scan_one(&mut picture, origin, 0, 3).merged, shown);
         assert!(scan_one(&mut picture, origin, 1, 20).merged.is_empty());
+    }
+
+    #[test]
+    fn a_settled_track_just_outside_the_velocity_gate_is_shown_as_the_ais_target() {
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        let shown = vec![Candidate {
+            track: 7,
+            mmsi: 235_000_001,
+        }];
+        // Still, against the ship's 5.1 m/s east: outside the gate (3.5 m/s), within the
+        // pair's wide one (5.25): shown as the AIS target (never paired so).
+        let mut picture = AisPicture::new(origin, PairingGates::default());
+        for scan in 0..4 {
+            let r = scan_with(&mut picture, origin, scan, 20, [0.0, 0.0], true);
+            assert_eq!(r.merged, shown, "scan {scan}");
+            assert!(r.paired.is_empty(), "{r:?}");
+        }
+        // Beyond the wide gate: another ship's velocity, drawn apart.
+        let mut picture = AisPicture::new(origin, PairingGates::default());
+        let r = scan_with(&mut picture, origin, 0, 20, [-1.0, 0.0], true);
+        assert!(r.merged.is_empty(), "{r:?}");
+    }
+
+    #[test]
+    fn a_track_just_outside_the_velocity_gate_takes_no_ais_target_another_track_fits() {
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        let east = [10.0 * 1852.0 / 3600.0, 0.0];
+        // The ship's own track 45 m off, 2.5 m/s off its velocity: a fit (cost 4.2). A
+        // still echo 30 m off (cost 1 on position): shown as the AIS target only when no
+        // track fits it, so not here.
+        let ship = Radar {
+            track: 7,
+            east_m: 45.0,
+            velocity_mps: [east[0] - 2.5, 0.0],
+            age_scans: 20,
+        };
+        let still = Radar {
+            track: 9,
+            east_m: -30.0,
+            velocity_mps: [0.0, 0.0],
+            age_scans: 20,
+        };
+        let mut picture = AisPicture::new(origin, PairingGates::default());
+        let r = scan_tracks(&mut picture, origin, 0, true, &[ship, still]);
+        let shown = vec![Candidate {
+            track: 7,
+            mmsi: 235_000_001,
+        }];
+        assert_eq!(r.merged, shown);
     }
 }
