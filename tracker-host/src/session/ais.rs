@@ -628,30 +628,9 @@ mod tests {
         velocity_mps: [f32; 2],
         time_is_utc: bool,
     ) -> ScanReport {
-        scan_at(
-            picture,
-            origin,
-            scan,
-            age_scans,
-            velocity_mps,
-            time_is_utc,
-            20.0,
-        )
-    }
-
-    /// As [`scan_with`], the radar target `east_m` east of the AIS target.
-    fn scan_at(
-        picture: &mut AisPicture,
-        origin: Origin,
-        scan: u32,
-        age_scans: u16,
-        velocity_mps: [f32; 2],
-        time_is_utc: bool,
-        east_m: f32,
-    ) -> ScanReport {
         let track = Radar {
             track: 7,
-            east_m,
+            east_m: 20.0,
             velocity_mps,
             age_scans,
         };
@@ -777,7 +756,13 @@ mod tests {
         let mut picture = AisPicture::new(origin, gates);
         assert_eq!(scan_one(&mut picture, origin, 0, 3).merged, shown);
         for scan in 1..=gates.scans_to_part + 1 {
-            let r = scan_at(&mut picture, origin, scan, 20, east, true, 160.0);
+            let far = Radar {
+                track: 7,
+                east_m: 160.0,
+                velocity_mps: east,
+                age_scans: 20,
+            };
+            let r = scan_tracks(&mut picture, origin, scan, true, &[far]);
             if scan <= gates.scans_to_part {
                 assert_eq!(r.merged, shown, "scan {scan}");
             } else {
