@@ -654,19 +654,40 @@ mod tests {
         time_is_utc: bool,
         tracks: &[Radar],
     ) -> ScanReport {
+        scan_ships(
+            picture,
+            origin,
+            scan,
+            time_is_utc,
+            tracks,
+            &[(235_000_001, 0.0)],
+        )
+    }
+
+    /// As [`scan_tracks`], with AIS targets (MMSI, m east of the first's place) all on
+    /// the first's course and speed.
+    fn scan_ships(
+        picture: &mut AisPicture,
+        origin: Origin,
+        scan: u32,
+        time_is_utc: bool,
+        tracks: &[Radar],
+        ships: &[(u32, f32)],
+    ) -> ScanReport {
         use crate::session::target::TargetData;
         use tracker_core::icd::{TrackState, TrackStatus};
         let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
-        let ship = [0.0, 1_000.0];
-        let (lat, lon) = origin.to_lat_lon(ship);
-        let heard = AisReport {
-            msg_type: 1,
-            mmsi: 235_000_001,
-            class: Some(crate::ais::StationClass::ClassA),
-            position_deg: Some((lat, lon)),
-            sog_kn: Some(10.0),
-            cog_deg: Some(90.0),
-            ..AisReport::default()
+        let heard = |&(mmsi, east_m): &(u32, f32)| {
+            let (lat, lon) = origin.to_lat_lon([f64::from(east_m), 1_000.0]);
+            AisReport {
+                msg_type: 1,
+                mmsi,
+                class: Some(crate::ais::StationClass::ClassA),
+                position_deg: Some((lat, lon)),
+                sog_kn: Some(10.0),
+                cog_deg: Some(90.0),
+                ..AisReport::default()
+            }
         };
         let tracks: Vec<TrackState> = tracks
             .iter()
@@ -701,7 +722,8 @@ mod tests {
             echoes: None,
             silence: None,
         };
-        picture.scan(&mut report, &[(time_s, heard)]);
+        let heard: Vec<(f64, AisReport)> = ships.iter().map(|x| (time_s, heard(x))).collect();
+        picture.scan(&mut report, &heard);
         report
     }
 
@@ -823,5 +845,44 @@ mod tests {
             mmsi: 235_000_001,
         }];
         assert_eq!(r.merged, shown);
+    }
+
+    #[test]
+    fn a_radar_target_held_for_two_ais_targets_keeps_both() {
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        let gates = PairingGates::default();
+        let east = [10.0 * 1852.0 / 3600.0, 0.0];
+        let ships = [(235_000_001, 0.0), (235_000_002, 10.0)];
+        let echo = |east_m: f32| Radar {
+            track: 7,
+            east_m,
+            velocity_mps: east,
+            age_scans: 20,
+        };
+        let both = vec![
+            Candidate {
+                track: 7,
+                mmsi: 235_000_001,
+            },
+            Candidate {
+                track: 7,
+                mmsi: 235_000_002,
+            },
+        ];
+        // One echo between two ships 10 m apart: shown as both (not told apart, so never
+        // paired); then 170–180 m off both (outside the gates, inside the wide ones): held
+        // as both for the scans a pair takes to part.
+        let mut picture = AisPicture::new(origin, gates);
+        let r = scan_ships(&mut picture, origin, 0, true, &[echo(5.0)], &ships);
+        assert_eq!(r.merged, both);
+        for scan in 1..=gates.scans_to_part + 1 {
+            let r = scan_ships(&mut picture, origin, scan, true, &[echo(180.0)], &ships);
+            if scan <= gates.scans_to_part {
+                assert_eq!(r.merged, both, "scan {scan}");
+            } else {
+                assert!(r.merged.is_empty(), "{r:?}");
+            }
+            assert!(r.paired.is_empty(), "{r:?}");
+        }
     }
 }
