@@ -162,7 +162,7 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
 #[test]
 fn own_ships_heading_is_held_while_it_is_stopped() {
     use tracker_core::geo::{course_speed, MPS_PER_KNOT};
-    use tracker_host::source::ais_truth::{AisTruthSource, MAX_GAP_S};
+    use tracker_host::source::ais_truth::{AisTruthSource, MAX_GAP_S, OWN_HEADING_FROM_KN};
     use tracker_host::source::PlotSource;
     let options = AisTruthOptions {
         path: realdata::file("ais/stonesoup-SolentAIS_20160112_130211.csv"),
@@ -180,7 +180,7 @@ fn own_ships_heading_is_held_while_it_is_stopped() {
         let own = scan.own_ship.unwrap();
         let heading = own.heading_rad.unwrap();
         let (course, speed) = course_speed(own.velocity_mps);
-        if speed < 0.5 * MPS_PER_KNOT {
+        if speed < OWN_HEADING_FROM_KN * MPS_PER_KNOT {
             stopped += 1;
             if let Some(h) = last {
                 assert_eq!(heading, h, "scan {}: turned while stopped", scan.radar.scan);

@@ -181,9 +181,7 @@ impl NmeaOut {
             }
         }
     }
-}
 
-impl NmeaOut {
     /// The run's end: over TCP, waits up to `within` for every client to take what is
     /// queued for it (the targets' ends: nothing is sent after them that would carry the
     /// rest out). UDP has nothing queued.

@@ -440,6 +440,8 @@ impl AisPicture {
         // gate (within the pair's wide gate, a track lagging its ship's turn) is shown so
         // too. Measured on the Solent (docs/ais.md).
         let mut display = costs.clone();
+        let fitted_mmsi: std::collections::BTreeSet<u32> =
+            costs.iter().map(|(_, _, m)| *m).collect();
         for x in targets.values() {
             if self.pairs.contains_key(&x.track) || costs.iter().any(|(_, t, _)| *t == x.track) {
                 continue;
@@ -455,15 +457,17 @@ impl AisPicture {
                         <= gates.velocity_mps * gates.keep_factor;
                 // … and then only an AIS target no radar target fits within the gates: the
                 // weaker fit does not take it from a better one, nor hide an echo near it.
-                let fitted = settled && costs.iter().any(|(_, _, m)| *m == a.mmsi);
+                let fitted = settled && fitted_mmsi.contains(&a.mmsi);
                 if d <= gates.position_m && velocity_fits && !fitted {
                     display.push((cost, x.track, a.mmsi));
                 }
             }
         }
         display.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let mut merged = self.candidates(&display);
-        self.hold_candidates(&mut merged, |track, mmsi| {
+        // Those paired this scan are out too.
+        let paired_now: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
+        let mut merged = self.candidates(&display, &paired_now);
+        self.hold_candidates(&mut merged, &paired_now, |track, mmsi| {
             within(track, mmsi, gates.keep_factor).is_some()
         });
         report.merged = merged;
@@ -491,9 +495,7 @@ impl AisPicture {
     /// [`PairingGates::ambiguity_margin`] of that one's cost (one radar target for ships
     /// it does not tell apart). `costs`: the scan's fits among the pairs unpaired before
     /// it, cheapest first.
-    fn candidates(&self, costs: &[(f32, u16, u32)]) -> Vec<Candidate> {
-        // Those paired this scan are out too.
-        let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
+    fn candidates(&self, costs: &[(f32, u16, u32)], paired_mmsi: &[u32]) -> Vec<Candidate> {
         let free = costs.iter().filter(|(c, track, mmsi)| {
             *c <= self.gates.merge_cost
                 && !self.pairs.contains_key(track)
@@ -538,15 +540,19 @@ impl AisPicture {
     /// it, a fit that crossed the merge cost or the gates for a scan drew the radar target
     /// apart beside its ship's AIS symbol for that scan (docs/ais.md: ship-scans shown
     /// twice 278 → 239 and 413 → 369 on the two Solent runs).
-    fn hold_candidates(&mut self, merged: &mut Vec<Candidate>, kept: impl Fn(u16, u32) -> bool) {
+    fn hold_candidates(
+        &mut self,
+        merged: &mut Vec<Candidate>,
+        paired_mmsi: &[u32],
+        kept: impl Fn(u16, u32) -> bool,
+    ) {
         let mut shown: BTreeMap<(u16, u32), u32> =
             merged.iter().map(|c| ((c.track, c.mmsi), 0)).collect();
-        let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
-        let fresh = merged.clone();
+        let fresh = merged.len();
         for (&(track, mmsi), &held) in &self.shown {
             let free = !self.pairs.contains_key(&track)
                 && !paired_mmsi.contains(&mmsi)
-                && !fresh.iter().any(|c| c.track == track)
+                && !merged[..fresh].iter().any(|c| c.track == track)
                 && !merged.iter().any(|c| c.mmsi == mmsi);
             if free && held < self.gates.scans_to_part && kept(track, mmsi) {
                 merged.push(Candidate { track, mmsi });

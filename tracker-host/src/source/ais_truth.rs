@@ -269,10 +269,10 @@ pub struct AisTruthSource {
     own_heading_rad: f32,
 }
 
-/// Below this speed, m/s (0.5 kn), own ship's course over ground is no heading: a moored
-/// ship's track between fixes centimetres apart points anywhere (its `HDT` swung 52–212°
-/// in the Solent's first minutes, seen in OpenCPN), and its gyro would read steady.
-const OWN_HEADING_FROM_MPS: f32 = 0.5 * tracker_core::geo::MPS_PER_KNOT;
+/// Below this speed, kn, own ship's course over ground is no heading: a moored ship's
+/// track between fixes centimetres apart points anywhere (its `HDT` swung 52–212° in the
+/// Solent's first minutes, seen in OpenCPN), and its gyro would read steady.
+pub const OWN_HEADING_FROM_KN: f32 = 0.5;
 
 impl AisTruthSource {
     /// Reads the file and places own ship.
@@ -300,7 +300,11 @@ impl AisTruthSource {
         let own_first_course_rad = tracks
             .vessels
             .get(&o.own_mmsi)
-            .and_then(|fixes| fixes.iter().find(|f| f.sog_kn >= 0.5))
+            .and_then(|fixes| {
+                fixes
+                    .iter()
+                    .find(|f| f.sog_kn >= f64::from(OWN_HEADING_FROM_KN))
+            })
             .map_or(0.0, |f| f.cog_deg.to_radians() as f32);
         let mmsi_of: Vec<u32> = tracks.vessels.keys().copied().collect();
         let ids = mmsi_of
@@ -439,7 +443,7 @@ impl PlotSource for AisTruthSource {
             &mut out,
         );
         let (course_rad, speed_mps) = tracker_core::geo::course_speed(f(own_v));
-        if speed_mps >= OWN_HEADING_FROM_MPS {
+        if speed_mps >= OWN_HEADING_FROM_KN * tracker_core::geo::MPS_PER_KNOT {
             self.own_heading_rad = course_rad;
         }
         let own = OwnShip {
