@@ -15,7 +15,8 @@
 //!   fits the radar target, nor other radar target the AIS target, within
 //!   [`PairingGates::ambiguity_margin`] of its cost: ships in one resolution cell or in
 //!   company are not paired wrong;
-//! - candidates for [`PairingGates::scans_to_pair`] scans in a row are paired (an event);
+//! - candidates within [`PairingGates::merge_cost`] for [`PairingGates::scans_to_pair`]
+//!   scans in a row are paired (an event);
 //! - a pair outside gates [`PairingGates::keep_factor`] times as wide for
 //!   [`PairingGates::scans_to_part`] scans in a row is parted (an event), as is one whose
 //!   track or AIS target is lost, or one another AIS target fits about as well (within
@@ -85,7 +86,8 @@ pub struct PairingGates {
     /// most this (6 by default; 13.3 would be 99 % of a chi-square of 4 degrees of freedom,
     /// position and velocity), and only for the AIS targets that fit it within
     /// [`PairingGates::ambiguity_margin`] of its best; once so shown, it is held while
-    /// within the wide gates (`AisPicture::hold_candidates`).
+    /// within the wide gates (`AisPicture::hold_candidates`). A pair is made only of scans
+    /// in a row within it too (once made, it is kept within the wide gates).
     pub merge_cost: f32,
     /// A track younger than this many scans has its velocity gate and sigma widened by
     /// this over its age: its first velocities are rough.
@@ -103,7 +105,8 @@ impl Default for PairingGates {
     /// RMS and 10 m of GNSS and antenna offset) and 1.8 m/s (the track's 1.75 m/s), 0.5 m/s
     /// of drift a second of the report's age, velocities widened over a track's first
     /// 8 scans; a rival within 6 of the cost makes a pair ambiguous; shown as the AIS
-    /// target up to a cost of 6. Gates chosen on the Solent run with own ship 234586000
+    /// target, and paired, up to a cost of 6 (pairing up to the gates' edge, 9.5 or 13.3
+    /// gave 18–55 % more wrong pair-scans on the Solent's six runs, docs/ais.md). Gates chosen on the Solent run with own ship 234586000
     /// among 150/250 m and 1.5/2.5/3.5 m/s; the margin among 2 and 6, the merge cost among
     /// 6, 9 and 13.3, the drift among 0.2 and 0.5 m/s, the settling among 1 and 8 scans
     /// (wrong pair-scans, ships hidden, ships shown twice), checked on own ship 370869000.
@@ -410,7 +413,11 @@ impl AisPicture {
             }
             used_tracks.push(track);
             used_mmsi.push(mmsi);
-            let clear = best_other_ais(track, mmsi) >= c + margin
+            // … and a fit good enough to be shown as the AIS target: a pair is not made of
+            // a weaker one (a track on a ship without AIS, or dragged off its ship, 100 m
+            // from a neighbour's AIS target with nothing else near).
+            let clear = c <= gates.merge_cost
+                && best_other_ais(track, mmsi) >= c + margin
                 && best_other_track(track, mmsi) >= c + margin;
             if !clear {
                 continue;
@@ -618,6 +625,9 @@ mod tests {
 
     use crate::own_ship::OwnShip;
 
+    /// The AIS targets' velocity in [`scan_ships`] (10 kn east), m/s.
+    const SHIP_EAST_MPS: [f32; 2] = [10.0 * tracker_core::geo::MPS_PER_KNOT, 0.0];
+
     /// One scan with one radar target `age_scans` old, 20 m east of an AIS target heard
     /// that scan, whose velocity (8 m/s south) is far off the ship's (10 kn east).
     fn scan_one(picture: &mut AisPicture, origin: Origin, scan: u32, age_scans: u16) -> ScanReport {
@@ -753,10 +763,46 @@ mod tests {
     }
 
     #[test]
+    fn a_fit_too_weak_to_be_shown_as_the_ais_target_is_never_paired() {
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        let east = SHIP_EAST_MPS;
+        let gates = PairingGates::default();
+        let at = |east_m: f32| Radar {
+            track: 7,
+            east_m,
+            velocity_mps: east,
+            age_scans: 20,
+        };
+        // 100 m off on the ship's velocity: within the 150 m gate, its cost (100 m in the
+        // 30 m sigma: 11.1) over the merge cost. Drawn apart, never paired.
+        let mut far = AisPicture::new(origin, gates);
+        for scan in 0..10 {
+            let r = scan_tracks(&mut far, origin, scan, true, &[at(100.0)]);
+            assert!(
+                r.paired.is_empty() && r.merged.is_empty(),
+                "scan {scan}: {r:?}"
+            );
+        }
+        // 20 m off: shown as the AIS target, then paired after the scans to pair.
+        let mut near = AisPicture::new(origin, gates);
+        for scan in 0..gates.scans_to_pair {
+            let r = scan_tracks(&mut near, origin, scan, true, &[at(20.0)]);
+            assert_eq!(
+                r.paired.len(),
+                usize::from(scan + 1 == gates.scans_to_pair),
+                "scan {scan}"
+            );
+        }
+        // Once paired, kept out to the wide gates: 100 m off holds.
+        let r = scan_tracks(&mut near, origin, gates.scans_to_pair, true, &[at(100.0)]);
+        assert_eq!(r.paired.len(), 1, "{r:?}");
+    }
+
+    #[test]
     fn the_log_writes_utc_only_for_a_utc_clock() {
         let origin = Origin::parse("50.8,-1.1").unwrap();
         // The ship's velocity, 10 kn east: paired after the gates' scans in a row.
-        let east = [10.0 * 1852.0 / 3600.0, 0.0];
+        let east = SHIP_EAST_MPS;
         for (utc, time) in [(true, "00:16:45Z"), (false, "t 00:16:45")] {
             let mut picture = AisPicture::new(origin, PairingGates::default());
             for scan in 0..PairingGates::default().scans_to_pair + 1 {
@@ -780,7 +826,7 @@ mod tests {
         // Young, shown as the AIS target on position; then settled, on the ship's velocity
         // but 160 m off its AIS position: outside the gates (150 m), inside the wide ones
         // (225 m): held for the scans a pair takes to part, then drawn apart.
-        let east = [10.0 * 1852.0 / 3600.0, 0.0];
+        let east = SHIP_EAST_MPS;
         let mut picture = AisPicture::new(origin, gates);
         assert_eq!(scan_one(&mut picture, origin, 0, 3).merged, shown);
         for scan in 1..=gates.scans_to_part + 1 {
@@ -828,7 +874,7 @@ mod tests {
     #[test]
     fn a_track_just_outside_the_velocity_gate_takes_no_ais_target_another_track_fits() {
         let origin = Origin::parse("50.8,-1.1").unwrap();
-        let east = [10.0 * 1852.0 / 3600.0, 0.0];
+        let east = SHIP_EAST_MPS;
         // The ship's own track 45 m off, 2.5 m/s off its velocity: a fit (cost 4.2). A
         // still echo 30 m off (cost 1 on position): shown as the AIS target only when no
         // track fits it, so not here.
@@ -857,7 +903,7 @@ mod tests {
     fn a_radar_target_held_for_two_ais_targets_keeps_both() {
         let origin = Origin::parse("50.8,-1.1").unwrap();
         let gates = PairingGates::default();
-        let east = [10.0 * 1852.0 / 3600.0, 0.0];
+        let east = SHIP_EAST_MPS;
         let ships = [(235_000_001, 0.0), (235_000_002, 10.0)];
         let echo = |east_m: f32| Radar {
             track: 7,
