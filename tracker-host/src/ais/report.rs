@@ -48,6 +48,11 @@ pub struct AisReport {
     /// Length and beam, m (5, 19, 24 part B; from the antenna's distances to bow, stern,
     /// port and starboard).
     pub size_m: Option<(u16, u16)>,
+    /// Where the position's antenna sits on the hull (5, 19, 24 part B): from its
+    /// distances to bow, stern, port and starboard (ITU-R M.1371-5, Annex 2 §3.3.8.2.3.3,
+    /// the reference point), the hull's centre from it, m forward and to starboard; only
+    /// when all four are given.
+    pub centre_from_antenna_m: Option<(f32, f32)>,
 }
 
 impl AisReport {
@@ -66,6 +71,19 @@ impl AisReport {
                 let l = $m.dimension_to_bow + $m.dimension_to_stern;
                 let b = u16::from($m.dimension_to_port) + u16::from($m.dimension_to_starboard);
                 $r.size_m = (l > 0 && b > 0).then_some((l, b));
+                let (bow, stern) = (
+                    f32::from($m.dimension_to_bow),
+                    f32::from($m.dimension_to_stern),
+                );
+                let (port, starboard) = (
+                    f32::from($m.dimension_to_port),
+                    f32::from($m.dimension_to_starboard),
+                );
+                // 0 is "not available" for each distance.
+                $r.centre_from_antenna_m = [bow, stern, port, starboard]
+                    .iter()
+                    .all(|d| *d > 0.0)
+                    .then_some(((bow - stern) / 2.0, (starboard - port) / 2.0));
             }};
         }
         let mut r = AisReport {

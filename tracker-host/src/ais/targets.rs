@@ -91,6 +91,30 @@ impl AisTarget {
         Some([p[0] + v[0] * dt, p[1] + v[1] * dt])
     }
 
+    /// The hull's centre for the antenna at `antenna_m` (local, m) and how far off it may
+    /// be, m ([`AisTargetData::hull_centre_m`]): turned by the heading, else by the COG
+    /// while making way (over [`ORIENTED_BY_COG_KN`]).
+    pub fn hull_centre(&self, antenna_m: EastNorth) -> (EastNorth, f32) {
+        let Some((forward, starboard)) = self.last.centre_from_antenna_m else {
+            return (antenna_m, 0.0);
+        };
+        let by_cog = || {
+            let making_way = self.last.sog_kn.is_some_and(|s| s > ORIENTED_BY_COG_KN);
+            self.last.cog_deg.filter(|_| making_way)
+        };
+        let orientation_deg = self.last.heading_deg.map(f64::from).or_else(by_cog);
+        match orientation_deg {
+            Some(deg) => {
+                let (sin, cos) = (deg as f32).to_radians().sin_cos();
+                // Forward (sin, cos) east and north; starboard (cos, −sin).
+                let east = forward * sin + starboard * cos;
+                let north = forward * cos - starboard * sin;
+                ([antenna_m[0] + east, antenna_m[1] + north], 0.0)
+            }
+            None => (antenna_m, forward.hypot(starboard)),
+        }
+    }
+
     /// IEC 62388's lost-target time for this target, s (see the module documentation).
     pub fn lost_after_s(&self) -> f64 {
         let sog = self.last.sog_kn.unwrap_or(0.0);
@@ -135,6 +159,7 @@ fn keep_static(last: &mut AisReport, r: &AisReport) {
     last.call_sign = r.call_sign.clone().or(last.call_sign.take());
     last.ship_type = r.ship_type.or(last.ship_type);
     last.size_m = r.size_m.or(last.size_m);
+    last.centre_from_antenna_m = r.centre_from_antenna_m.or(last.centre_from_antenna_m);
 }
 
 /// An AIS target as seen from own ship at one time.
@@ -159,6 +184,14 @@ pub struct AisTargetData {
     pub cpa: Option<geo::Cpa>,
     /// Heading, rad true.
     pub heading_rad: Option<f32>,
+    /// The hull's centre, local frame, m: `position_m` (the antenna's) moved by the
+    /// antenna's place on the hull along the heading (else the COG while making way);
+    /// `position_m` when either is unknown. A radar's echo is of the hull.
+    pub hull_centre_m: EastNorth,
+    /// How far the hull's centre may be from `hull_centre_m` for want of an orientation,
+    /// m: the antenna's distance from the centre when the ship's size is known and
+    /// neither heading nor COG is, else 0.
+    pub hull_centre_unknown_m: f32,
     /// Age of its last position, s.
     pub age_s: f32,
     /// Activated (inside the activation range): shown with its vector.
@@ -178,6 +211,10 @@ pub struct AisTableCounts {
     /// Own ship's own reports (`VDO`), not targets.
     pub own_reports: u64,
 }
+
+/// Above this SOG, kn, a ship's COG orients its hull when it sends no heading (at rest,
+/// or drifting, the COG says nothing of it).
+pub const ORIENTED_BY_COG_KN: f64 = 2.0;
 
 /// The table. See the module documentation.
 #[derive(Clone, Debug)]
@@ -358,6 +395,8 @@ impl AisTargets {
                     bearing_rad,
                     cpa,
                     heading_rad: t.last.heading_deg.map(|h| f32::from(h).to_radians()),
+                    hull_centre_m: t.hull_centre(p).0,
+                    hull_centre_unknown_m: t.hull_centre(p).1,
                     age_s: (time_s - t.position_time_s) as f32,
                     active: range_m <= AIS_ACTIVATION_RANGE_M,
                 })
@@ -371,6 +410,38 @@ impl AisTargets {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_hull_centre_is_the_antenna_moved_along_the_heading_else_the_cog() {
+        let mut t = AisTarget {
+            mmsi: 235_000_001,
+            last: AisReport {
+                centre_from_antenna_m: Some((100.0, 10.0)),
+                heading_deg: Some(90),
+                sog_kn: Some(10.0),
+                cog_deg: Some(0.0),
+                ..AisReport::default()
+            },
+            position_time_s: 0.0,
+            heard_s: 0.0,
+            reports: 1,
+        };
+        let near = |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-3;
+        // Heading east: 100 m forward is east, 10 m to starboard is south.
+        let (c, unknown) = t.hull_centre([5.0, 5.0]);
+        assert!(near(c, [105.0, -5.0]) && unknown == 0.0, "{c:?}");
+        // No heading: the COG (north) while making way.
+        t.last.heading_deg = None;
+        let (c, _) = t.hull_centre([5.0, 5.0]);
+        assert!(near(c, [15.0, 105.0]), "{c:?}");
+        // At rest with no heading: the antenna, the centre anywhere within 100.5 m of it.
+        t.last.sog_kn = Some(0.0);
+        let (c, unknown) = t.hull_centre([5.0, 5.0]);
+        assert!(near(c, [5.0, 5.0]) && (unknown - 100.0_f32.hypot(10.0)).abs() < 1e-3);
+        // Where the antenna sits is not known: the antenna.
+        t.last.centre_from_antenna_m = None;
+        assert_eq!(t.hull_centre([5.0, 5.0]), ([5.0, 5.0], 0.0));
+    }
 
     fn report(mmsi: u32, lat: f64, sog: f64, class: StationClass) -> AisReport {
         AisReport {

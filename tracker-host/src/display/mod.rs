@@ -1198,6 +1198,8 @@ pub(crate) mod tests {
                 tcpa_s: t.tcpa_s,
             }),
             heading_rad: None,
+            hull_centre_m: t.position_m,
+            hull_centre_unknown_m: 0.0,
             age_s: 0.0,
             active: true,
         }];

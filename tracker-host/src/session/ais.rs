@@ -313,10 +313,14 @@ impl AisPicture {
             ais.iter().map(|a| (a.mmsi, a)).collect();
         // The distance between a radar target and an AIS target, m, and its cost in the
         // position sigma (which grows with the AIS report's age).
+        // The radar's echo is of the hull: measured from the hull's centre (the AIS
+        // position is its antenna's), its place unknown within the antenna's distance from
+        // it when the ship's orientation is.
         let position = |x: &crate::session::target::TargetData, a: &crate::ais::AisTargetData| {
-            let d = gap(x.position_m, a.position_m);
+            let d = gap(x.position_m, a.hull_centre_m);
             let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
-            let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
+            let hull = a.hull_centre_unknown_m;
+            let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift + hull * hull;
             (d, d * d / sp2.max(1.0))
         };
         let within = |track: u16, mmsi: u32, factor: f32| -> Option<f32> {
@@ -334,7 +338,8 @@ impl AisPicture {
         // Every radar target against every AIS target within the gates (the AIS targets
         // nearer than the position gate, by a cheap bound, first).
         let near = |x: &crate::session::target::TargetData, a: &crate::ais::AisTargetData| {
-            (a.range_m - x.range_m).abs() <= gates.position_m * gates.keep_factor
+            let hull = gap(a.position_m, a.hull_centre_m) + a.hull_centre_unknown_m;
+            (a.range_m - x.range_m).abs() <= gates.position_m * gates.keep_factor + hull
         };
         let mut all = Vec::new();
         for x in targets.values() {
@@ -654,6 +659,7 @@ mod tests {
     }
 
     /// A radar track in [`scan_tracks`].
+    #[derive(Clone, Copy)]
     struct Radar {
         track: u16,
         /// East of the AIS target, m.
@@ -690,21 +696,35 @@ mod tests {
         tracks: &[Radar],
         ships: &[(u32, f32)],
     ) -> ScanReport {
+        let heard: Vec<AisReport> = ships.iter().map(|s| ship_report(origin, *s)).collect();
+        scan_reports(picture, scan, time_is_utc, tracks, &heard)
+    }
+
+    /// The position report of a ship of [`scan_ships`] (MMSI, m east of the first's place).
+    fn ship_report(origin: Origin, (mmsi, east_m): (u32, f32)) -> AisReport {
+        let (lat, lon) = origin.to_lat_lon([f64::from(east_m), 1_000.0]);
+        AisReport {
+            msg_type: 1,
+            mmsi,
+            class: Some(crate::ais::StationClass::ClassA),
+            position_deg: Some((lat, lon)),
+            sog_kn: Some(10.0),
+            cog_deg: Some(90.0),
+            ..AisReport::default()
+        }
+    }
+
+    /// One scan with `tracks` and the AIS reports `heard`.
+    fn scan_reports(
+        picture: &mut AisPicture,
+        scan: u32,
+        time_is_utc: bool,
+        tracks: &[Radar],
+        heard: &[AisReport],
+    ) -> ScanReport {
         use crate::session::target::TargetData;
         use tracker_core::icd::{TrackState, TrackStatus};
         let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
-        let heard = |&(mmsi, east_m): &(u32, f32)| {
-            let (lat, lon) = origin.to_lat_lon([f64::from(east_m), 1_000.0]);
-            AisReport {
-                msg_type: 1,
-                mmsi,
-                class: Some(crate::ais::StationClass::ClassA),
-                position_deg: Some((lat, lon)),
-                sog_kn: Some(10.0),
-                cog_deg: Some(90.0),
-                ..AisReport::default()
-            }
-        };
         let tracks: Vec<TrackState> = tracks
             .iter()
             .map(|r| TrackState {
@@ -738,9 +758,43 @@ mod tests {
             echoes: None,
             silence: None,
         };
-        let heard: Vec<(f64, AisReport)> = ships.iter().map(|x| (time_s, heard(x))).collect();
+        let heard: Vec<(f64, AisReport)> = heard.iter().map(|r| (time_s, r.clone())).collect();
         picture.scan(&mut report, &heard);
         report
+    }
+
+    #[test]
+    fn a_long_ships_radar_target_is_paired_at_its_hull_centre_not_its_antenna() {
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        let gates = PairingGates::default();
+        // A 300 m ship heading east (its COG at 10 kn), its antenna 250 m from the bow and
+        // 50 m from the stern: the hull's centre 100 m ahead of the antenna, where the
+        // radar's echo is. 100 m in the 30 m sigma is a cost of 11: over the merge cost.
+        let mut ship = ship_report(origin, (235_000_001, 0.0));
+        ship.centre_from_antenna_m = Some((100.0, 0.0));
+        let echo = Radar {
+            track: 7,
+            east_m: 100.0,
+            velocity_mps: SHIP_EAST_MPS,
+            age_scans: 20,
+        };
+        let mut picture = AisPicture::new(origin, gates);
+        for scan in 0..gates.scans_to_pair {
+            let r = scan_reports(&mut picture, scan, true, &[echo], &[ship.clone()]);
+            let paired = scan + 1 == gates.scans_to_pair;
+            assert_eq!(r.paired.len(), usize::from(paired), "scan {scan}: {r:?}");
+            assert_eq!(r.merged.len(), usize::from(!paired), "scan {scan}: {r:?}");
+        }
+        // The same ship with its antenna at the centre: 100 m off, never paired.
+        let mut picture = AisPicture::new(origin, gates);
+        ship.centre_from_antenna_m = Some((0.0, 0.0));
+        for scan in 0..gates.scans_to_pair + 2 {
+            let r = scan_reports(&mut picture, scan, true, &[echo], &[ship.clone()]);
+            assert!(
+                r.paired.is_empty() && r.merged.is_empty(),
+                "scan {scan}: {r:?}"
+            );
+        }
     }
 
     #[test]
