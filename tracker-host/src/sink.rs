@@ -28,4 +28,9 @@ pub trait ScanSink {
     fn finish(&mut self) -> anyhow::Result<()> {
         Ok(())
     }
+
+    /// What a sink that sends targets to chart plotters sent (`None` for the others).
+    fn nmea_out(&self) -> Option<crate::nmea::targets::NmeaOutSummary> {
+        None
+    }
 }

@@ -307,6 +307,7 @@ impl Run {
             link_bytes_per_scan: (stats.bytes_sent + stats.bytes_received) as f64
                 / (self.scans.max(1) as f64),
             own_ship_nmea: self.nmea_counts(),
+            nmea_out: self.sinks.iter().find_map(|s| s.nmea_out()),
             events: {
                 let mut e = self.session.events();
                 e.extend(self.own_ship.events());
@@ -406,6 +407,9 @@ pub struct RunReport {
     /// What became of the own-ship sentences, when own ship came from NMEA.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub own_ship_nmea: Option<NavCounts>,
+    /// What NMEA out sent to chart plotters, with `--nmea-out`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nmea_out: Option<crate::nmea::targets::NmeaOutSummary>,
     /// What happened on the link worth telling (resets, restarts).
     pub events: Vec<String>,
 }
@@ -438,6 +442,9 @@ impl RunReport {
         }
         if let Some(c) = &self.own_ship_nmea {
             s += &format!("own-ship NMEA: {c}\n");
+        }
+        if let Some(c) = &self.nmea_out {
+            s += &format!("NMEA out: {c}\n");
         }
         for e in self.events.iter().take(EVENTS_IN_TEXT) {
             s += &format!("event: {e}\n");
@@ -495,6 +502,32 @@ mod tests {
         let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
         run.run_to_end(None, |_| {}).unwrap();
         run.report("inproc")
+    }
+
+    #[test]
+    fn the_summary_tells_what_nmea_out_sent_and_whether_a_plotter_connected() {
+        let mut options = DemoOptions::new(
+            tracker_core::sim::ScenarioKind::OpenSea,
+            4,
+            1,
+            30.0,
+            FilterKind::KalmanCv,
+        );
+        options.outputs.nmea_out = Some(crate::nmea::out::OutSpec::Tcp(0));
+        let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+        run.run_to_end(None, |_| {}).unwrap();
+        let report = run.report("inproc");
+        let out = report.nmea_out.expect("NMEA out in the summary");
+        assert!(out.sent.targets_sent > 0, "{out:?}");
+        assert_eq!(out.tcp.map(|c| c.accepted), Some(0), "no plotter connected");
+        assert!(report.text().contains("NMEA out: "), "{}", report.text());
+        let json = serde_json::to_value(&report).unwrap();
+        assert!(
+            json["nmea_out"]["targets_sent"].as_u64().unwrap() > 0,
+            "{json}"
+        );
+        // Without --nmea-out, no such line.
+        assert!(self::report().nmea_out.is_none());
     }
 
     /// A scan whose source read a heading sensor (a radar's spokes), or not, and an own-ship

@@ -58,6 +58,9 @@ fn features_of(bin: &str) -> &'static [&'static str] {
     }
 }
 
+/// How long the firmware's `cargo build` may take before the user is told it is building.
+const BUILD_NOTE_AFTER: Duration = Duration::from_secs(2);
+
 /// The firmware binary QEMU runs (`tracker-firmware`'s `tracker-firmware`).
 pub const FIRMWARE_BIN: &str = "tracker-firmware";
 
@@ -81,15 +84,40 @@ pub fn firmware_elf(bin: &str, explicit: Option<&Path>) -> anyhow::Result<PathBu
         .map(PathBuf::from)
         .unwrap_or_else(|| root.join("target"));
     let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-    let status = Command::new(cargo)
+    let mut child = Command::new(cargo)
         .current_dir(&root)
         .args(["build", "--quiet", "--release", "-p", "tracker-firmware"])
         .args(["--target", TARGET, "--bin", bin])
         .args(features_of(bin))
-        .status()
+        .spawn()
         .context("running cargo to build the firmware")?;
+    // Up to date, cargo is done at once; otherwise the user is told what the wait is (a
+    // first build takes minutes, and another build holding cargo's lock delays it).
+    let told_after = Instant::now() + BUILD_NOTE_AFTER;
+    let status = loop {
+        match child.try_wait() {
+            Ok(Some(status)) => break status,
+            Ok(None) => {}
+            Err(e) => {
+                // Not left building behind the error.
+                let _ = child.kill();
+                let _ = child.wait();
+                return Err(e).context("waiting for cargo");
+            }
+        }
+        if Instant::now() >= told_after {
+            eprintln!(
+                "building the firmware (cargo build --release -p tracker-firmware --target {TARGET} in {}); a first build takes a few minutes",
+                root.display()
+            );
+            break child.wait().context("waiting for cargo")?;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
     if !status.success() {
-        bail!("building the firmware failed (is the {TARGET} target installed? run scripts/setup)");
+        bail!(
+            "building the firmware failed (cargo: {status}; is the {TARGET} target installed? run scripts/setup)"
+        );
     }
     let elf = target_dir.join(TARGET).join("release").join(bin);
     if !elf.exists() {

@@ -170,6 +170,40 @@ pub struct TargetsOutCounts {
     pub lost_sent: u64,
 }
 
+/// What NMEA out sent over the run, for the summary (`--summary-json` key `nmea_out`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct NmeaOutSummary {
+    /// What was sent.
+    #[serde(flatten)]
+    pub sent: TargetsOutCounts,
+    /// UDP datagrams the system refused to send.
+    pub udp_failures: u64,
+    /// A TCP server's clients (`None` over UDP): whether a plotter ever connected.
+    pub tcp: Option<crate::nmea::out::ServerCounts>,
+}
+
+impl std::fmt::Display for NmeaOutSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} target reports (TTM/TLL) and {} ends (L) sent",
+            self.sent.targets_sent, self.sent.lost_sent
+        )?;
+        match self.tcp {
+            Some(c) => write!(
+                f,
+                "; TCP: {} plotters connected ({} gone, {} dropped for not reading, {} refused)",
+                c.accepted, c.gone, c.dropped_slow, c.refused
+            ),
+            None => write!(
+                f,
+                "; UDP: {} datagrams refused by the system",
+                self.udp_failures
+            ),
+        }
+    }
+}
+
 /// Targets (and optionally own ship) to chart plotters each scan: tracked targets as `T`,
 /// acquiring ones as `Q`, ended ones once as `L`, each under its target number.
 pub struct TargetsOut {
@@ -340,6 +374,14 @@ impl ScanSink for TargetsOut {
         self.out.send(&sentences);
         self.out.drain(END_DRAIN);
         Ok(())
+    }
+
+    fn nmea_out(&self) -> Option<NmeaOutSummary> {
+        Some(NmeaOutSummary {
+            sent: self.counts,
+            udp_failures: self.out.udp_failures(),
+            tcp: self.out.counts(),
+        })
     }
 }
 

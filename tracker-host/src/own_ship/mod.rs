@@ -268,6 +268,10 @@ pub struct NmeaOwnShip {
     timed_read_s: Option<f64>,
     /// The offset last told of, when it was more than [`CLOCK_NOTE_S`].
     offset_told_s: Option<f64>,
+    /// The session's time the first timed sentence was read.
+    first_timed_read_s: Option<f64>,
+    /// A recording read to its end without a timed sentence has been told of.
+    untimed_told: bool,
     clock_events: crate::event_log::EventLog,
 }
 
@@ -275,6 +279,11 @@ pub struct NmeaOwnShip {
 /// PC on board without a time server is often hours out; own ship follows the bridge's
 /// time either way.
 pub const CLOCK_NOTE_S: f64 = 30.0;
+
+/// The offset is told once the date is heard (`RMC`, `ZDA`), or after this long, s, from a
+/// source that gives none: before the date, times are on this computer's date, and an
+/// offset told then (hours) would be told again, years off, a second later.
+pub const DATE_WAIT_S: f64 = 10.0;
 
 /// A live source's UTC this far from this computer's clock is followed (own ship asked for
 /// on the bridge's time), s; nearer, the two are taken to agree.
@@ -300,6 +309,8 @@ impl NmeaOwnShip {
             offset_s: None,
             timed_read_s: None,
             offset_told_s: None,
+            first_timed_read_s: None,
+            untimed_told: false,
             clock_events: crate::event_log::EventLog::default(),
         })
     }
@@ -364,13 +375,18 @@ impl NmeaOwnShip {
             if let Some(n) = self.nav.newest_s().filter(|n| Some(*n) != newest) {
                 self.offset_s = Some(n - time_s);
                 self.timed_read_s = Some(time_s);
+                self.first_timed_read_s.get_or_insert(time_s);
             }
         }
         let Some(offset) = self.offset_s else {
             return;
         };
+        let dated = self.nav.date_known()
+            || self
+                .first_timed_read_s
+                .is_some_and(|first| time_s - first >= DATE_WAIT_S);
         let told = self.offset_told_s.unwrap_or(0.0);
-        if (offset - told).abs() > CLOCK_NOTE_S {
+        if dated && (offset - told).abs() > CLOCK_NOTE_S {
             self.clock_events.push(format!(
                 "the NMEA source's UTC is {} this computer's clock: own ship follows the NMEA's time",
                 crate::utc::offset_label(offset)
@@ -416,6 +432,14 @@ impl NmeaOwnShip {
                     None,
                 );
             }
+        }
+        // Read to its end with no time in it: played at once, not on its own clock.
+        let ended = file.peek(0).is_none();
+        if ended && self.nav.newest_s().is_none() && !self.untimed_told {
+            self.untimed_told = true;
+            self.clock_events.push(
+                "the recording has no usable time (no RMC, GGA, GLL or ZDA with a valid one): its sentences were taken as they came, at once, not in step with the scans".to_string(),
+            );
         }
     }
 }
@@ -642,17 +666,24 @@ mod tests {
     }
     use crate::nmea::bridge::own_ship_sentences;
 
-    #[test]
-    fn clocks_that_agree_are_taken_to_agree() {
+    /// Own ship from NMEA as a live source is read (`take_live`), this computer's clock at
+    /// `pc_s` (its date the provisional one); the file it was opened on, kept while used.
+    fn live_on(pc_s: f64) -> (tempfile::NamedTempFile, NmeaOwnShip) {
         let file = tempfile::NamedTempFile::new().unwrap();
-        let origin = Origin::default();
         let spec = InSpec::File(file.path().to_path_buf());
-        let t: f64 = 1_767_225_600.0 + 12.0 * 3600.0;
         let options = NmeaOptions {
-            provisional_day: (t / 86_400.0).floor() as i64,
+            provisional_day: (pc_s / 86_400.0).floor() as i64,
             ..NmeaOptions::default()
         };
-        let mut own = NmeaOwnShip::open(&spec, origin, &options).unwrap();
+        let own = NmeaOwnShip::open(&spec, Origin::default(), &options).unwrap();
+        (file, own)
+    }
+
+    #[test]
+    fn clocks_that_agree_are_taken_to_agree() {
+        let origin = Origin::default();
+        let t: f64 = 1_767_225_600.0 + 12.0 * 3600.0;
+        let (_file, mut own) = live_on(t);
         // The newest sentence 1.5 s old when read: the same clock, not an offset.
         own.take_live(
             own_ship_sentences([0.0, 0.0], [0.0, 4.0], &origin, t),
@@ -661,6 +692,98 @@ mod tests {
         assert_eq!(own.offset_s, Some(-1.5));
         assert_eq!(own.clock_offset_s(), 0.0);
         assert!(own.events().iter().all(|e| !e.contains("computer's clock")));
+    }
+
+    #[test]
+    fn a_clock_offset_is_told_once_on_the_date_heard_not_first_on_this_computers() {
+        let origin = Origin::default();
+        // This computer on 2026-01-01 12:00; the bridge 2018-01-01 at 19:00 (a recording
+        // replayed live): its GGA alone, on this computer's date, is 7 h ahead; its date,
+        // heard two reads later, puts it years behind.
+        let pc_s: f64 = 1_767_225_600.0 + 12.0 * 3600.0;
+        let bridge_s: f64 = 1_514_764_800.0 + 19.0 * 3600.0;
+        let (_file, mut own) = live_on(pc_s);
+        for k in 0..4 {
+            let k = f64::from(k);
+            let mut lines = own_ship_sentences([0.0, 0.0], [0.0, 4.0], &origin, bridge_s + k);
+            if k < 2.0 {
+                lines.retain(|l| l.contains("GGA"));
+            }
+            own.take_live(lines, pc_s + k + 0.5);
+        }
+        let told: Vec<String> = own
+            .events()
+            .into_iter()
+            .filter(|e| e.contains("this computer's clock"))
+            .collect();
+        assert_eq!(told.len(), 1, "{:?}", own.events());
+        assert!(told[0].contains("days behind"), "{told:?}");
+    }
+
+    #[test]
+    fn a_source_without_a_date_has_its_offset_told_after_a_wait() {
+        let origin = Origin::default();
+        let pc_s: f64 = 1_767_225_600.0 + 12.0 * 3600.0;
+        let bridge_s = pc_s - 3.0 * 3600.0;
+        let (_file, mut own) = live_on(pc_s);
+        let told = |own: &NmeaOwnShip| {
+            own.events()
+                .iter()
+                .filter(|e| e.contains("3 h 0 min behind this computer's clock"))
+                .count()
+        };
+        for k in 0..=DATE_WAIT_S as u32 {
+            let k = f64::from(k);
+            let mut lines = own_ship_sentences([0.0, 0.0], [0.0, 4.0], &origin, bridge_s + k);
+            lines.retain(|l| l.contains("GGA"));
+            own.take_live(lines, pc_s + k + 0.5);
+            let waited = k >= DATE_WAIT_S;
+            assert_eq!(
+                told(&own),
+                usize::from(waited),
+                "read {k}: {:?}",
+                own.events()
+            );
+        }
+    }
+
+    #[test]
+    fn a_recording_without_times_is_told_once_and_a_timed_one_not() {
+        use std::io::Write as _;
+        let origin = Origin::default();
+        let t0 = 1_767_225_600.0 + 10.0 * 3600.0;
+        for timed in [false, true] {
+            let mut file = tempfile::NamedTempFile::new().unwrap();
+            for k in 0..3 {
+                let lines = own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t0 + f64::from(k));
+                for l in lines
+                    .iter()
+                    .filter(|l| timed || l.contains("HDT") || l.contains("VTG"))
+                {
+                    file.write_all(l.as_bytes()).unwrap();
+                }
+            }
+            file.flush().unwrap();
+            let spec = InSpec::File(file.path().to_path_buf());
+            let mut own = NmeaOwnShip::open(&spec, origin, &NmeaOptions::default()).unwrap();
+            for scan in 0..3 {
+                let scan = SourceScan {
+                    radar: crate::source::RadarScan {
+                        scan,
+                        time_s: t0 + 2.5 * f64::from(scan),
+                        plots: Vec::new(),
+                    },
+                    ..SourceScan::default()
+                };
+                own.own_ship(&scan).unwrap();
+            }
+            let told = own
+                .events()
+                .iter()
+                .filter(|e| e.contains("has no usable time"))
+                .count();
+            assert_eq!(told, usize::from(!timed), "{:?}", own.events());
+        }
     }
 
     #[test]

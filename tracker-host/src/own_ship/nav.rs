@@ -317,6 +317,12 @@ impl OwnShipNav {
         self.counts.after_last_scan += n;
     }
 
+    /// Whether a sentence has given the date (before it, times count from the provisional
+    /// day: a live source's is this computer's date).
+    pub fn date_known(&self) -> bool {
+        self.clock.date_known()
+    }
+
     /// The newest sentence time used, s since 1970.
     pub fn newest_s(&self) -> Option<f64> {
         self.clock.newest_s()

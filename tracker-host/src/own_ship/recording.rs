@@ -42,7 +42,7 @@ impl RecordedTrack {
         let fixes = nav.fixes().to_vec();
         if fixes.is_empty() {
             anyhow::bail!(
-                "{}: no position fix in the recording ({})",
+                "{}: no own-ship position fix (GGA, RMC or GLL) in the recording, whose track the run follows (AIS of other ships alone is not own ship) ({})",
                 path.display(),
                 nav.counts()
             );

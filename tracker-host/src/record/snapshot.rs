@@ -4,7 +4,8 @@
 //! (cyan, red when dangerous; as long as the time in the caption, which grows with the
 //! range), AIS targets (magenta triangles, with their vectors when activated; an
 //! associated ship's with its radar target's number, or drawn as the radar target instead:
-//! [`AssociatedSymbol`]), range rings. For a person to check the extraction and the
+//! [`AssociatedSymbol`]), range rings, and own ship's alarms in red (no heading for a
+//! head-up radar: no echoes placed). For a person to check the extraction and the
 //! tracking by eye.
 
 use std::path::PathBuf;
@@ -57,6 +58,9 @@ struct Last {
     targets: Vec<TargetData>,
     /// The AIS targets drawn, each with the radar target of its ship when associated.
     ais: Vec<(AisTargetData, Option<TargetData>)>,
+    /// Own ship's alarms ([`crate::own_ship::OwnShip::alarms`]): why the picture may be
+    /// empty (no heading for a head-up radar) or off, written on it.
+    own_alarms: Vec<String>,
 }
 
 impl Last {
@@ -76,6 +80,7 @@ impl Last {
                     (a.clone(), radar.copied())
                 })
                 .collect(),
+            own_alarms: report.own.alarms(),
         }
     }
 }
@@ -172,10 +177,12 @@ fn draw(
             x.hypot(y)
         })
         .fold(500.0, f64::max);
+    // (An image nothing was painted on, for want of a heading, has no range.)
     let reach = last
         .echoes
         .as_ref()
-        .map_or(farthest, |e| f64::from(e.range_m).max(1.0));
+        .filter(|e| e.range_m > 1.0)
+        .map_or(farthest, |e| f64::from(e.range_m));
     // On the display's range scale that holds it (a radar's scales), in NM.
     let scale_nm = scale_holding_nm(reach);
     let r = scale_nm * f64::from(tracker_core::geo::METRES_PER_NM);
@@ -290,8 +297,35 @@ fn draw(
         8,
         WHITE.stroke_width(2),
     )))?;
+    let alarm_font = ("sans-serif", 18).into_font().color(&RED);
+    let lines = last
+        .own_alarms
+        .iter()
+        .flat_map(|a| wrapped(a, NOTE_COLUMNS));
+    for (i, line) in lines.enumerate() {
+        let y = 45 + 22 * i32::try_from(i).unwrap_or(i32::MAX / 32);
+        root.draw(&Text::new(line, (20, y), alarm_font.clone()))?;
+    }
     root.present()?;
     Ok(())
+}
+
+/// Characters a line of own ship's alarms on the picture holds at its font.
+const NOTE_COLUMNS: usize = 95;
+
+/// `text` cut at spaces into lines of at most `columns` characters (a longer word alone).
+fn wrapped(text: &str, columns: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for word in text.split_whitespace() {
+        match lines.last_mut() {
+            Some(line) if line.chars().count() + 1 + word.chars().count() <= columns => {
+                line.push(' ');
+                line.push_str(word);
+            }
+            _ => lines.push(word.to_string()),
+        }
+    }
+    lines
 }
 
 /// The smallest of the display's range scales that holds `reach_m`, NM; past the largest,
@@ -318,6 +352,23 @@ fn vector_minutes_for(range_m: f64) -> f32 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn own_ship_alarms_are_cut_into_lines_that_fit_the_picture() {
+        let text = "OWN SHIP: no heading: the head-up radar's plots are not placed";
+        let lines = super::wrapped(text, 24);
+        assert_eq!(
+            lines,
+            [
+                "OWN SHIP: no heading:",
+                "the head-up radar's",
+                "plots are not placed"
+            ]
+        );
+        assert!(lines.iter().all(|l| l.chars().count() <= 24));
+        assert_eq!(super::wrapped(text, 1_000), [text]);
+        assert!(super::wrapped("", 10).is_empty());
+    }
+
     #[test]
     fn a_snapshot_takes_a_radar_range_scale_and_a_display_vector_length() {
         assert_eq!(super::scale_holding_nm(25_465.0), 24.0);
@@ -383,6 +434,7 @@ mod tests {
             own_m: [0.0, 0.0],
             targets: Vec::new(),
             ais: Vec::new(),
+            own_alarms: vec!["OWN SHIP: no heading: a note long enough to take two lines on the picture at its font, so that the wrapping is drawn too".to_string()],
         };
         let dir = tempfile::tempdir().unwrap();
         for ext in EXTENSIONS.iter().chain(&["PNG"]) {
