@@ -61,6 +61,13 @@ fn bad_ais_is_counted_and_the_good_still_decoded() {
         r.ship_type.is_some() && r.size_m.is_some_and(|(l, b)| l > b && b > 0),
         "{r:?}"
     );
+    // Where its antenna sits: the hull's centre within half the length and beam of it.
+    let (l, b) = r.size_m.unwrap();
+    let (forward, starboard) = r.centre_from_antenna_m.expect("the antenna's place");
+    assert!(
+        forward.abs() < f32::from(l) / 2.0 && starboard.abs() < f32::from(b) / 2.0,
+        "{r:?}"
+    );
     // Latitude 91°: not available, no position, no target made of it.
     let r = d.feed(&position_report(91 * 600_000, 1)).unwrap();
     assert_eq!(r.position_deg, None);

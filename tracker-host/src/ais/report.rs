@@ -65,25 +65,25 @@ impl AisReport {
         };
         // Ship type and size, as 5, 19 and 24 part B give them (the same field names in
         // each of aivdm's three types).
+        // An auxiliary craft (MMSI 98MIDxxxx) sends its mothership's MMSI in the
+        // dimension bits (ITU-R M.1371-5, Annex 8, message 24B): no size of its own.
+        let auxiliary = m.mmsi().raw() / 10_000_000 == 98;
         macro_rules! hull {
             ($r:expr, $m:expr) => {{
                 $r.ship_type = Some($m.ship_type);
-                let l = $m.dimension_to_bow + $m.dimension_to_stern;
-                let b = u16::from($m.dimension_to_port) + u16::from($m.dimension_to_starboard);
-                $r.size_m = (l > 0 && b > 0).then_some((l, b));
-                let (bow, stern) = (
-                    f32::from($m.dimension_to_bow),
-                    f32::from($m.dimension_to_stern),
-                );
-                let (port, starboard) = (
-                    f32::from($m.dimension_to_port),
-                    f32::from($m.dimension_to_starboard),
-                );
-                // 0 is "not available" for each distance.
-                $r.centre_from_antenna_m = [bow, stern, port, starboard]
-                    .iter()
-                    .all(|d| *d > 0.0)
-                    .then_some(((bow - stern) / 2.0, (starboard - port) / 2.0));
+                let (bow, stern) = ($m.dimension_to_bow, $m.dimension_to_stern);
+                let (port, starboard) = ($m.dimension_to_port, $m.dimension_to_starboard);
+                let l = bow + stern;
+                let b = u16::from(port) + u16::from(starboard);
+                $r.size_m = (!auxiliary && l > 0 && b > 0).then_some((l, b));
+                // 0 is "not available" for each distance, and 511 (bow, stern) or 63 (port,
+                // starboard) "that much or more": the antenna's place is then not known.
+                let known = bow > 0 && stern > 0 && port > 0 && starboard > 0;
+                let capped = bow >= 511 || stern >= 511 || port >= 63 || starboard >= 63;
+                $r.centre_from_antenna_m = (!auxiliary && known && !capped).then(|| {
+                    let along = (f32::from(bow) - f32::from(stern)) / 2.0;
+                    (along, (f32::from(starboard) - f32::from(port)) / 2.0)
+                });
             }};
         }
         let mut r = AisReport {
@@ -94,7 +94,8 @@ impl AisReport {
                 .map(|p| (p.latitude, p.longitude))
                 .filter(|(lat, lon)| lat.abs() <= 90.0 && lon.abs() <= 180.0),
             sog_kn: m.sog_knots(),
-            cog_deg: m.cog_degrees(),
+            // 360 is "not available" (3600 in tenths; message 27's whole degrees: 511).
+            cog_deg: m.cog_degrees().filter(|c| *c < 360.0),
             heading_deg: m.heading_degrees().filter(|h| *h < 360),
             nav_status: m.navigation_status().map(|s| format!("{s:?}")),
             ..AisReport::default()
@@ -140,5 +141,50 @@ impl AisReport {
             _ => return None,
         }
         Some(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use aivdm::message::{StaticDataReport, StaticDataReportPartB};
+
+    /// A class B ship's message 24 part B from `mmsi` with the antenna's distances to bow,
+    /// stern, port and starboard.
+    fn part_b(mmsi: u32, bow: u16, stern: u16, port: u8, starboard: u8) -> AisReport {
+        let m = AisMessage::StaticDataReport(StaticDataReport::B(StaticDataReportPartB {
+            mmsi: aivdm::Mmsi::from_raw(mmsi),
+            ship_type: 37,
+            vendor_id: aivdm::string::FixedStr::from_raw(*b"@@@@@@@", 7),
+            call_sign: aivdm::string::FixedStr::from_raw(*b"MABC1@@", 7),
+            dimension_to_bow: bow,
+            dimension_to_stern: stern,
+            dimension_to_port: port,
+            dimension_to_starboard: starboard,
+        }));
+        AisReport::of(&m, false).expect("a 24B is read")
+    }
+
+    #[test]
+    fn the_antennas_place_on_the_hull_is_read_only_when_all_four_distances_are_given() {
+        // 12 m from the bow, 4 from the stern, 1 to port, 3 to starboard: the hull's
+        // centre 4 m forward of the antenna and 1 m to starboard.
+        let r = part_b(235_000_001, 12, 4, 1, 3);
+        assert_eq!(r.size_m, Some((16, 4)));
+        assert_eq!(r.centre_from_antenna_m, Some((4.0, 1.0)));
+        // One distance not available (0): the size may be, the place is not.
+        assert_eq!(part_b(235_000_001, 12, 4, 0, 4).centre_from_antenna_m, None);
+        // 511 and 63 are "that much or more".
+        assert_eq!(
+            part_b(235_000_001, 511, 4, 1, 3).centre_from_antenna_m,
+            None
+        );
+        assert_eq!(
+            part_b(235_000_001, 12, 4, 63, 3).centre_from_antenna_m,
+            None
+        );
+        // An auxiliary craft's dimension bits hold its mothership's MMSI: no size, no place.
+        let aux = part_b(982_350_001, 300, 100, 20, 12);
+        assert_eq!((aux.size_m, aux.centre_from_antenna_m), (None, None));
     }
 }

@@ -158,8 +158,12 @@ fn keep_static(last: &mut AisReport, r: &AisReport) {
     last.name = r.name.clone().or(last.name.take());
     last.call_sign = r.call_sign.clone().or(last.call_sign.take());
     last.ship_type = r.ship_type.or(last.ship_type);
+    // The antenna's place comes with the size: a message with a size and no place (its
+    // reference point not given) leaves none, not an older one.
+    if r.size_m.is_some() {
+        last.centre_from_antenna_m = r.centre_from_antenna_m;
+    }
     last.size_m = r.size_m.or(last.size_m);
-    last.centre_from_antenna_m = r.centre_from_antenna_m.or(last.centre_from_antenna_m);
 }
 
 /// An AIS target as seen from own ship at one time.

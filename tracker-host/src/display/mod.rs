@@ -720,8 +720,8 @@ pub(crate) fn ais_column(view: &ScanReport, track: u16) -> String {
     };
     let gap = |a: &crate::ais::AisTargetData| {
         libm::hypotf(
-            a.position_m[0] - x.position_m[0],
-            a.position_m[1] - x.position_m[1],
+            a.hull_centre_m[0] - x.position_m[0],
+            a.hull_centre_m[1] - x.position_m[1],
         )
     };
     let shown: Vec<&crate::ais::AisTargetData> = view
@@ -1315,6 +1315,7 @@ pub(crate) mod tests {
             a.mmsi = mmsi;
             a.label = label.into();
             a.position_m[0] += off;
+            a.hull_centre_m = a.position_m;
             view.ais.push(a);
             view.merged
                 .push(crate::session::ais::Candidate { track, mmsi });
@@ -1323,6 +1324,9 @@ pub(crate) mod tests {
         // The nearest one with a long name: cut short to fit, the count kept.
         view.ais[0].position_m[0] += 1_000.0;
         view.ais[2].position_m[0] -= 80.0;
+        for a in &mut view.ais {
+            a.hull_centre_m = a.position_m;
+        }
         let column = ais_column(&view, track);
         assert_eq!(column, "A VERY LONG SHIP? +2");
         assert_eq!(column.chars().count(), usize::from(AIS_COLUMN_WIDTH));

@@ -314,13 +314,12 @@ impl AisPicture {
         // The distance between a radar target and an AIS target, m, and its cost in the
         // position sigma (which grows with the AIS report's age).
         // The radar's echo is of the hull: measured from the hull's centre (the AIS
-        // position is its antenna's), its place unknown within the antenna's distance from
-        // it when the ship's orientation is.
+        // position is its antenna's); when the ship's orientation is not known, from the
+        // circle about the antenna the centre lies on (0 inside it), in gate and cost alike.
         let position = |x: &crate::session::target::TargetData, a: &crate::ais::AisTargetData| {
-            let d = gap(x.position_m, a.hull_centre_m);
+            let d = (gap(x.position_m, a.hull_centre_m) - a.hull_centre_unknown_m).max(0.0);
             let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
-            let hull = a.hull_centre_unknown_m;
-            let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift + hull * hull;
+            let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
             (d, d * d / sp2.max(1.0))
         };
         let within = |track: u16, mmsi: u32, factor: f32| -> Option<f32> {
@@ -494,7 +493,7 @@ impl AisPicture {
                     number: x.number,
                     mmsi: p.mmsi,
                     label: a.label.clone(),
-                    distance_m: gap(x.position_m, a.position_m),
+                    distance_m: gap(x.position_m, a.hull_centre_m),
                 })
             })
             .collect();
@@ -771,6 +770,7 @@ mod tests {
         // 50 m from the stern: the hull's centre 100 m ahead of the antenna, where the
         // radar's echo is. 100 m in the 30 m sigma is a cost of 11: over the merge cost.
         let mut ship = ship_report(origin, (235_000_001, 0.0));
+        ship.size_m = Some((300, 40));
         ship.centre_from_antenna_m = Some((100.0, 0.0));
         let echo = Radar {
             track: 7,
@@ -785,6 +785,27 @@ mod tests {
             assert_eq!(r.paired.len(), usize::from(paired), "scan {scan}: {r:?}");
             assert_eq!(r.merged.len(), usize::from(!paired), "scan {scan}: {r:?}");
         }
+        // At rest with no heading: the centre anywhere 100 m about the antenna; the echo
+        // 100 m west of it fits (paired), one 250 m off does not.
+        ship.sog_kn = Some(0.0);
+        for (west_m, pairs) in [(-100.0, true), (-250.0, false)] {
+            let at_rest = Radar {
+                east_m: west_m,
+                velocity_mps: [0.0, 0.0],
+                ..echo
+            };
+            let mut picture = AisPicture::new(origin, gates);
+            for scan in 0..gates.scans_to_pair {
+                let r = scan_reports(&mut picture, scan, true, &[at_rest], &[ship.clone()]);
+                let paired = pairs && scan + 1 == gates.scans_to_pair;
+                assert_eq!(
+                    r.paired.len(),
+                    usize::from(paired),
+                    "{west_m} m, scan {scan}: {r:?}"
+                );
+            }
+        }
+        ship.sog_kn = Some(10.0);
         // The same ship with its antenna at the centre: 100 m off, never paired.
         let mut picture = AisPicture::new(origin, gates);
         ship.centre_from_antenna_m = Some((0.0, 0.0));
