@@ -225,6 +225,11 @@ fn draw(
     )?;
     for (a, radar) in &last.ais {
         let (x, y) = rel(a.position_m);
+        // Off the range scale: not drawn (as a radar display does; AIS is heard far beyond
+        // a harbour radar's range, and plotters would draw it over the frame's edge).
+        if x.hypot(y) > r {
+            continue;
+        }
         let c = a
             .heading_rad
             .unwrap_or_else(|| a.velocity_mps[0].atan2(a.velocity_mps[1]));
