@@ -666,6 +666,14 @@ mod tests {
     }
     use crate::nmea::bridge::own_ship_sentences;
 
+    /// The events of `own` that contain `text`.
+    fn events_with(own: &NmeaOwnShip, text: &str) -> Vec<String> {
+        own.events()
+            .into_iter()
+            .filter(|e| e.contains(text))
+            .collect()
+    }
+
     /// Own ship from NMEA as a live source is read (`take_live`), this computer's clock at
     /// `pc_s` (its date the provisional one); the file it was opened on, kept while used.
     fn live_on(pc_s: f64) -> (tempfile::NamedTempFile, NmeaOwnShip) {
@@ -711,11 +719,7 @@ mod tests {
             }
             own.take_live(lines, pc_s + k + 0.5);
         }
-        let told: Vec<String> = own
-            .events()
-            .into_iter()
-            .filter(|e| e.contains("this computer's clock"))
-            .collect();
+        let told = events_with(&own, "this computer's clock");
         assert_eq!(told.len(), 1, "{:?}", own.events());
         assert!(told[0].contains("days behind"), "{told:?}");
     }
@@ -726,12 +730,8 @@ mod tests {
         let pc_s: f64 = 1_767_225_600.0 + 12.0 * 3600.0;
         let bridge_s = pc_s - 3.0 * 3600.0;
         let (_file, mut own) = live_on(pc_s);
-        let told = |own: &NmeaOwnShip| {
-            own.events()
-                .iter()
-                .filter(|e| e.contains("3 h 0 min behind this computer's clock"))
-                .count()
-        };
+        let told =
+            |own: &NmeaOwnShip| events_with(own, "3 h 0 min behind this computer's clock").len();
         for k in 0..=DATE_WAIT_S as u32 {
             let k = f64::from(k);
             let mut lines = own_ship_sentences([0.0, 0.0], [0.0, 4.0], &origin, bridge_s + k);
@@ -945,11 +945,7 @@ mod tests {
             at.heading_rad.is_some() && !at.quality.heading_lost,
             "{at:?}"
         );
-        let told: Vec<String> = own
-            .events()
-            .into_iter()
-            .filter(|e| e.contains("3 h 0 min behind this computer's clock"))
-            .collect();
+        let told = events_with(&own, "3 h 0 min behind this computer's clock");
         assert_eq!(told.len(), 1, "{:?}", own.events());
     }
 }
