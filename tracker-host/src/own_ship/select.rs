@@ -74,6 +74,9 @@ pub struct Selector {
     tolerances: Tolerances,
     events: crate::event_log::EventLog,
     disagreements: u64,
+    /// The talker last told as each quantity's source: the first choice after
+    /// [`Selector::forget_times`] is told only when it is another.
+    told: BTreeMap<Quantity, String>,
 }
 
 impl Selector {
@@ -164,12 +167,16 @@ impl Selector {
             });
             if !beaten && current.as_ref().is_some_and(|(c, _)| c != talker) {
                 self.events.push(format!("{} source: {talker}", q.name()));
+                self.told.insert(q, talker.to_string());
             }
             return !beaten;
         }
         match current {
             None => {
-                self.events.push(format!("{} source: {talker}", q.name()));
+                if self.told.get(&q).is_none_or(|t| t != talker) {
+                    self.events.push(format!("{} source: {talker}", q.name()));
+                    self.told.insert(q, talker.to_string());
+                }
                 true
             }
             Some((c, _)) if c == talker => true,
@@ -180,6 +187,7 @@ impl Selector {
                     "{} source: {talker} (not the AIS transponder's {c})",
                     q.name()
                 ));
+                self.told.insert(q, talker.to_string());
                 true
             }
             Some((c, last_s)) if now_s - last_s > SILENT_S => {
@@ -188,6 +196,7 @@ impl Selector {
                     q.name(),
                     now_s - last_s
                 ));
+                self.told.insert(q, talker.to_string());
                 true
             }
             Some(_) => false,
@@ -280,6 +289,27 @@ mod tests {
         assert_eq!(s.chosen(Quantity::GroundVelocity), Some("BO"));
         // Heading is a quantity of its own.
         assert!(s.admit("HE", &Reading::HeadingTrue(10.0), None, 12.0));
+    }
+
+    #[test]
+    fn a_source_chosen_again_after_the_clock_is_replaced_is_not_told_again() {
+        let mut s = Selector::default();
+        let told = |s: &Selector| {
+            s.events()
+                .iter()
+                .filter(|e| e.contains("velocity source: BM"))
+                .count()
+        };
+        assert!(s.admit("BM", &sog(5.0), None, 0.0));
+        assert_eq!(told(&s), 1);
+        // The first date heard: the times forgotten, the same talker chosen again.
+        s.forget_times();
+        assert!(s.admit("BM", &sog(5.0), None, 1_000_000.0));
+        assert_eq!(told(&s), 1, "{:?}", s.events());
+        // Another talker first after the restart is told.
+        s.forget_times();
+        assert!(s.admit("GP", &sog(5.0), None, 2_000_000.0));
+        assert!(s.events().iter().any(|e| e.contains("velocity source: GP")));
     }
 
     #[test]
