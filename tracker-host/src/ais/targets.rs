@@ -390,6 +390,7 @@ impl AisTargets {
                     .quality
                     .motion_known
                     .then(|| geo::cpa(own.position_m, own.velocity_mps, p, vel));
+                let (hull_centre_m, hull_centre_unknown_m) = t.hull_centre(p);
                 Some(AisTargetData {
                     mmsi: t.mmsi,
                     label: t.label(),
@@ -399,8 +400,8 @@ impl AisTargets {
                     bearing_rad,
                     cpa,
                     heading_rad: t.last.heading_deg.map(|h| f32::from(h).to_radians()),
-                    hull_centre_m: t.hull_centre(p).0,
-                    hull_centre_unknown_m: t.hull_centre(p).1,
+                    hull_centre_m,
+                    hull_centre_unknown_m,
                     age_s: (time_s - t.position_time_s) as f32,
                     active: range_m <= AIS_ACTIVATION_RANGE_M,
                 })

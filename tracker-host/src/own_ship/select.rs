@@ -166,16 +166,14 @@ impl Selector {
                     .is_some_and(|l| now_s - l.time_s <= SILENT_S)
             });
             if !beaten && current.as_ref().is_some_and(|(c, _)| c != talker) {
-                self.events.push(format!("{} source: {talker}", q.name()));
-                self.told.insert(q, talker.to_string());
+                self.tell(q, talker, format!("{} source: {talker}", q.name()));
             }
             return !beaten;
         }
         match current {
             None => {
                 if self.told.get(&q).is_none_or(|t| t != talker) {
-                    self.events.push(format!("{} source: {talker}", q.name()));
-                    self.told.insert(q, talker.to_string());
+                    self.tell(q, talker, format!("{} source: {talker}", q.name()));
                 }
                 true
             }
@@ -183,24 +181,30 @@ impl Selector {
             // A talker heard once and then silent would flip the choice back and forth with
             // a steady transponder: it must be delivering.
             Some((c, _)) if c == AIS_TALKER && delivering => {
-                self.events.push(format!(
+                let event = format!(
                     "{} source: {talker} (not the AIS transponder's {c})",
                     q.name()
-                ));
-                self.told.insert(q, talker.to_string());
+                );
+                self.tell(q, talker, event);
                 true
             }
             Some((c, last_s)) if now_s - last_s > SILENT_S => {
-                self.events.push(format!(
+                let event = format!(
                     "{} source: {c} silent for {:.0} s, now {talker}",
                     q.name(),
                     now_s - last_s
-                ));
-                self.told.insert(q, talker.to_string());
+                );
+                self.tell(q, talker, event);
                 true
             }
             Some(_) => false,
         }
+    }
+
+    /// Tells `event`, a change of `q`'s source to `talker`, and notes it as told.
+    fn tell(&mut self, q: Quantity, talker: &str, event: String) {
+        self.events.push(event);
+        self.told.insert(q, talker.to_string());
     }
 
     fn compare(&mut self, q: Quantity, other: &str) {

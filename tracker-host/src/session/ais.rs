@@ -106,8 +106,8 @@ impl Default for PairingGates {
     /// of drift a second of the report's age, velocities widened over a track's first
     /// 8 scans; a rival within 6 of the cost makes a pair ambiguous; shown as the AIS
     /// target, and paired, up to a cost of 6 (pairing up to the gates' edge, 9.5 or 13.3
-    /// gave 18–55 % more wrong pair-scans on the Solent's six runs, docs/ais.md). Gates chosen on the Solent run with own ship 234586000
-    /// among 150/250 m and 1.5/2.5/3.5 m/s; the margin among 2 and 6, the merge cost among
+    /// gave 18–55 % more wrong pair-scans on the Solent's six runs, docs/ais.md). Gates
+    /// chosen on the Solent run with own ship 234586000 among 150/250 m and 1.5/2.5/3.5 m/s; the margin among 2 and 6, the merge cost among
     /// 6, 9 and 13.3, the drift among 0.2 and 0.5 m/s, the settling among 1 and 8 scans
     /// (wrong pair-scans, ships hidden, ships shown twice), checked on own ship 370869000.
     fn default() -> Self {
@@ -312,10 +312,10 @@ impl AisPicture {
         let by_mmsi: BTreeMap<u32, &crate::ais::AisTargetData> =
             ais.iter().map(|a| (a.mmsi, a)).collect();
         // The distance between a radar target and an AIS target, m, and its cost in the
-        // position sigma (which grows with the AIS report's age).
-        // The radar's echo is of the hull: measured from the hull's centre (the AIS
-        // position is its antenna's); when the ship's orientation is not known, from the
-        // circle about the antenna the centre lies on (0 inside it), in gate and cost alike.
+        // position sigma (which grows with the AIS report's age). The radar's echo is of
+        // the hull: measured from the hull's centre (the AIS position is its antenna's);
+        // when the ship's orientation is not known, from the circle about the antenna the
+        // centre lies on (0 inside it), in gate and cost alike.
         let position = |x: &crate::session::target::TargetData, a: &crate::ais::AisTargetData| {
             let d = (gap(x.position_m, a.hull_centre_m) - a.hull_centre_unknown_m).max(0.0);
             let drift = a.age_s.max(0.0) * gates.drift_sigma_mps;
@@ -453,8 +453,10 @@ impl AisPicture {
         let mut display = costs.clone();
         let fitted_mmsi: std::collections::BTreeSet<u32> =
             costs.iter().map(|(_, _, m)| *m).collect();
+        let fitted_tracks: std::collections::BTreeSet<u16> =
+            costs.iter().map(|(_, t, _)| *t).collect();
         for x in targets.values() {
-            if self.pairs.contains_key(&x.track) || costs.iter().any(|(_, t, _)| *t == x.track) {
+            if self.pairs.contains_key(&x.track) || fitted_tracks.contains(&x.track) {
                 continue;
             }
             let settled = f32::from(x.age_scans) >= gates.settled_scans;
