@@ -56,7 +56,7 @@ struct Outcome {
     exchanged: bool,
 }
 
-fn run(seed: u64) -> (Vec<Outcome>, Summary) {
+fn run(seed: u64) -> (Vec<Outcome>, Summary, usize) {
     let options = DemoOptions::new(
         ScenarioKind::Merging,
         TARGETS,
@@ -71,8 +71,19 @@ fn run(seed: u64) -> (Vec<Outcome>, Summary) {
     };
     let mut truth = Scenario::new(config);
     let mut pairs: Vec<PairScans> = (0..TARGETS / 2).map(|_| PairScans::default()).collect();
+    let mut in_echo = 0;
     while let Some(report) = demo.step().unwrap() {
         let scan = truth.next_scan();
+        // A track whose target is hidden in another's plot is held (firm, numbered), not
+        // drawn.
+        for t in &report.in_echo {
+            assert!(!report.targets.iter().any(|d| d.track == t.track));
+            assert!(report
+                .tracks
+                .iter()
+                .any(|s| s.track == t.track && s.status.is_firm()));
+        }
+        in_echo += report.in_echo.len();
         // The same scenario, scan for scan: the same plots.
         assert_eq!(report.plots.len(), scan.plots.len(), "scan {}", scan.scan);
         // Each firm track follows the target nearest it, if near enough.
@@ -134,15 +145,17 @@ fn run(seed: u64) -> (Vec<Outcome>, Summary) {
             }
         })
         .collect();
-    (outcomes, demo.summary().unwrap())
+    (outcomes, demo.summary().unwrap(), in_echo)
 }
 
 #[test]
 fn merged_targets_are_both_tracked_again_soon_after_they_separate() {
     let (mut worst, mut exchanged, mut pairs) = (0, 0, 0);
     for seed in 1..=6 {
-        let (outcomes, s) = run(seed);
+        let (outcomes, s, in_echo) = run(seed);
         assert_eq!(s.false_tracks, 0, "seed {seed}: {}", s.report());
+        // The default association holds the tracks of ships hidden in a neighbour's echo.
+        assert!(in_echo > 0, "seed {seed}: no track held in another's echo");
         for (k, o) in outcomes.iter().enumerate() {
             assert!(
                 o.merged_scans >= 24,

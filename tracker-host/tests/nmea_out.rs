@@ -1,6 +1,7 @@
 //! What a chart plotter gets: over an hour of the main job's picture, no target number is
 //! shared by two live targets in any scan, a number stays with its track, and every track
-//! that ends, or is still shown when the run ends, is sent once as lost (`L`); positions are valid in every hemisphere and across
+//! that ends, or is still shown when the run ends, is sent once as lost (`L`), as is one
+//! hidden in another's echo, which comes back under its number; positions are valid in every hemisphere and across
 //! the antimeridian; own ship goes out when asked.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -39,6 +40,8 @@ fn an_hour_of_targets_keeps_numbers_unique_and_sends_every_end_once() {
     // Read from the stream alone: number → where it was last scan.
     let mut shown: BTreeMap<u8, [f64; 2]> = BTreeMap::new();
     let (mut scans, mut lost_sent, mut numbered) = (0, 0, 0u64);
+    // Numbers of targets hidden in another's echo, until they are sent again.
+    let (mut hidden, mut came_back) = (BTreeSet::new(), 0);
     while let Some(report) = run.step().unwrap() {
         scans += 1;
         let sentences = out.scan_sentences(&report);
@@ -111,6 +114,16 @@ fn an_hour_of_targets_keeps_numbers_unique_and_sends_every_end_once() {
                 assert!(now.contains_key(&n));
             }
         }
+        // A target hidden in another's echo is not on the plotter, and keeps its number.
+        for n in report.in_echo.iter().filter_map(|t| t.number) {
+            assert!(
+                !now.contains_key(&n),
+                "scan {}: {n} sent while hidden",
+                report.scan
+            );
+            hidden.insert(n);
+        }
+        came_back += now.keys().filter(|n| hidden.remove(n)).count();
         shown = now;
     }
     assert_eq!(scans, 1440);
@@ -133,6 +146,7 @@ fn an_hour_of_targets_keeps_numbers_unique_and_sends_every_end_once() {
     assert!(lost_sent > 30, "{lost_sent} ends over the hour");
     assert!(numbered > 40 * 1000, "{numbered} target reports");
     assert_eq!(run.session().targets_without_number(), 0);
+    assert!(came_back > 0, "no target came back from another's echo");
 }
 
 #[test]

@@ -37,6 +37,7 @@ pub struct Run {
     /// many tracks ever were.
     shown: std::collections::HashSet<u16>,
     targets_seen: u64,
+    target_scans_in_echo: u64,
     /// AIS targets and their pairing with radar targets, once AIS is heard.
     ais: Option<AisPicture>,
     origin: crate::origin::Origin,
@@ -61,6 +62,7 @@ impl Run {
             finished: false,
             shown: std::collections::HashSet::new(),
             targets_seen: 0,
+            target_scans_in_echo: 0,
             ais: None,
             origin: crate::origin::Origin::default(),
         }
@@ -186,6 +188,7 @@ impl Run {
         for t in &report.targets {
             self.targets_seen += u64::from(self.shown.insert(t.track));
         }
+        self.target_scans_in_echo += report.in_echo.len() as u64;
         self.scans += 1;
         Ok(Polled::Scan(Box::new(report)))
     }
@@ -293,6 +296,7 @@ impl Run {
             command: Vec::new(),
             scans: self.scans,
             targets_seen: self.targets_seen,
+            target_scans_in_echo: self.target_scans_in_echo,
             scores: self.summary(),
             radar: self.plots.radar_counts(),
             ais: self.ais_summary(),
@@ -377,6 +381,9 @@ pub struct RunReport {
     pub scans: u64,
     /// Targets shown over the run (tracks that were confirmed), each counted once.
     pub targets_seen: u64,
+    /// Target-scans not drawn because the track's target was hidden in a plot another
+    /// track took (two ships in one resolution cell; [`crate::session::ScanReport::in_echo`]).
+    pub target_scans_in_echo: u64,
     /// What the radar source counted, when the plots came from a radar.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub radar: Option<crate::source::radar::RadarCounts>,
@@ -431,6 +438,12 @@ impl RunReport {
             }
         }
         s.push('\n');
+        if self.target_scans_in_echo > 0 {
+            s += &format!(
+                "{} target-scans held but not drawn: the target hidden in another's echo\n",
+                self.target_scans_in_echo
+            );
+        }
         if let Some(r) = &self.radar {
             s += &format!("radar: {r}\n");
         }
@@ -591,7 +604,7 @@ mod tests {
             .map(|i| format!("happening {i}"))
             .collect();
         let text = r.text();
-        assert!(text.contains("association two-stage"), "{text}");
+        assert!(text.contains("association two-stage-unresolved"), "{text}");
         assert!(
             text.contains(&format!("happening {}", EVENTS_IN_TEXT - 1)),
             "{text}"
@@ -604,7 +617,7 @@ mod tests {
         // The JSON keeps every one.
         let json: serde_json::Value = serde_json::from_str(&r.json()).unwrap();
         assert_eq!(json["events"].as_array().unwrap().len(), EVENTS_IN_TEXT + 5);
-        assert_eq!(json["association"], "two-stage");
+        assert_eq!(json["association"], "two-stage-unresolved");
     }
 
     #[test]

@@ -47,8 +47,8 @@ pub enum AssociationArg {
     /// One stage; only plots in no rough gate start tracks.
     Joint,
     /// Two-stage, and a firm track whose target is hidden in a plot another firm track
-    /// took (two ships in one resolution cell) coasts without the miss counting towards
-    /// its loss, for up to 16 scans.
+    /// took (two ships in one resolution cell) is held without the miss counting towards
+    /// its loss, not drawn, for up to 16 scans (the default).
     TwoStageUnresolved,
 }
 
@@ -86,14 +86,14 @@ pub struct RunArgs {
     /// The filter every track runs.
     #[arg(long, value_parser = filter_parser(), default_value = "kalman-cv")]
     pub filter: FilterKind,
-    /// How plots are associated and which start tracks: `two-stage` (firm tracks take
-    /// their plots first, tentative ones from what is left; every plot no track took starts
-    /// a track) or `joint` (one assignment
-    /// over all tracks; only plots in no rough gate start tracks: the earlier rule) or
-    /// `two-stage-unresolved` (two-stage, and a firm track whose target is hidden in a plot
-    /// another firm track took coasts for up to 16 scans instead of 6: both ships of a
-    /// merge stay tracked).
-    #[arg(long, value_enum, default_value_t = AssociationArg::TwoStage)]
+    /// How plots are associated and which start tracks: `two-stage-unresolved` (the
+    /// default: firm tracks take their plots first, tentative ones from what is left, every
+    /// plot no track took starts a track; and a firm track whose target is hidden in a plot
+    /// another firm track took is held, not drawn, for up to 16 scans instead of 6: both
+    /// ships of a merge stay tracked), `two-stage` (without the hold) or `joint` (one
+    /// assignment over all tracks; only plots in no rough gate start tracks: the earlier
+    /// rule).
+    #[arg(long, value_enum, default_value_t = AssociationArg::TwoStageUnresolved)]
     pub association: AssociationArg,
     /// Source seconds per real second, or `max` (the default; 1, real time, with a live
     /// NMEA source).

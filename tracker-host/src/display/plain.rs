@@ -50,6 +50,10 @@ pub fn header(r: &ScanReport) -> String {
         r.acquiring(),
         crate::display::own_ship_line(&r.own)
     );
+    if !r.in_echo.is_empty() {
+        // Held, not drawn: their targets are in other targets' echoes.
+        s += &format!("  hidden in echoes {}", r.in_echo.len());
+    }
     if !r.ais.is_empty() {
         s += &format!("  AIS {}", r.ais.len());
     }

@@ -5,7 +5,9 @@
 //! Targets go under their target numbers (01–99, unique, kept for a track's life: see
 //! [`crate::session::numbers`]), the same the display and the table show: tracked ones as
 //! `T`, acquiring ones (a second plot) as `Q`, and a target that ends (lost, or an
-//! acquisition that failed) once as `L`, after which its number is free. When the run
+//! acquisition that failed) once as `L`, after which its number is free. A target hidden
+//! in another's echo ([`ScanReport::in_echo`]) is sent once as `L` too and keeps its
+//! number: it comes back under it when it is seen apart. When the run
 //! ends (the source's end, `q`, Ctrl-C) every target still on the plotter is sent as `L`:
 //! a plotter keeps a target it was not told of as live until its own timeout (OpenCPN
 //! drew the last scan's targets on, tried).
@@ -317,6 +319,27 @@ impl TargetsOut {
                     self.on_plotter
                         .insert(number, (name.map(str::to_string), *d));
                 }
+            }
+        }
+        // A target hidden in another's echo is not drawn: the plotter is told once, as lost,
+        // and gets it again under the same number when it is seen apart.
+        for d in &report.in_echo {
+            let Some(number) = d.number else { continue };
+            if let Some((name, _)) = self.on_plotter.remove(&number) {
+                let t = PlotterTarget {
+                    number,
+                    name: name.as_deref(),
+                    status: 'L',
+                    data: *d,
+                };
+                self.push_target(
+                    &mut out,
+                    &t,
+                    time_s,
+                    report.own.position_m,
+                    position_unknown,
+                );
+                self.counts.lost_sent += 1;
             }
         }
         if self.own_ship {

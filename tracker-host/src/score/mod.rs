@@ -361,11 +361,13 @@ impl crate::sink::ScanSink for ScoreSink {
                 let merged: Vec<(u16, u32)> =
                     report.merged.iter().map(|c| (c.track, c.mmsi)).collect();
                 let drawn: Vec<u16> = report.targets.iter().map(|t| t.track).collect();
+                let in_echo: Vec<u16> = report.in_echo.iter().map(|t| t.track).collect();
                 let picture = pairing::Picture {
                     pairs: &pairs,
                     merged: &merged,
                     ais: &ais,
                     drawn: &drawn,
+                    in_echo: &in_echo,
                 };
                 self.pairing.scan(report.scan, &matched, &nearest, &picture);
                 self.pairing_scored = true;

@@ -9,7 +9,7 @@
 //! [`crate::session::numbers::ACQUISITION_MISSES`]) to the scan it was first paired
 //! correctly.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, BTreeSet};
 
 use serde::Serialize;
 
@@ -38,6 +38,10 @@ pub struct PairingScores {
     pub ships_unpaired: u64,
     /// … of those, later than [`PAIRING_ALLOWANCE_SCANS`] after the track was matched.
     pub ships_unpaired_late: u64,
+    /// Ship-scans with a matched track held but not drawn, its target hidden in another
+    /// track's plot ([`crate::session::ScanReport::in_echo`]), no AIS target held and no
+    /// other track drawn on it: the ship shown only as the echo it shares.
+    pub ships_in_echo_only: u64,
     /// Ships with a matched track drawn as a target and AIS, at some scan.
     pub ships_with_track_and_ais: usize,
     /// … of those paired correctly at some scan.
@@ -77,6 +81,8 @@ pub struct Picture<'a> {
     /// The tracks drawn as targets (a firm track whose acquisition failed is not:
     /// [`crate::session::numbers::ACQUISITION_MISSES`]).
     pub drawn: &'a [u16],
+    /// The tracks held but not drawn, their target hidden in another's plot.
+    pub in_echo: &'a [u16],
 }
 
 /// The tally.
@@ -104,6 +110,7 @@ impl PairingScorer {
             merged,
             ais,
             drawn,
+            in_echo,
         } = *picture;
         let mut merged_tracks: BTreeMap<u16, Vec<u32>> = BTreeMap::new();
         for (track, mmsi) in merged {
@@ -163,6 +170,16 @@ impl PairingScorer {
                 }
             }
         }
+        let in_echo_only: BTreeSet<u32> = matched
+            .iter()
+            .filter(|(track, ship)| {
+                in_echo.contains(track)
+                    && !ais.contains(ship)
+                    && !matched.iter().any(|(t, s)| s == *ship && drawn.contains(t))
+            })
+            .map(|(_, ship)| *ship)
+            .collect();
+        self.scores.ships_in_echo_only += in_echo_only.len() as u64;
     }
 
     /// The scores, times in s with scans of `scan_s`.
@@ -226,6 +243,7 @@ mod tests {
                 merged: &[],
                 ais: &[100, 200],
                 drawn: &ALL,
+                in_echo: &[],
             },
         );
         // Scan 3: track 1 paired right, track 2 paired wrong.
@@ -238,6 +256,7 @@ mod tests {
                 merged: &[],
                 ais: &[100, 200, 300],
                 drawn: &ALL,
+                in_echo: &[],
             },
         );
         // Scan 10: track 2 paired right, late.
@@ -250,6 +269,7 @@ mod tests {
                 merged: &[],
                 ais: &[100, 200, 300],
                 drawn: &ALL,
+                in_echo: &[],
             },
         );
         // Track 2 follows ship 200 but ship 300 is nearest it (one resolution cell): right.
@@ -263,6 +283,7 @@ mod tests {
                 merged: &[],
                 ais: &[100, 200, 300],
                 drawn: &ALL,
+                in_echo: &[],
             },
         );
         assert_eq!(p.scores(2.5).pairs_correct, 4);
@@ -275,6 +296,7 @@ mod tests {
                 merged: &[],
                 ais: &[100, 200, 300],
                 drawn: &ALL,
+                in_echo: &[],
             },
         );
         let s = p.scores(2.5);
@@ -318,6 +340,7 @@ mod tests {
                 merged: &[(1, 100), (1, 400), (2, 100)],
                 ais: &[100, 300, 400],
                 drawn: &ALL,
+                in_echo: &[],
             },
         );
         let s = p.scores(2.5);
@@ -346,6 +369,7 @@ mod tests {
                 merged: &[],
                 ais: &[100],
                 drawn: &ALL,
+                in_echo: &[],
             },
         );
         let s = p.scores(2.5);
@@ -360,6 +384,7 @@ mod tests {
                 merged: &[(2, 100)],
                 ais: &[100],
                 drawn: &ALL,
+                in_echo: &[],
             },
         );
         assert_eq!(p.scores(2.5).ships_unpaired, 1);
@@ -373,6 +398,7 @@ mod tests {
                 merged: &[],
                 ais: &[100],
                 drawn: &[1],
+                in_echo: &[],
             },
         );
         assert_eq!(p.scores(2.5).ships_unpaired, 1);
@@ -385,8 +411,39 @@ mod tests {
                 merged: &[],
                 ais: &[100],
                 drawn: &ALL,
+                in_echo: &[],
             },
         );
         assert_eq!(p.scores(2.5).ships_unpaired, 2);
+    }
+
+    #[test]
+    fn a_ship_without_ais_whose_track_is_hidden_in_an_echo_is_counted_as_shown_only_by_it() {
+        let mut p = PairingScorer::default();
+        // Track 2 follows ship 200, hidden in the plot track 1 (ship 100) took: not drawn.
+        let matched: BTreeMap<u16, u32> = [(1, 100), (2, 200)].into();
+        let scan = |p: &mut PairingScorer, scan: u32, ais: &[u32], drawn: &[u16]| {
+            p.scan(
+                scan,
+                &matched,
+                &matched,
+                &Picture {
+                    pairs: &[],
+                    merged: &[],
+                    ais,
+                    drawn,
+                    in_echo: &[2],
+                },
+            );
+            p.scores(2.5).ships_in_echo_only
+        };
+        // Ship 200 has no AIS target held: shown only as the echo it shares.
+        assert_eq!(scan(&mut p, 0, &[100], &[1]), 1);
+        // Its AIS target held: it is shown by that, not counted.
+        assert_eq!(scan(&mut p, 1, &[100, 200], &[1]), 1);
+        // No AIS, but its track drawn (another scan's picture): not counted.
+        assert_eq!(scan(&mut p, 2, &[100], &[1, 2]), 1);
+        // Hidden again without AIS: counted again, and nothing else is.
+        assert_eq!(scan(&mut p, 3, &[100], &[1]), 2);
     }
 }

@@ -117,7 +117,7 @@ impl Summary {
         );
         if let Some(p) = &self.pairing {
             s += &format!(
-                "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.0} s, 95 % {}, max {:.0} s; radar targets shown as AIS targets while pairing: {} scans right, {} wrong ({} ship-scans hidden), {} on tracks of no ship; {} ships associated (paired or shown as their AIS target), mean {:.0} s, 95 % {}; ships shown twice: {} ship-scans ({} after {} scans)",
+                "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.0} s, 95 % {}, max {:.0} s; radar targets shown as AIS targets while pairing: {} scans right, {} wrong ({} ship-scans hidden), {} on tracks of no ship; {} ships associated (paired or shown as their AIS target), mean {:.0} s, 95 % {}; ships shown twice: {} ship-scans ({} after {} scans); ships without AIS shown only as the echo they share: {} ship-scans",
                 p.pairs_correct,
                 p.pairs_wrong,
                 p.pairs_unverified,
@@ -140,6 +140,7 @@ impl Summary {
                 p.ships_unpaired,
                 p.ships_unpaired_late,
                 super::pairing::PAIRING_ALLOWANCE_SCANS,
+                p.ships_in_echo_only,
             );
         }
         s

@@ -751,6 +751,7 @@ mod tests {
             acquiring: Vec::new(),
             ended: Vec::new(),
             association: Default::default(),
+            in_echo: Vec::new(),
             host_time: Default::default(),
             skipped: None,
             ais: Vec::new(),

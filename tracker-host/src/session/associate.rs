@@ -10,7 +10,7 @@
 //! plot" allowed for every track at the cost of the threshold, solved exactly by the
 //! Kuhn–Munkres (Hungarian) algorithm from `pathfinding`.
 //!
-//! [`Association::TwoStage`] (the default) does this twice: the **firm** tracks (confirmed
+//! [`Association::TwoStage`] does this twice: the **firm** tracks (confirmed
 //! and coasting) take their plots first, the tentative tracks then share what is left, so a
 //! new track on a clutter plot never takes a plot from an established one. Every plot no
 //! track took starts a new tentative track, as Stone Soup's initiator does: a ship that
@@ -21,7 +21,9 @@
 //! comparison (docs/stonesoup.md) a plot inside a firm track's refined gate started
 //! nothing, which kept such a ship untracked until it was clear of the neighbour's gate.
 //! [`Association::Joint`] is the rule before that, kept for comparison: one stage over all
-//! tracks, and only plots in no rough gate start tracks.
+//! tracks, and only plots in no rough gate start tracks. [`Association::TwoStageUnresolved`]
+//! (the default) is two-stage with one more rule, for two ships in one resolution cell:
+//! the track left without a plot is held as hidden in its neighbour's, not dropped.
 
 use std::collections::BTreeSet;
 
@@ -43,7 +45,6 @@ const FORBIDDEN: i64 = i64::MAX / 1024;
 pub enum Association {
     /// Firm tracks first, tentative tracks from what is left; every plot no track took
     /// starts a track.
-    #[default]
     TwoStage,
     /// One assignment over all tracks; only plots in no rough gate start tracks.
     Joint,
@@ -51,9 +52,11 @@ pub enum Association {
     /// gate held a plot another firm track took is taken as **unresolved** from that track
     /// (two targets in one resolution cell give one plot): it coasts, and the scans so
     /// coasted do not count towards its loss ([`HIDDEN_PLOT`], up to
-    /// [`tracker_core::track::HIDDEN_LOST_AFTER_COASTS`] scans). Not the default: it keeps
-    /// both ships of a merge tracked (docs/tracking.md), but the tracks it keeps coasting
-    /// are more often shown apart from their AIS targets (docs/ais.md).
+    /// [`tracker_core::track::HIDDEN_LOST_AFTER_COASTS`] scans). The default: it keeps
+    /// both ships of a merge tracked (docs/tracking.md); the tracks so kept are not drawn
+    /// while hidden ([`crate::session::ScanReport::in_echo`]), so that a ship is not shown
+    /// beside its own AIS target (docs/ais.md).
+    #[default]
     TwoStageUnresolved,
 }
 

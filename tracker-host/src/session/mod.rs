@@ -32,7 +32,9 @@ use anyhow::bail;
 use tracker_core::filter::{FilterConfig, FilterKind};
 use tracker_core::geo::{self, EastNorth};
 use tracker_core::icd::fixed::position_on_grid;
-use tracker_core::icd::{GatedPlots, Plot, TrackCommand, TrackState, TrackStatus, TrackerConfig};
+use tracker_core::icd::{
+    GatedPlots, Plot, TrackCommand, TrackState, TrackStatus, TrackerConfig, HIDDEN_PLOT,
+};
 use tracker_core::track::LOST_AFTER_COASTS;
 
 use crate::link::{Client, ClientStats};
@@ -130,6 +132,12 @@ pub struct ScanReport {
     pub ended: Vec<TargetData>,
     /// What association did.
     pub association: Associated,
+    /// Targets of firm tracks whose target is hidden in a plot another firm track took
+    /// this scan ([`Association::TwoStageUnresolved`]), as predicted: held by the
+    /// tracker with their numbers, not among `targets` (not drawn, not paired with AIS, no
+    /// alarm; a plotter is told once that it is not seen, `L`) until their target is seen
+    /// apart again or they are lost.
+    pub in_echo: Vec<TargetData>,
     /// Host wall time for the scan, link included.
     pub host_time: Duration,
     /// Why the scan was not tracked, when it was not: the device refused it or reported
@@ -526,9 +534,24 @@ impl Session {
         self.tracks_held = held_tracks(&tracks);
         // A silence is no antenna period: it would make the next one look like one.
         self.update_trend(gap_s.filter(|_| silence.is_none()));
-        let numbered = self
-            .numbers
-            .scan(own, &tracks, &self.config.alarms, self.trend.as_ref());
+        let mut numbered =
+            self.numbers
+                .scan(own, &tracks, &self.config.alarms, self.trend.as_ref());
+        // A firm track whose target is hidden in a plot another firm track took (two ships
+        // in one resolution cell, [`Association::TwoStageUnresolved`]) is kept but not
+        // drawn: the radar shows one echo, drawn as the track that took it, and a second
+        // symbol coasting beside it would show one ship twice (three times beside its AIS
+        // target: docs/ais.md).
+        let hidden: Vec<u16> = association
+            .assignments
+            .iter()
+            .filter(|a| a.plot == Some(HIDDEN_PLOT))
+            .map(|a| a.track)
+            .collect();
+        let in_echo;
+        (in_echo, numbered.tracked) = std::mem::take(&mut numbered.tracked)
+            .into_iter()
+            .partition(|t| hidden.contains(&t.track));
         let silence = self
             .pending_silence
             .take()
@@ -551,6 +574,7 @@ impl Session {
             acquiring: numbered.acquiring,
             ended: numbered.ended,
             association,
+            in_echo,
             silence,
             ..Self::report_of(radar, own, plots_m, host_time)
         })
@@ -594,6 +618,7 @@ impl Session {
             acquiring: Vec::new(),
             ended: Vec::new(),
             association: Associated::default(),
+            in_echo: Vec::new(),
             host_time,
             skipped: None,
             ais: Vec::new(),
