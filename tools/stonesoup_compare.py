@@ -4,7 +4,8 @@
 For each scenario and seed this script
 
 1. runs our tracker (`tracker-host --link inproc demo ...`) twice, with
-   `--association two-stage` and `--association joint` (or the rule `--second` names),
+   `--association two-stage` and the rule `--second` names (`two-stage-unresolved`, the
+   product's default since 2026-12-05, unless told `joint`),
    recording the plots, the truth,
    the tracks and the summary JSON into a work directory;
 2. feeds the recorded plots (converted to the local east/north frame) scan by scan to a
@@ -433,7 +434,8 @@ def main():
     ap.add_argument("--reuse", action="store_true",
                     help="reuse our runs already recorded in --workdir (Stone Soup only)")
     ap.add_argument("--markdown", help="also write the results table here")
-    ap.add_argument("--second", choices=["joint", "two-stage-unresolved"], default="joint",
+    ap.add_argument("--second", choices=["joint", "two-stage-unresolved"],
+                    default="two-stage-unresolved",
                     help="our second association rule, run beside two-stage (its column)")
     ap.add_argument("--polar", action="store_true",
                     help="give Stone Soup each plot's own polar accuracy (the simulator's range "

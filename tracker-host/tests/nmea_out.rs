@@ -32,9 +32,16 @@ fn sink() -> NmeaOut {
     NmeaOut::open(&OutSpec::Udp(rx.local_addr().unwrap().to_string())).unwrap()
 }
 
-#[test]
-fn an_hour_of_targets_keeps_numbers_unique_and_sends_every_end_once() {
-    let options = DemoOptions::new(ScenarioKind::Crossing, 40, 11, 3600.0, FilterKind::KalmanCv);
+/// What a plotter got over a run, checked scan by scan (numbers unique, kept, every end
+/// sent once, hidden targets not sent): scans, ends sent, target reports, and targets that
+/// came back from another's echo under their number.
+fn plotter_stream(
+    kind: ScenarioKind,
+    targets: usize,
+    seed: u64,
+    duration_s: f64,
+) -> (u32, u64, u64, usize) {
+    let options = DemoOptions::new(kind, targets, seed, duration_s, FilterKind::KalmanCv);
     let mut run = demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
     let mut out = TargetsOut::new(sink(), Origin::default(), false);
     // Read from the stream alone: number → where it was last scan.
@@ -126,7 +133,6 @@ fn an_hour_of_targets_keeps_numbers_unique_and_sends_every_end_once() {
         came_back += now.keys().filter(|n| hidden.remove(n)).count();
         shown = now;
     }
-    assert_eq!(scans, 1440);
     // The run's end takes every target off the plotter, once each, where it was last sent.
     let before = out.counts().lost_sent;
     let mut ended = BTreeSet::new();
@@ -142,11 +148,30 @@ fn an_hour_of_targets_keeps_numbers_unique_and_sends_every_end_once() {
     assert!(!ended.is_empty());
     assert_eq!(out.counts().lost_sent, before + ended.len() as u64);
     assert!(out.end_sentences().is_empty(), "ended once");
+    assert_eq!(run.session().targets_without_number(), 0);
+    (scans, lost_sent, numbered, came_back)
+}
+
+#[test]
+fn an_hour_of_targets_keeps_numbers_unique_and_sends_every_end_once() {
+    let (scans, lost_sent, numbered, came_back) =
+        plotter_stream(ScenarioKind::Crossing, 40, 11, 3600.0);
+    assert_eq!(scans, 1440);
     // Tracked targets lost (38): failed acquisitions are never numbered, so never end.
     assert!(lost_sent > 30, "{lost_sent} ends over the hour");
     assert!(numbered > 40 * 1000, "{numbered} target reports");
-    assert_eq!(run.session().targets_without_number(), 0);
     assert!(came_back > 0, "no target came back from another's echo");
+}
+
+/// Ships merging in one resolution cell: targets held in another's echo, sent as lost
+/// once, back under their numbers, and an end never sent twice for one of them.
+#[test]
+fn merged_targets_go_off_the_plotter_once_and_come_back_under_their_numbers() {
+    for seed in 1..=3 {
+        let (_, lost_sent, _, came_back) = plotter_stream(ScenarioKind::Merging, 16, seed, 600.0);
+        assert!(came_back > 0, "seed {seed}: none came back");
+        assert!(lost_sent > 0, "seed {seed}");
+    }
 }
 
 #[test]

@@ -361,10 +361,10 @@ pub fn render_paused(
 fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
     // In a narrow pane (an 80-column terminal's is 44) the words are cut, not the figures.
     let narrow = area.width < 80;
-    let (gap, link, tracked, acquiring) = if narrow {
-        (" ", "", "trk", "acq")
+    let (gap, link, tracked, acquiring, in_echo) = if narrow {
+        (" ", "", "trk", "acq", "echo")
     } else {
-        ("  ", "link ", "targets tracked", "acquiring")
+        ("  ", "link ", "targets tracked", "acquiring", "in echoes")
     };
     // The run's state first, where a narrow terminal cannot cut it off.
     let run_state = if state.ended {
@@ -377,9 +377,15 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     } else {
         ""
     };
-    let counts = |gap: &str, link: &str, tracked: &str, acquiring: &str| {
+    let counts = |gap: &str, link: &str, tracked: &str, acquiring: &str, in_echo: &str| {
+        // Targets held hidden in others' echoes (not drawn), when there are any.
+        let held = if view.in_echo.is_empty() {
+            String::new()
+        } else {
+            format!("{gap}{in_echo} {}", view.in_echo.len())
+        };
         format!(
-            "scan {}{gap}{}{gap}{link}{}{gap}plots {}{gap}{tracked} {}{gap}{acquiring} {}",
+            "scan {}{gap}{}{gap}{link}{}{gap}plots {}{gap}{tracked} {}{gap}{acquiring} {}{held}",
             view.scan,
             view.time_label(),
             state.link,
@@ -388,12 +394,12 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             view.acquiring(),
         )
     };
-    let mut first = counts(gap, link, tracked, acquiring);
+    let mut first = counts(gap, link, tracked, acquiring, in_echo);
     // A wide pane that still cannot hold the line (PAUSED in front of it at about 160
     // columns) takes the short words, so that no count is cut off at its end.
     let inner = usize::from(area.width.saturating_sub(2));
     if "ARPA ".len() + run_state.len() + first.chars().count() > inner {
-        first = counts(" ", "", "trk", "acq");
+        first = counts(" ", "", "trk", "acq", "echo");
     }
     let text = vec![
         Line::from(vec![

@@ -293,6 +293,10 @@ impl TargetsOut {
         for (targets, status) in groups {
             for d in targets {
                 let Some(number) = d.number else { continue };
+                // An end is sent once: a target held in another's echo had its `L` then.
+                if status == 'L' && !self.on_plotter.contains_key(&number) {
+                    continue;
+                }
                 let name = report
                     .paired
                     .iter()

@@ -306,7 +306,16 @@ impl AisPicture {
         }
         let targets: BTreeMap<u16, &crate::session::target::TargetData> =
             report.targets.iter().map(|x| (x.track, x)).collect();
-        self.part_where_track(|track| !targets.contains_key(&track), t);
+        // A paired track held in another's echo is parted: kept through the merge, the pair
+        // stayed with the track when it came out on the other ship (Solent, seeds 1–3:
+        // wrong pair-scans 124 → 144; docs/ais.md).
+        let hidden: Vec<u16> = report.in_echo.iter().map(|x| x.track).collect();
+        self.part_where_track(
+            |track| hidden.contains(&track),
+            t,
+            "track hidden in another's echo",
+        );
+        self.part_where_track(|track| !targets.contains_key(&track), t, "track lost");
         let gap = |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
         let gates = self.gates;
         let by_mmsi: BTreeMap<u32, &crate::ais::AisTargetData> =
@@ -397,7 +406,7 @@ impl AisPicture {
             }
         }
         for track in parted {
-            self.part_where_track(|x| x == track, t);
+            self.part_where_track(|x| x == track, t, "out of the gates or rivalled");
         }
         // Candidates: mutual nearest within the gates, among the unpaired, and unambiguous.
         let paired_mmsi: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
@@ -593,13 +602,13 @@ impl AisPicture {
         }
     }
 
-    fn part_where_track(&mut self, f: impl Fn(u16) -> bool, t: f64) {
+    fn part_where_track(&mut self, f: impl Fn(u16) -> bool, t: f64, why: &str) {
         let gone: Vec<u16> = self.pairs.keys().copied().filter(|k| f(*k)).collect();
         for track in gone {
             if let Some(p) = self.pairs.remove(&track) {
                 self.counts.parted += 1;
                 self.log(format!(
-                    "{}: track {track} and AIS {} parted (track lost or out of the gates)",
+                    "{}: track {track} and AIS {} parted ({why})",
                     self.when(t),
                     p.mmsi
                 ));

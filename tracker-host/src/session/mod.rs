@@ -132,11 +132,13 @@ pub struct ScanReport {
     pub ended: Vec<TargetData>,
     /// What association did.
     pub association: Associated,
-    /// Targets of firm tracks whose target is hidden in a plot another firm track took
-    /// this scan ([`Association::TwoStageUnresolved`]), as predicted: held by the
-    /// tracker with their numbers, not among `targets` (not drawn, not paired with AIS, no
-    /// alarm; a plotter is told once that it is not seen, `L`) until their target is seen
-    /// apart again or they are lost.
+    /// Targets of firm tracks whose target was hidden in a plot another firm track took
+    /// ([`Association::TwoStageUnresolved`]) and has not had a plot of its own since, as
+    /// predicted: held by the tracker with their numbers, not among `targets` (not drawn,
+    /// not paired with AIS; a plotter is told once that it is not seen, `L`) until their
+    /// target is seen apart again or they are lost (the loss is told as any other). A
+    /// target whose CPA/TCPA alarm is raised is not among them (it is drawn with its
+    /// alarm) unless the target drawn nearest it alarms too.
     pub in_echo: Vec<TargetData>,
     /// Host wall time for the scan, link included.
     pub host_time: Duration,
@@ -316,6 +318,9 @@ pub struct Session {
     /// them when it applies it, so they take no plot (a plot given to one would start
     /// nothing and be lost with it).
     lost: std::collections::BTreeSet<u16>,
+    /// Firm tracks held as hidden in another's plot since their last plot of their own
+    /// ([`ScanReport::in_echo`]).
+    in_echo: std::collections::BTreeSet<u16>,
     /// How well the targets' motion is known, for the scan interval and the plots'
     /// accuracy ([`trend`]).
     trend: Option<TrendModel>,
@@ -346,6 +351,7 @@ impl Session {
             warned_slow: false,
             firm: Default::default(),
             lost: Default::default(),
+            in_echo: Default::default(),
             trend: None,
             intervals: Default::default(),
             tracks_held: 0,
@@ -483,6 +489,7 @@ impl Session {
             }
             self.firm.clear();
             self.lost.clear();
+            self.in_echo.clear();
             self.tracks_held = 0;
             // Told with the scan that is tracked next (this one, unless it is skipped).
             self.pending_silence = silence;
@@ -542,16 +549,52 @@ impl Session {
         // drawn: the radar shows one echo, drawn as the track that took it, and a second
         // symbol coasting beside it would show one ship twice (three times beside its AIS
         // target: docs/ais.md).
-        let hidden: Vec<u16> = association
-            .assignments
-            .iter()
-            .filter(|a| a.plot == Some(HIDDEN_PLOT))
-            .map(|a| a.track)
-            .collect();
+        // Held from the scan its target is first hidden until it takes a plot of its own
+        // or is lost: a scan on which the shared echo is not seen at all does not draw it
+        // again beside the echo's track.
+        for a in &association.assignments {
+            match a.plot {
+                Some(HIDDEN_PLOT) => {
+                    self.in_echo.insert(a.track);
+                }
+                Some(_) => {
+                    self.in_echo.remove(&a.track);
+                }
+                None => {}
+            }
+        }
+        self.in_echo
+            .retain(|id| tracks.iter().any(|t| t.track == *id && t.status.is_firm()));
         let in_echo;
         (in_echo, numbered.tracked) = std::mem::take(&mut numbered.tracked)
             .into_iter()
-            .partition(|t| hidden.contains(&t.track));
+            .partition(|t| self.in_echo.contains(&t.track));
+        // … but an alarm is not lost with it: one whose CPA/TCPA alarm is raised is drawn,
+        // alarm and all, unless the target drawn nearest it (on the echo it is hidden in)
+        // alarms too. Two ships in one cell can be on different courses.
+        let limits = &self.config.alarms;
+        let alarmed = |t: &TargetData| {
+            t.dangerous(limits)
+                && numbered
+                    .tracked
+                    .iter()
+                    .min_by(|a, b| {
+                        let d = |x: &TargetData| {
+                            (x.position_m[0] - t.position_m[0])
+                                .hypot(x.position_m[1] - t.position_m[1])
+                        };
+                        d(a).total_cmp(&d(b))
+                    })
+                    .is_none_or(|n| !n.dangerous(limits))
+        };
+        let (shown, in_echo): (Vec<TargetData>, Vec<TargetData>) =
+            in_echo.into_iter().partition(|t| alarmed(t));
+        if !shown.is_empty() {
+            numbered.tracked.extend(shown);
+            numbered
+                .tracked
+                .sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+        }
         let silence = self
             .pending_silence
             .take()
@@ -646,6 +689,7 @@ impl Session {
         let tracks = self.device.restart_host()?;
         self.firm = firm_tracks(&tracks);
         self.lost = lost_tracks(&tracks);
+        self.in_echo.retain(|id| self.firm.contains(id));
         self.tracks_held = held_tracks(&tracks);
         Ok(tracks)
     }
