@@ -377,29 +377,40 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     } else {
         ""
     };
-    let counts = |gap: &str, link: &str, tracked: &str, acquiring: &str, in_echo: &str| {
-        // Targets held hidden in others' echoes (not drawn), when there are any.
-        let held = if view.in_echo.is_empty() {
-            String::new()
-        } else {
-            format!("{gap}{in_echo} {}", view.in_echo.len())
+    let counts =
+        |gap: &str, link: &str, name: &str, tracked: &str, acquiring: &str, in_echo: &str| {
+            // Targets held hidden in others' echoes (not drawn), when there are any.
+            let held = if view.in_echo.is_empty() {
+                String::new()
+            } else {
+                format!("{gap}{in_echo} {}", view.in_echo.len())
+            };
+            let link = if name.is_empty() {
+                String::new()
+            } else {
+                format!("{gap}{link}{name}")
+            };
+            format!(
+                "scan {}{gap}{}{link}{gap}plots {}{gap}{tracked} {}{gap}{acquiring} {}{held}",
+                view.scan,
+                view.time_label(),
+                view.plots.len(),
+                view.tracked(),
+                view.acquiring(),
+            )
         };
-        format!(
-            "scan {}{gap}{}{gap}{link}{}{gap}plots {}{gap}{tracked} {}{gap}{acquiring} {}{held}",
-            view.scan,
-            view.time_label(),
-            state.link,
-            view.plots.len(),
-            view.tracked(),
-            view.acquiring(),
-        )
-    };
-    let mut first = counts(gap, link, tracked, acquiring, in_echo);
+    let mut first = counts(gap, link, &state.link, tracked, acquiring, in_echo);
     // A wide pane that still cannot hold the line (PAUSED in front of it at about 160
-    // columns) takes the short words, so that no count is cut off at its end.
+    // columns) takes the short words, so that no count is cut off at its end; and where
+    // even they are too long (targets held in echoes, at 80 columns), without the link. (A
+    // narrow pane's line wraps.)
     let inner = usize::from(area.width.saturating_sub(2));
-    if "ARPA ".len() + run_state.len() + first.chars().count() > inner {
-        first = counts(" ", "", "trk", "acq", "echo");
+    let fits = |line: &str| "ARPA ".len() + run_state.len() + line.chars().count() <= inner;
+    if !fits(&first) {
+        first = counts(" ", "", &state.link, "trk", "acq", "echo");
+    }
+    if !narrow && !fits(&first) {
+        first = counts(" ", "", "", "trk", "acq", "echo");
     }
     let text = vec![
         Line::from(vec![
@@ -1726,11 +1737,23 @@ pub(crate) mod tests {
 
     #[test]
     fn the_headers_counts_are_never_cut_off_paused_or_ended() {
-        let (mut state, view) = alarming(20);
-        let tail = format!("acq {}", view.acquiring());
-        let long_tail = format!("acquiring {}", view.acquiring());
+        let (mut state, quiet) = alarming(20);
+        // … and with targets held in others' echoes, whose count ends the line.
+        let mut held = quiet.clone();
+        held.in_echo = held.targets[..3].to_vec();
+        let views = [
+            (
+                quiet.clone(),
+                format!("acq {}", quiet.acquiring()),
+                format!("acquiring {}", quiet.acquiring()),
+            ),
+            (held, "echo 3".to_string(), "in echoes 3".to_string()),
+        ];
         // Every pane width from the narrow layout's limit to a wide terminal's.
-        for width in 80..=130u16 {
+        for ((view, tail, long_tail), width) in views
+            .iter()
+            .flat_map(|v| (80..=130u16).map(move |w| (v, w)))
+        {
             for (paused, ended) in [(false, false), (true, false), (false, true)] {
                 state.paused = paused;
                 // A live radar paused for 40 minutes.
@@ -1738,13 +1761,13 @@ pub(crate) mod tests {
                 state.ended = ended;
                 let mut terminal = Terminal::new(TestBackend::new(width, 5)).unwrap();
                 terminal
-                    .draw(|f| render_header(f, f.area(), &state, &view))
+                    .draw(|f| render_header(f, f.area(), &state, view))
                     .unwrap();
                 let buffer = terminal.backend().buffer();
                 let line: String = (0..width).map(|x| buffer[(x, 1)].symbol()).collect();
                 let line = line.trim_end_matches(['│', ' ']);
                 assert!(
-                    line.ends_with(&tail) || line.ends_with(&long_tail),
+                    line.ends_with(tail.as_str()) || line.ends_with(long_tail.as_str()),
                     "{width} columns, paused {paused}, ended {ended}: {line}"
                 );
             }

@@ -327,23 +327,12 @@ impl TargetsOut {
         }
         // A target hidden in another's echo is not drawn: the plotter is told once, as lost,
         // and gets it again under the same number when it is seen apart.
+        let own_m = report.own.position_m;
         for d in &report.in_echo {
             let Some(number) = d.number else { continue };
             if let Some((name, _)) = self.on_plotter.remove(&number) {
-                let t = PlotterTarget {
-                    number,
-                    name: name.as_deref(),
-                    status: 'L',
-                    data: *d,
-                };
-                self.push_target(
-                    &mut out,
-                    &t,
-                    time_s,
-                    report.own.position_m,
-                    position_unknown,
-                );
-                self.counts.lost_sent += 1;
+                let at = (time_s, own_m, position_unknown);
+                self.push_lost(&mut out, number, name.as_deref(), *d, at);
             }
         }
         if self.own_ship {
@@ -361,16 +350,31 @@ impl TargetsOut {
         };
         let mut out = Vec::new();
         for (number, (name, data)) in std::mem::take(&mut self.on_plotter) {
-            let t = PlotterTarget {
-                number,
-                name: name.as_deref(),
-                status: 'L',
-                data,
-            };
-            self.push_target(&mut out, &t, time_s, own_m, position_unknown);
-            self.counts.lost_sent += 1;
+            let at = (time_s, own_m, position_unknown);
+            self.push_lost(&mut out, number, name.as_deref(), data, at);
         }
         out
+    }
+
+    /// A target taken off the plotter (`L`), counted; `at` is the time, own ship's
+    /// position and whether that is unknown, as [`TargetsOut::push_target`] takes them.
+    fn push_lost(
+        &mut self,
+        out: &mut Vec<String>,
+        number: u8,
+        name: Option<&str>,
+        data: TargetData,
+        at: (f64, [f32; 2], bool),
+    ) {
+        let t = PlotterTarget {
+            number,
+            name,
+            status: 'L',
+            data,
+        };
+        let (time_s, own_m, position_unknown) = at;
+        self.push_target(out, &t, time_s, own_m, position_unknown);
+        self.counts.lost_sent += 1;
     }
 
     /// One target's `TTM`, and its `TLL` unless own ship's position is unknown.

@@ -315,7 +315,11 @@ impl AisPicture {
             t,
             "track hidden in another's echo",
         );
-        self.part_where_track(|track| !targets.contains_key(&track), t, "track lost");
+        self.part_where_track(
+            |track| !targets.contains_key(&track),
+            t,
+            "track lost or not shown",
+        );
         let gap = |a: [f32; 2], b: [f32; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
         let gates = self.gates;
         let by_mmsi: BTreeMap<u32, &crate::ais::AisTargetData> =
