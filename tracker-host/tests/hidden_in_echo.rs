@@ -33,6 +33,8 @@ enum Seen {
     Both,
     /// One echo for the two (A's).
     Merged,
+    /// One echo for the two, measured where B is.
+    MergedAtB,
     /// Nothing.
     Neither,
 }
@@ -61,6 +63,7 @@ impl Scans {
         let plots = match seen {
             Seen::Both => vec![plot(a), plot(b)],
             Seen::Merged => vec![plot(a)],
+            Seen::MergedAtB => vec![plot(b)],
             Seen::Neither => Vec::new(),
         };
         let radar = RadarScan {
@@ -95,9 +98,10 @@ fn a_ship_hidden_in_anothers_echo_is_held_undrawn_and_comes_back_under_its_numbe
     assert_eq!(r.in_echo.len(), 1);
     let b = r.in_echo[0].number.expect("held with its number");
     assert!(before.contains(&b) && !drawn_numbers(&r).contains(&b));
-    for seen in [Seen::Merged, Seen::Neither, Seen::Merged] {
+    // Not drawn while the shared echo is not seen either, nor when its plot goes to B's
+    // track: the echo keeps the one symbol it had (A's), not the two swapping.
+    for seen in [Seen::Merged, Seen::Neither, Seen::MergedAtB, Seen::Merged] {
         r = s.next(seen);
-        // Not drawn while the shared echo is not seen either.
         assert_eq!(
             r.in_echo
                 .iter()

@@ -362,9 +362,15 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     // In a narrow pane (an 80-column terminal's is 44) the words are cut, not the figures.
     let narrow = area.width < 80;
     let (gap, link, tracked, acquiring, in_echo) = if narrow {
-        (" ", "", "trk", "acq", "echo")
+        (" ", "", "trk", "acq", "held")
     } else {
-        ("  ", "link ", "targets tracked", "acquiring", "in echoes")
+        (
+            "  ",
+            "link ",
+            "targets tracked",
+            "acquiring",
+            "held in echoes",
+        )
     };
     // The run's state first, where a narrow terminal cannot cut it off.
     let run_state = if state.ended {
@@ -407,10 +413,10 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     let inner = usize::from(area.width.saturating_sub(2));
     let fits = |line: &str| "ARPA ".len() + run_state.len() + line.chars().count() <= inner;
     if !fits(&first) {
-        first = counts(" ", "", &state.link, "trk", "acq", "echo");
+        first = counts(" ", "", &state.link, "trk", "acq", "held");
     }
     if !narrow && !fits(&first) {
-        first = counts(" ", "", "", "trk", "acq", "echo");
+        first = counts(" ", "", "", "trk", "acq", "held");
     }
     let text = vec![
         Line::from(vec![
@@ -1747,7 +1753,7 @@ pub(crate) mod tests {
                 format!("acq {}", quiet.acquiring()),
                 format!("acquiring {}", quiet.acquiring()),
             ),
-            (held, "echo 3".to_string(), "in echoes 3".to_string()),
+            (held, "held 3".to_string(), "held in echoes 3".to_string()),
         ];
         // Every pane width from the narrow layout's limit to a wide terminal's.
         for ((view, tail, long_tail), width) in views

@@ -52,7 +52,7 @@ pub fn header(r: &ScanReport) -> String {
     );
     if !r.in_echo.is_empty() {
         // Held, not drawn: their targets are in other targets' echoes.
-        s += &format!("  hidden in echoes {}", r.in_echo.len());
+        s += &format!("  held in echoes {}", r.in_echo.len());
     }
     if !r.ais.is_empty() {
         s += &format!("  AIS {}", r.ais.len());

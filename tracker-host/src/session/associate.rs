@@ -86,6 +86,8 @@ pub struct Associated {
     /// Firm tracks coasted with their target hidden in a plot another firm track took
     /// ([`HIDDEN_PLOT`]; [`Association::TwoStageUnresolved`] only).
     pub hidden: usize,
+    /// Each such track, with the firm track that took the plot it is hidden in.
+    pub hidden_in: Vec<(u16, u16)>,
 }
 
 /// Mahalanobis distance² of `z` from `predicted` under `s = [sxx, sxy, syy]`; `None` when S
@@ -138,10 +140,10 @@ pub fn associate(
     // resolution cell give one plot), and the miss does not count towards its loss
     // ([`HIDDEN_PLOT`]): it coasts on at its own velocity to where its ship comes out,
     // instead of being dropped after six scans and the ship acquired anew.
-    let firm_took: BTreeSet<u16> = assigned
+    let firm_took: std::collections::BTreeMap<u16, u16> = assigned
         .iter()
         .filter(|(t, _)| firm(*t))
-        .filter_map(|(_, p)| *p)
+        .filter_map(|(t, p)| Some(((*p)?, *t)))
         .collect();
     let unresolved = mode == Association::TwoStageUnresolved;
     for (track, plot) in assigned.iter_mut().filter(|_| unresolved) {
@@ -157,12 +159,15 @@ pub fn associate(
                 .and_then(|z| mahalanobis2(*z, g.predicted_m, g.innovation_cov_m2))
                 .is_some_and(|d2| d2 <= threshold)
         };
-        if g.plots
+        if let Some(taker) = g
+            .plots
             .iter()
-            .any(|&p| firm_took.contains(&p) && in_gate(p))
+            .filter(|&&p| in_gate(p))
+            .find_map(|p| firm_took.get(p))
         {
             *plot = Some(HIDDEN_PLOT);
             out.hidden += 1;
+            out.hidden_in.push((*track, *taker));
         }
     }
     // Assignments in the order of the gates, as the device listed them.
@@ -407,6 +412,7 @@ mod tests {
         );
         assert_eq!(plot_of(&a), [Some(0), Some(HIDDEN_PLOT), None, None, None]);
         assert_eq!(a.hidden, 1);
+        assert_eq!(a.hidden_in, [(2, 1)]);
         let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, firm);
         assert_eq!(plot_of(&a), [Some(0), None, None, None, None]);
         assert_eq!(a.hidden, 0);
