@@ -133,7 +133,7 @@ pub struct ScanReport {
     /// What association did.
     pub association: Associated,
     /// Targets of firm tracks whose target was hidden in a plot another firm track took
-    /// ([`Association::TwoStageUnresolved`]) and has not had a plot of its own since, as
+    /// ([`Association::TwoStageUnresolved`]) and has not been seen apart from it since, as
     /// predicted: held by the tracker with their numbers, not among `targets` (not drawn,
     /// not paired with AIS; a plotter is told once that it is not seen, `L`) until their
     /// target is seen apart again or they are lost (the loss is told as any other). A
@@ -274,13 +274,6 @@ impl ScanReport {
     }
 }
 
-/// Scans in a row a held track and the track drawn on its echo must each take a plot to be
-/// seen apart ([`ScanReport::in_echo`]). Two ships at the edge of one resolution cell are
-/// seen apart on one scan and as one echo on the next, each change an `L` or a `T` to a
-/// plotter; 2 was tried (merging scenario, 16 targets, 5 minutes: 68 ends sent against 61
-/// at 1, and 458 target-scans held against 335).
-pub const SEEN_APART_SCANS: u8 = 1;
-
 /// The numbers of the confirmed and coasting tracks among `tracks`.
 fn firm_tracks(tracks: &[TrackState]) -> std::collections::BTreeSet<u16> {
     tracks
@@ -326,8 +319,8 @@ pub struct Session {
     /// nothing and be lost with it).
     lost: std::collections::BTreeSet<u16>,
     /// Firm tracks held as hidden in another's plot ([`ScanReport::in_echo`]), each with
-    /// the track drawn on that echo and the scans in a row the two have been seen apart.
-    in_echo: std::collections::BTreeMap<u16, (u16, u8)>,
+    /// the track drawn on that echo.
+    in_echo: std::collections::BTreeMap<u16, u16>,
     /// How well the targets' motion is known, for the scan interval and the plots'
     /// accuracy ([`trend`]).
     trend: Option<TrendModel>,
@@ -553,14 +546,12 @@ impl Session {
                 .scan(own, &tracks, &self.config.alarms, self.trend.as_ref());
         // A firm track whose target is hidden in a plot another firm track took (two ships
         // in one resolution cell, [`Association::TwoStageUnresolved`]) is kept but not
-        // drawn: the radar shows one echo, drawn as the track that took it, and a second
-        // symbol coasting beside it would show one ship twice (three times beside its AIS
-        // target: docs/ais.md).
-        // Held from the scan its target is first hidden until it and the track drawn on its
-        // echo are seen apart (each takes a plot) on [`SEEN_APART_SCANS`] scans in a row,
-        // or that track is gone. While they share
-        // the echo its one plot may go to either; the symbol stays the one drawn first,
-        // not the two swapping scan by scan (a user trial saw a target blink 17 times in 5
+        // drawn: the radar shows one echo, and a second symbol coasting beside it would
+        // show one ship twice (three times beside its AIS target: docs/ais.md). Held until
+        // it and the track drawn on its echo are seen apart (each takes a plot on one scan;
+        // two scans in a row was tried, docs/ais.md) or either is gone. While they share
+        // the echo its one plot may go to either; the symbol stays the one drawn first, not
+        // the two swapping scan by scan (a user trial saw a target blink 17 times in 5
         // minutes, each an `L` and a `T` to the plotter).
         let took: std::collections::BTreeSet<u16> = association
             .assignments
@@ -569,17 +560,14 @@ impl Session {
             .map(|a| a.track)
             .collect();
         for &(hidden, taker) in &association.hidden_in {
-            if self.in_echo.get(&taker).map(|h| h.0) != Some(hidden) {
-                self.in_echo.insert(hidden, (taker, 0));
+            if self.in_echo.get(&taker) != Some(&hidden) {
+                self.in_echo.insert(hidden, taker);
             }
         }
-        self.in_echo.retain(|held, (echo, apart)| {
-            *apart = if took.contains(held) && took.contains(echo) {
-                *apart + 1
-            } else {
-                0
-            };
-            self.firm.contains(held) && self.firm.contains(echo) && *apart < SEEN_APART_SCANS
+        self.in_echo.retain(|held, echo| {
+            self.firm.contains(held)
+                && self.firm.contains(echo)
+                && !(took.contains(held) && took.contains(echo))
         });
         let in_echo;
         (in_echo, numbered.tracked) = std::mem::take(&mut numbered.tracked)
@@ -706,7 +694,7 @@ impl Session {
         self.firm = firm_tracks(&tracks);
         self.lost = lost_tracks(&tracks);
         self.in_echo
-            .retain(|held, (echo, _)| self.firm.contains(held) && self.firm.contains(echo));
+            .retain(|held, echo| self.firm.contains(held) && self.firm.contains(echo));
         self.tracks_held = held_tracks(&tracks);
         Ok(tracks)
     }
