@@ -3,8 +3,10 @@
 //! instead of the IMO plot model. The plots: detection probability within 10 % of the plot
 //! model's 0.9, no more false plots a scan than its 10. The tracking: every target
 //! confirmed, no false track, no swap, as the plot-level demo; confirmation within 5 scans
-//! for at least 90 % of as many targets; RMS position and velocity errors no worse than
-//! 10 % above (measured: 14.8 m and 1.21 m/s against 21.2 m and 1.49 m/s).
+//! for at least 90 % of as many targets; RMS position and velocity errors and OSPA no worse
+//! than 10 % above (measured 2026-12-05: 15.5 m, 1.23 m/s and 29.1 m against 21.2 m,
+//! 1.48 m/s and 27.4 m; the OSPA was 35.3 m while the CFAR took the first cells' near side
+//! from the blanked samples, docs/radar.md).
 
 use tracker_core::filter::FilterKind;
 use tracker_core::sim::ScenarioKind;
@@ -40,4 +42,10 @@ fn spokes_to_tracks_tracks_like_the_plot_level_demo() {
     assert!(video.confirmed_within_5_scans * 10 >= plots.confirmed_within_5_scans * 9);
     assert!(video.rms_velocity_mps <= 1.1 * plots.rms_velocity_mps);
     assert!(video.rms_position_m <= 1.1 * plots.rms_position_m);
+    assert!(
+        video.ospa_mean_m <= 1.1 * plots.ospa_mean_m,
+        "OSPA {} against {}",
+        video.ospa_mean_m,
+        plots.ospa_mean_m
+    );
 }

@@ -64,13 +64,20 @@
 //! - Sea clutter and near range: the CFAR adapts to the clutter's local level, and GO keeps
 //!   it on the high side of the clutter's steep fall with range; the first samples are
 //!   blanked ([`super::config::ExtractorConfig::min_range_m`]: the main bang and own ship
-//!   saturate them) and are never tested, but the nearest of them serve as the near
-//!   reference cells of the first cells tested. Without them those cells would have the far
-//!   side only, which on clutter falling with range sits below the cell under test and
-//!   calls it a target: on the synthetic radar at 12 NM (21.7 m samples, blanking to
-//!   0.2 NM) that edge gave 10 of the 12 false plots a rotation. With them, the strong
-//!   clutter just inside the blanking raises the first cells' threshold, as a radar's
-//!   sensitivity time control does. An absolute floor
+//!   saturate them) and are never tested. The first g cells tested have no tested cell on
+//!   their near side: the n blanked samples nearest them serve as it. Without them those
+//!   cells would have the far side only, which on clutter falling with range sits below the
+//!   cell under test and calls it a target: on the synthetic radar at 12 NM (21.7 m
+//!   samples, blanking to 0.2 NM) that edge gave 10 of the 12 false plots a rotation. From
+//!   the next cell on, the near side holds only tested cells, a ≥ 1 of them until there are
+//!   n: the sum of their ⌈a·k/n⌉ smallest ([`partial_rank`]), scaled to a full side's
+//!   mean, against the far side's, greater-of, with a factor T(a) solved for the design
+//!   P_fa by the same recursion over two unequal chains ([`greatest_of_unequal_pfa`]).
+//!   Until 2026-12-05 the blanked samples served the first n + g cells: on the synthetic
+//!   radar at 12 NM they hold the main bang and clutter saturating the 4 bits, and a target
+//!   at 400–600 m was found on 3 % of its scans (23 % now: there the clutter's own σ of 4–5
+//!   levels leaves an echo saturated at 15 little above its threshold; 600–800 m 53 → 58 %).
+//!   An absolute floor
 //!   ([`CfarConfig::min_level`]) keeps quiet stretches (a radar's own noise rejection leaves
 //!   zeros) from detecting every ripple. Real sea clutter is spikier than Rayleigh
 //!   (K-distributed) and would raise P_fa near own ship; a range-dependent floor for it is
@@ -221,6 +228,66 @@ pub fn greatest_of_pfa(reference: u32, rank: u32, factor: f64) -> f64 {
             let right = row.get(j as usize).copied().unwrap_or(0.0);
             if let Some(cell) = row.get_mut(j as usize - 1) {
                 *cell = (ri * below + rj * right) / (ri + rj + factor);
+            }
+        }
+    }
+    row.first().copied().unwrap_or(0.0)
+}
+
+/// The rank used on a near side cut to `cells` of the `reference` cells by the blanking
+/// (or the spoke's start): the same fraction k/n of them, rounded up, at least one.
+pub fn partial_rank(cells: u16, reference: u16, rank: u16) -> u16 {
+    let scaled = (u32::from(cells) * u32::from(rank)).div_ceil(u32::from(reference.max(1)));
+    (scaled as u16).clamp(1, cells.max(1))
+}
+
+/// A side's trimmed sum's mean over the noise's mean power, Σⱼ cⱼ (`reference` cells,
+/// `rank` smallest summed).
+pub fn trimmed_mean(reference: u32, rank: u32) -> f64 {
+    let k = rank.min(reference);
+    (1..=k).map(|j| 1.0 / phase_rate(reference, k, j)).sum()
+}
+
+/// The greatest-of false-alarm probability for two sides of unequal windows,
+/// `(n, k, scale)` each (the side's trimmed sum times `scale` is compared): the module's
+/// recursion over the two chains' joint phases, φ(i, j) with i of the first chain's k₁
+/// phases run and j of the second's, O(k₁·k₂). With equal sides and scales of 1 it is
+/// [`greatest_of_pfa`].
+pub fn greatest_of_unequal_pfa(
+    first: (u32, u32, f64),
+    second: (u32, u32, f64),
+    factor: f64,
+) -> f64 {
+    let cap = u32::from(MAX_REFERENCE_CELLS);
+    let (n1, k1, s1) = (first.0.min(cap), first.1.min(first.0).min(cap), first.2);
+    let (n2, k2, s2) = (second.0.min(cap), second.1.min(second.0).min(cap), second.2);
+    // A phase of rate r scaled by s runs at r / s.
+    let phase_rate = |n, k, j, s: f64| phase_rate(n, k, j) / s;
+    // row[j] = φ(i, j) for the current i, from i = k₁ (the first chain absorbed) down to 0.
+    let mut row = [0.0f64; MAX_REFERENCE_CELLS as usize + 1];
+    let k2u = k2 as usize;
+    if let Some(last) = row.get_mut(k2u) {
+        *last = 1.0;
+    }
+    for j in (0..k2).rev() {
+        let r = phase_rate(n2, k2, j + 1, s2);
+        let next = row.get(j as usize + 1).copied().unwrap_or(0.0);
+        if let Some(cell) = row.get_mut(j as usize) {
+            *cell = r * next / (r + factor);
+        }
+    }
+    for i in (0..k1).rev() {
+        let ri = phase_rate(n1, k1, i + 1, s1);
+        // φ(i, k₂): the second chain absorbed, the first runs alone.
+        if let Some(cell) = row.get_mut(k2u) {
+            *cell *= ri / (ri + factor);
+        }
+        // Leftwards: row[j] still holds φ(i + 1, j), row[j + 1] already φ(i, j + 1).
+        for j in (0..k2).rev() {
+            let rj = phase_rate(n2, k2, j + 1, s2);
+            let right = row.get(j as usize + 1).copied().unwrap_or(0.0);
+            if let Some(cell) = row.get_mut(j as usize) {
+                *cell = (ri * *cell + rj * right) / (ri + rj + factor);
             }
         }
     }
@@ -385,6 +452,10 @@ pub struct Cfar {
     config: CfarConfig,
     both_sides: f32,
     one_side: f32,
+    /// `partial[a]`: for a near side of `a` cells (1 ≤ a < n, with its own rank,
+    /// [`partial_rank`]) against a full far side, T and the scale that puts the near sum on
+    /// the far sum's mean; 0 unused.
+    partial: [(f32, f32); MAX_REFERENCE_CELLS as usize],
     near: RankWindow,
     far: RankWindow,
 }
@@ -396,10 +467,23 @@ impl Cfar {
     /// As [`CfarConfig::validate`].
     pub fn new(config: &CfarConfig) -> Result<Self, ConfigError> {
         let t = config.thresholds()?;
+        let (n, k) = (config.reference_cells, config.rank);
+        let target = f64::from(config.pfa);
+        let mut partial = [(f32::INFINITY, 1.0); MAX_REFERENCE_CELLS as usize];
+        let far = (u32::from(n), u32::from(k), 1.0);
+        for (a, entry) in partial.iter_mut().enumerate().take(usize::from(n)).skip(1) {
+            let a = a as u16;
+            let (a, rank) = (u32::from(a), u32::from(partial_rank(a, n, k)));
+            let scale = trimmed_mean(far.0, far.1) / trimmed_mean(a, rank);
+            let near = (a, rank, scale);
+            let factor = solve(|t| greatest_of_unequal_pfa(near, far, t), target)?;
+            *entry = (factor as f32, scale as f32);
+        }
         Ok(Cfar {
             config: *config,
             both_sides: t.both_sides as f32,
             one_side: t.one_side as f32,
+            partial,
             near: RankWindow::new(),
             far: RankWindow::new(),
         })
@@ -412,6 +496,7 @@ impl Cfar {
             config,
             both_sides: f32::INFINITY,
             one_side: f32::INFINITY,
+            partial: [(f32::INFINITY, 1.0); MAX_REFERENCE_CELLS as usize],
             near: RankWindow::new(),
             far: RankWindow::new(),
         }
@@ -431,6 +516,19 @@ impl Cfar {
             (None, None) => return false,
         };
         // The sums are exact in f32 (below 2²⁴ for n ≤ 64).
+        x >= self.config.min_level && power(x) as f32 > noise
+    }
+
+    /// Whether a sample `x` is a detection with a near side of only `cells` (1 ≤ cells < n)
+    /// tested cells, the sum of their [`partial_rank`] smallest powers `near`, and a far
+    /// side `far` as in [`Cfar::detects`] (`None`: not tested).
+    pub fn detects_beside_blanking(&self, x: u8, cells: u16, near: u32, far: Option<u32>) -> bool {
+        let (Some((factor, scale)), Some(far)) =
+            (self.partial.get(usize::from(cells)).copied(), far)
+        else {
+            return false;
+        };
+        let noise = factor * (near as f32 * scale).max(far as f32);
         x >= self.config.min_level && power(x) as f32 > noise
     }
 
@@ -467,7 +565,15 @@ impl Cfar {
         let mut detected = 0u32;
         for (i, &x) in xs.iter().enumerate().skip(tested) {
             let to_near_b = i.saturating_sub(g);
-            let to_near_a = to_near_b.saturating_sub(n);
+            // Once the near side has tested cells, it holds only those (fewer than n at
+            // first, each count with its own factor): the blanked samples stand in only
+            // while it has none. They hold the main bang and the strongest clutter, and a
+            // side of them would blind the first n cells tested (the module's "near range").
+            let to_near_a = if to_near_b > tested {
+                to_near_b.saturating_sub(n).max(tested)
+            } else {
+                to_near_b.saturating_sub(n)
+            };
             let to_far_a = (i + g + 1).min(len);
             let to_far_b = (i + g + 1 + n).min(len);
             move_upper(&mut self.near, xs, &mut near_b, to_near_b);
@@ -477,10 +583,22 @@ impl Cfar {
             // A cell below the floor is never detected: its windows need not settle (they
             // settle later, over as many steps as it takes; on noise most cells are below it).
             let testable = x >= self.config.min_level;
-            let near =
-                (testable && near_b.saturating_sub(near_a) == n).then(|| self.near.settle(k));
+            let near_cells = near_b.saturating_sub(near_a);
             let far = (testable && far_b.saturating_sub(far_a) == n).then(|| self.far.settle(k));
-            if !testable || !self.detects(x, near, far) {
+            let hit = if !testable {
+                false
+            } else if near_cells == n {
+                let near = self.near.settle(k);
+                self.detects(x, Some(near), far)
+            } else if near_cells > 0 && near_b > tested {
+                let cells = near_cells as u16;
+                let rank = partial_rank(cells, self.config.reference_cells, k);
+                let sum = self.near.settle(rank);
+                self.detects_beside_blanking(x, cells, sum, far)
+            } else {
+                self.detects(x, None, far)
+            };
+            if !hit {
                 if let Some(done) = run.take() {
                     on_run(done);
                 }
@@ -589,6 +707,29 @@ mod tests {
             go -= 2.0 * binomial * (2.0 + t).powi(-(n + i as i32));
         }
         assert!((greatest_of_pfa(4, 4, t) - go).abs() < 1e-14, "{go}");
+        // The unequal recursion: with equal sides it is the equal one; with a side of one
+        // cell (k = 1, its sample's power scaled by s) against cell averaging over m
+        // (k = m), by conditioning on the single exponential E (P(s·T·E < x) and the
+        // m-sum's Gamma law): P_fa = ∫ e^−e [P(T·max(sE, G) < X)] de, worked here by sums.
+        for (n, k) in [(12, 9), (8, 6), (5, 4)] {
+            for t in [0.3, 1.4303, 4.0] {
+                let a = greatest_of_unequal_pfa((n, k, 1.0), (n, k, 1.0), t);
+                assert!((a - greatest_of_pfa(n, k, t)).abs() < 1e-15, "{n} {k} {t}");
+            }
+        }
+        // One cell of scale s against one cell of scale 1: max(sA, B) with A, B unit
+        // exponentials; P(X > T·max) = E[e^(−T·max)] = 1/(1+sT) + 1/(1+T) − 1/(1+T+sT)·…
+        // computed directly: E[e^(−T max(sA,B))] = ∫∫ e^(−a−b−T max(sa,b)).
+        let (s, t) = (2.5f64, 0.8f64);
+        // Split on which is larger: sa > b ⇔ b < sa.
+        // ∫₀^∞ e^(−a−Tsa) (1 − e^(−sa)) da + ∫₀^∞ e^(−b−Tb) (1 − e^(−b/s)) db
+        let exact = (1.0 / (1.0 + t * s) - 1.0 / (1.0 + t * s + s))
+            + (1.0 / (1.0 + t) - 1.0 / (1.0 + t + 1.0 / s));
+        let got = greatest_of_unequal_pfa((1, 1, s), (1, 1, 1.0), t);
+        assert!((got - exact).abs() < 1e-14, "{got} {exact}");
+        // Partial ranks keep the fraction k/n, rounded up.
+        let ranks: std::vec::Vec<u16> = (1..=12).map(|a| partial_rank(a, 12, 9)).collect();
+        assert_eq!(ranks, [1, 2, 3, 3, 4, 5, 6, 6, 7, 8, 9, 9]);
     }
 
     #[test]
@@ -627,19 +768,32 @@ mod tests {
                 assert_eq!(fast, [], "trial {trial}: too short to test");
                 continue;
             }
-            // Tested from `first` on; the near side reaches into the blanked samples.
+            // Tested from `first` on; the near side holds the tested cells before the
+            // guard once there are any (fewer than n: their own rank and factor), else
+            // reaches into the blanked samples.
             for j in first..xs.len() {
-                let near = if j >= g + n {
-                    trimmed(&xs[j - g - n..j - g])
-                } else {
-                    None
-                };
                 let far = if j + g + n < xs.len() {
                     trimmed(&xs[j + g + 1..j + g + 1 + n])
                 } else {
                     None
                 };
-                if cfar.detects(xs[j], near, far) {
+                let near_b = j.saturating_sub(g);
+                let hit = if j >= g && near_b > first && near_b - first < n {
+                    let cells = &xs[first..near_b];
+                    let rank = partial_rank(cells.len() as u16, n as u16, k as u16);
+                    let mut v = cells.to_vec();
+                    v.sort_unstable();
+                    let sum = v[..usize::from(rank)].iter().map(|&x| power(x)).sum();
+                    cfar.detects_beside_blanking(xs[j], cells.len() as u16, sum, far)
+                } else {
+                    let near = if j >= g + n {
+                        trimmed(&xs[j - g - n..j - g])
+                    } else {
+                        None
+                    };
+                    cfar.detects(xs[j], near, far)
+                };
+                if hit {
                     slow.push(j);
                 }
             }
@@ -671,6 +825,67 @@ mod tests {
         let pfa = alarms as f64 / cells as f64;
         eprintln!("8-bit Rayleigh noise σ 30: P_fa {pfa:.3e} over {cells} cells");
         assert!((pfa - 1e-3).abs() < 1e-4, "P_fa {pfa:.3e}");
+    }
+
+    #[test]
+    fn the_first_cells_past_the_blanking_hold_the_design_false_alarm_rate() {
+        // Homogeneous noise (σ 30, 8 bits) blanked to cell 40: the cells whose near side
+        // holds 1–11 tested cells (their own rank and factor) false-alarm at the design
+        // rate. 100,000 spokes × 11 such cells: about 1,100 expected, a standard error of 3 %.
+        let c = config(1e-3, 0);
+        let mut cfar = Cfar::new(&c).unwrap();
+        let mut rng = Pcg32::seed_from_u64(5);
+        let (first, g, n) = (40usize, 3usize, 12usize);
+        let partial = (first + g + 1)..(first + g + n);
+        let mut spoke = [0u8; 81];
+        let mut alarms = 0u64;
+        for _ in 0..100_000 {
+            for s in spoke.iter_mut() {
+                *s = rayleigh(&mut rng, 30.0, 255);
+            }
+            cfar.detect(&spoke, first, |r| {
+                let cells = usize::from(r.start)..usize::from(r.end);
+                alarms += cells.filter(|i| partial.contains(i)).count() as u64;
+            });
+        }
+        let pfa = alarms as f64 / (100_000.0 * partial.len() as f64);
+        eprintln!("near side cut by the blanking: P_fa {pfa:.3e}");
+        assert!((pfa - 1e-3).abs() < 1e-4, "P_fa {pfa:.3e}");
+    }
+
+    #[test]
+    fn a_target_just_past_the_blanking_is_found_in_the_clutter_falling_with_range() {
+        // Sea clutter falling as r^−1.5 (σ 60 levels at cell 10, 8 bits, saturating nearer),
+        // blanked to cell 20; a target 6 cells past the blanking (3 tested cells on its near
+        // side) of 6 times the clutter's σ there. With the blanked samples as its near
+        // side (before 2026-12-05) it was found on 12 % of spokes (67 % now); the false alarms
+        // in the cells past the blanking stay under the design rate (the near side, nearer
+        // own ship, holds the stronger clutter: greatest-of takes it).
+        let c = config(1e-3, 0);
+        let mut cfar = Cfar::new(&c).unwrap();
+        let mut rng = Pcg32::seed_from_u64(9);
+        let sigma = |i: usize| 60.0 * libm::powf(10.0 / (i as f32 + 0.5), 1.5);
+        let (first, target) = (20usize, 26usize);
+        let mut spoke = [0u8; 120];
+        let (mut found, mut alarms, spokes) = (0u32, 0u64, 20_000u32);
+        for _ in 0..spokes {
+            for (i, s) in spoke.iter_mut().enumerate() {
+                *s = rayleigh(&mut rng, sigma(i), 255);
+            }
+            let clean = spoke;
+            spoke[target] = (6.0 * sigma(target)) as u8;
+            cfar.detect(&spoke, first, |r| {
+                found += u32::from((r.start..r.end).contains(&(target as u16)));
+            });
+            cfar.detect(&clean, first, |r| {
+                alarms += (r.start.min(50)..r.end.min(50)).count() as u64;
+            });
+        }
+        let pd = f64::from(found) / f64::from(spokes);
+        let pfa = alarms as f64 / (f64::from(spokes) * 30.0);
+        eprintln!("target past the blanking: P_d {pd:.3}; clutter edge P_fa {pfa:.2e}");
+        assert!(pd > 0.5, "P_d {pd:.3}");
+        assert!(pfa < 1e-3, "P_fa {pfa:.2e}");
     }
 
     #[test]
@@ -708,9 +923,13 @@ mod tests {
         spoke[..10].fill(15);
         let mut runs = 0;
         assert_eq!(cfar.detect(&spoke, 10, |_| runs += 1), Some(0));
-        // Unblanked, the bang is a detection: all but its first 3 cells, whose only full
-        // side holds 6 more of it (more than the 3 the trimming ignores).
-        assert_eq!(cfar.detect(&spoke, 0, |_| runs += 1), Some(7));
+        // Unblanked, the bang is one detection: its cell 3, whose only side (the far)
+        // holds 3 more of it, which the trimming ignores. Cells 0–2 hold more in their far
+        // side, and from cell 4 on the near side is the bang's own first cells.
+        let mut at = std::vec::Vec::new();
+        assert_eq!(cfar.detect(&spoke, 0, |r| at.push(r.start)), Some(1));
+        assert_eq!(at, [3]);
+        runs += at.len();
         assert_eq!(runs, 1);
         // Below the floor nothing is detected whatever the estimate.
         spoke.fill(0);
