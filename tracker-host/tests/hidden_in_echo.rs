@@ -162,3 +162,43 @@ fn a_hidden_target_whose_alarm_is_raised_is_drawn_unless_the_echo_it_is_in_alarm
         );
     }
 }
+
+/// The tracks recording marks a held track (`held` 1), and no other.
+#[test]
+fn the_tracks_recording_marks_the_held_track() {
+    use tracker_host::record::TracksRecorder;
+    use tracker_host::sink::ScanSink;
+    use tracker_host::source::SourceScan;
+
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("tracks.csv");
+    let mut recorder = TracksRecorder::create(&path).unwrap();
+    let mut s = Scans::new(parallel);
+    let mut held_rows = 0;
+    let seen = std::iter::repeat_n(Seen::Both, 31)
+        .chain(std::iter::repeat_n(Seen::Merged, 4))
+        .chain(std::iter::once(Seen::Both));
+    for seen in seen {
+        let r = s.next(seen);
+        let source = SourceScan {
+            radar: RadarScan {
+                scan: r.scan,
+                time_s: r.time_s,
+                plots: Vec::new(),
+            },
+            own_ship: None,
+            truth: None,
+            echoes: None,
+            heading_sensor_rad: None,
+        };
+        recorder.scan(&source, &r).unwrap();
+        held_rows += r.in_echo.len();
+    }
+    recorder.finish().unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let mut lines = text.lines();
+    assert!(lines.next().unwrap().ends_with(",held"));
+    let marked = lines.filter(|l| l.ends_with(",1")).count();
+    assert_eq!(held_rows, 4, "held on the four merged scans");
+    assert_eq!(marked, held_rows, "{text}");
+}

@@ -66,7 +66,7 @@
 //! ## Capacity and cost
 //!
 //! At most `BLOBS` blobs and as many echoes are open at once and `RUNS` runs of each are
-//! kept per spoke (const parameters; 64 and 128 by default, 18.3 KiB with the detector and
+//! kept per spoke (const parameters; 64 and 128 by default, 18.8 KiB with the detector and
 //! the echo threshold). A run that would start a blob when all are open is dropped and
 //! counted ([`ExtractorStats::blobs_dropped`]); a run beyond `RUNS` on one spoke likewise
 //! ([`ExtractorStats::runs_dropped`]); the same for echoes
@@ -634,7 +634,7 @@ impl<const BLOBS: usize, const RUNS: usize> Extractor<BLOBS, RUNS> {
 
     /// An extractor that extracts nothing until [`Extractor::configure`]d, built at
     /// compile time: a `static` of it is placed in RAM at reset and never passes through a
-    /// board's stack (which may be smaller than the extractor's 18.3 KiB).
+    /// board's stack (which may be smaller than the extractor's 18.8 KiB).
     pub const fn unconfigured() -> Self {
         const {
             assert!(BLOBS > 0 && BLOBS < NO_BLOB as usize && RUNS > 0);

@@ -171,10 +171,13 @@ impl ScanSink for TruthRecorder {
 }
 
 /// Columns of a tracks recording.
-pub const TRACKS_HEADER: &str = "scan,t_s,track,status,east_m,north_m,vx_mps,vy_mps";
+pub const TRACKS_HEADER: &str = "scan,t_s,track,status,east_m,north_m,vx_mps,vy_mps,held";
 
-/// Writes every track every scan: `scan,t_s,track,status,east_m,north_m,vx_mps,vy_mps`,
-/// status as the device reports it (`tentative`, `confirmed`, `coasting`, `lost`).
+/// Writes every track every scan:
+/// `scan,t_s,track,status,east_m,north_m,vx_mps,vy_mps,held`, status as the device reports
+/// it (`tentative`, `confirmed`, `coasting`, `lost`); `held` 1 for a firm track held as
+/// hidden in another's echo and not drawn ([`ScanReport::in_echo`]; a held track whose
+/// CPA/TCPA alarm draws it is 0), else 0.
 pub struct TracksRecorder(CsvOut);
 
 impl TracksRecorder {
@@ -200,8 +203,9 @@ pub fn status_word(s: TrackStatus) -> &'static str {
 impl ScanSink for TracksRecorder {
     fn scan(&mut self, _: &SourceScan, r: &ScanReport) -> anyhow::Result<()> {
         for t in &r.tracks {
+            let held = r.in_echo.iter().any(|h| h.track == t.track);
             self.0.line(&format!(
-                "{},{},{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{},{},{}",
                 r.scan,
                 r.time_s,
                 t.track,
@@ -209,7 +213,8 @@ impl ScanSink for TracksRecorder {
                 t.position_m[0],
                 t.position_m[1],
                 t.velocity_mps[0],
-                t.velocity_mps[1]
+                t.velocity_mps[1],
+                u8::from(held)
             ))?;
         }
         Ok(())
