@@ -702,7 +702,7 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             course,
             motion(t.speed_mps / MPS_PER_KNOT, 1),
             motion(t.cpa_m / METRES_PER_NM, 2),
-            motion(t.tcpa_s / 60.0, 1),
+            motion(crate::session::target::tcpa_minutes(t.tcpa_s), 1),
             ais_column(view, t.track),
         ])
         .style(style)
@@ -719,11 +719,20 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             .map(|w| Constraint::Length(*w))
             .collect()
     };
-    let table = Table::new(rows, widths).header(header).block(
-        Block::default()
-            .borders(Borders::ALL)
-            .title(" targets, nearest first "),
-    );
+    // Rows that fit under the borders and the header: when fewer than the targets, the
+    // title says so (the nearest are the ones shown).
+    let room = usize::from(area.height.saturating_sub(3));
+    let title = if view.targets.len() > room {
+        format!(
+            " targets, nearest first: {room} of {} shown ",
+            view.targets.len()
+        )
+    } else {
+        " targets, nearest first ".to_string()
+    };
+    let table = Table::new(rows, widths)
+        .header(header)
+        .block(Block::default().borders(Borders::ALL).title(title));
     frame.render_widget(table, area);
 }
 
@@ -838,7 +847,7 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
                     "{head} {of}{} {cpa}{:.2} NM {within}{:.1} min",
                     t.label(),
                     t.cpa_m / METRES_PER_NM,
-                    t.tcpa_s / 60.0
+                    crate::session::target::tcpa_minutes(t.tcpa_s)
                 ),
             )
         })
@@ -855,7 +864,7 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
                     a.label.clone()
                 },
                 c.cpa_m / METRES_PER_NM,
-                c.tcpa_s / 60.0
+                crate::session::target::tcpa_minutes(c.tcpa_s)
             ),
         ))
     }));
@@ -1442,6 +1451,18 @@ pub(crate) mod tests {
             text.contains(&format!("acq {}", view.acquiring())),
             "{text}"
         );
+        // A table too short for every target says how many it shows.
+        let listed = view
+            .targets
+            .iter()
+            .filter(|t| rows.iter().any(|r| r.contains(&format!("│{} ", t.label()))))
+            .count();
+        let n = view.targets.len();
+        if listed < n {
+            assert!(text.contains(&format!("{listed} of {n} shown")), "{text}");
+        } else {
+            assert!(!text.contains(" shown "), "{text}");
+        }
     }
 
     #[test]

@@ -88,7 +88,7 @@ impl Plain {
                 "  AIS {} CPA {:.2} NM in {:.1} min  ALARM CPA/TCPA\n",
                 a.label,
                 c.cpa_m / tracker_core::geo::METRES_PER_NM,
-                c.tcpa_s / 60.0
+                crate::session::target::tcpa_minutes(c.tcpa_s)
             );
         }
         s

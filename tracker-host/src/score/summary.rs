@@ -117,7 +117,7 @@ impl Summary {
         );
         if let Some(p) = &self.pairing {
             s += &format!(
-                "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.0} s, 95 % {}, max {:.0} s; radar targets shown as AIS targets while pairing: {} scans right, {} wrong ({} ship-scans hidden), {} on tracks of no ship; {} ships associated (paired or shown as their AIS target), mean {:.0} s, 95 % {}; ships shown twice: {} ship-scans ({} after {} scans); ships without AIS shown only as the echo they share: {} ship-scans",
+                "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.1} s, 95 % {}, max {:.1} s; radar targets shown as AIS targets while pairing: {} scans right, {} wrong ({} ship-scans hidden), {} on tracks of no ship; {} ships associated (paired or shown as their AIS target), mean {:.1} s, 95 % {}; ships shown twice: {} ship-scans ({} after {} scans); ships without AIS shown only as the echo they share: {} ship-scans",
                 p.pairs_correct,
                 p.pairs_wrong,
                 p.pairs_unverified,
@@ -127,7 +127,7 @@ impl Summary {
                 super::pairing::PAIRING_ALLOWANCE_SCANS,
                 p.time_to_pair_mean_s,
                 p.time_to_pair_p95_s
-                    .map_or("never paired".to_string(), |t| format!("within {t:.0} s")),
+                    .map_or("never paired".to_string(), |t| format!("within {t:.1} s")),
                 p.time_to_pair_max_s,
                 p.merged_correct,
                 p.merged_wrong,
@@ -136,7 +136,7 @@ impl Summary {
                 p.ships_associated,
                 p.time_to_associate_mean_s,
                 p.time_to_associate_p95_s
-                    .map_or("never associated".to_string(), |t| format!("within {t:.0} s")),
+                    .map_or("never associated".to_string(), |t| format!("within {t:.1} s")),
                 p.ships_unpaired,
                 p.ships_unpaired_late,
                 super::pairing::PAIRING_ALLOWANCE_SCANS,

@@ -148,6 +148,17 @@ pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
     table_with_ais(targets, limits, None)
 }
 
+/// A TCPA in minutes as the tables print it, to a tenth: one just past (−0.04 min) reads
+/// 0.0, not −0.0.
+pub fn tcpa_minutes(tcpa_s: f32) -> f32 {
+    let m = tcpa_s / 60.0;
+    if m > -0.05 && m < 0.05 {
+        0.0
+    } else {
+        m
+    }
+}
+
 /// [`table`] with an AIS column (when `ais` is given): what `ais` says of each track
 /// number, the paired AIS target's name for instance, at most 20 characters.
 pub fn table_with_ais(
@@ -185,7 +196,7 @@ pub fn table_with_ais(
             known(truth, 7, deg(t.course_rad), 1),
             known(truth, 8, t.speed_mps / MPS_PER_KNOT, 1),
             known(trend, 7, t.cpa_m / METRES_PER_NM, 2),
-            known(trend, 9, t.tcpa_s / 60.0, 1),
+            known(trend, 9, tcpa_minutes(t.tcpa_s), 1),
             known(trend, 8, deg(t.rel_course_rad), 1),
             known(trend, 8, t.rel_speed_mps / MPS_PER_KNOT, 1),
             t.age_scans,
@@ -263,6 +274,9 @@ mod tests {
         assert_eq!(shown_status(&t), "tracked");
         t.status = TrackStatus::Coasting;
         assert_eq!(shown_status(&t), "coasting");
+        assert_eq!(format!("{:.1}", tcpa_minutes(-2.0)), "0.0");
+        assert_eq!(format!("{:.1}", tcpa_minutes(-4.0)), "-0.1");
+        assert_eq!(format!("{:.1}", tcpa_minutes(90.0)), "1.5");
     }
 
     #[test]
