@@ -3,7 +3,7 @@
 
 use std::io::Write;
 
-use crate::session::target::{table_with_ais, AlarmLimits};
+use crate::session::target::{table_with_ais, AlarmLimits, TargetData};
 use crate::session::ScanReport;
 use crate::sink::ScanSink;
 use crate::source::SourceScan;
@@ -73,11 +73,15 @@ impl Plain {
     /// The target table; with AIS heard, its AIS column and the CPA/TCPA alarms of the AIS
     /// targets no radar target is paired with (as on the radar display).
     fn table(&self, r: &ScanReport) -> String {
+        // The targets and those being acquired (tentative tracks with a second plot, no
+        // number yet: `--`), nearest first: every one the header counts.
+        let mut rows: Vec<TargetData> = r.targets.iter().chain(&r.acquiring).cloned().collect();
+        rows.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
         if r.ais.is_empty() {
-            return table_with_ais(&r.targets, &self.limits, None);
+            return table_with_ais(&rows, &self.limits, None);
         }
         let column = |track: u16| crate::display::ais_column(r, track);
-        let mut s = table_with_ais(&r.targets, &self.limits, Some(&column));
+        let mut s = table_with_ais(&rows, &self.limits, Some(&column));
         // The soonest closest approach first, as on the radar display.
         let mut alarms: Vec<_> = crate::display::ais_alarms(r, &self.limits)
             .filter_map(|a| Some((a, a.cpa?)))
@@ -119,5 +123,27 @@ impl ScanSink for Plain {
             self.closed = true;
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::display::tests::{demo, step};
+
+    /// Every target the header counts (tracked, and acquiring with or without a number) is a
+    /// row of the table.
+    #[test]
+    fn the_table_lists_every_target_the_header_counts() {
+        let mut d = demo();
+        let plain = Plain::new(PlainMode::Table, AlarmLimits::default());
+        let mut tentative_listed = 0;
+        for _ in 0..12 {
+            let r = step(&mut d);
+            let rows = plain.table(&r).lines().count() - 1;
+            assert_eq!(rows, r.tracked() + r.acquiring(), "scan {}", r.scan);
+            tentative_listed += r.acquiring.len();
+        }
+        assert!(tentative_listed > 0, "the demo's first scans acquire");
     }
 }
