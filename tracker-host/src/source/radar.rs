@@ -82,8 +82,12 @@ impl RadarOptions {
 /// What the radar source has counted, for the summary.
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct RadarCounts {
-    /// Scans handed to the tracker (rotations, the first and last partial ones included).
+    /// Scans handed to the tracker (rotations, the first partial one included; a capture's
+    /// last, cut short by its end, only when it is the only one).
     pub scans: u64,
+    /// Plots of a capture's last rotation, cut short where the capture ends: not tracked
+    /// (the targets in the sector it did not sweep would each count a miss).
+    pub last_rotation_cut_plots: u64,
     /// Plots handed to the tracker.
     pub plots: u64,
     /// Point plots with a relative bearing only (no heading): not tracked.
@@ -166,6 +170,13 @@ impl std::fmt::Display for RadarCounts {
                 f,
                 "; own ship's yaw from the picture {:+.1}° ({} rotations measured, {} with too few plots)",
                 self.yaw_deg, self.yaw_measured, self.yaw_unmatched
+            )?;
+        }
+        if self.last_rotation_cut_plots > 0 {
+            write!(
+                f,
+                "; the capture's last rotation, cut short by its end, not tracked ({} plots)",
+                self.last_rotation_cut_plots
             )?;
         }
         if let Some(p) = &self.plot_scores {
@@ -732,7 +743,10 @@ impl PlotSource for RadarPlotSource {
             Some(t) => Ok(Some(self.close_scan(t))),
             None if self.spokes.is_live() => Ok(None),
             None => {
-                // The capture ended mid-rotation: what closed is the last, partial scan.
+                // The capture ended mid-rotation: what closed is the last rotation, cut
+                // short. Tracked, the targets in the sector it did not sweep would each miss
+                // a plot and show as coasting in the last picture: it is counted and left,
+                // unless it is all the capture holds.
                 self.finished = true;
                 self.scan_range_m = self.range_m;
                 if let Some((_, x)) = &mut self.extractor {
@@ -750,6 +764,10 @@ impl PlotSource for RadarPlotSource {
                     .map(|p| p.time_ms as f64 / 1000.0)
                     .fold(self.last_scan_s.unwrap_or(0.0), f64::max);
                 if self.current.plots.is_empty() || Some(time_s) <= self.last_scan_s {
+                    return Ok(None);
+                }
+                if self.scan > 0 {
+                    self.counts.last_rotation_cut_plots = self.current.plots.len() as u64;
                     return Ok(None);
                 }
                 Ok(Some(self.close_scan(time_s)))
