@@ -193,7 +193,7 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
     assert_eq!(count(&l["plots"]), count(&f["plots"]));
     assert!(count(&f["last_rotation_cut_plots"]) > 0, "{f}");
     assert!(
-        file_stdout.contains("the capture's last rotation, cut short by its end, not tracked"),
+        file_stdout.contains("the capture's last rotation, ended mid-rotation, not tracked"),
         "{file_stdout}"
     );
     assert!(count(&l["plots"]) > 100);

@@ -154,7 +154,8 @@ pub struct RunArgs {
     #[arg(long, value_name = "PATH")]
     pub record_plots: Option<PathBuf>,
     /// Write every track every scan to this file
-    /// (`scan,t_s,track,status,east_m,north_m,vx_mps,vy_mps`).
+    /// (`scan,t_s,track,status,east_m,north_m,vx_mps,vy_mps,held`; `held` 1 for a track
+    /// hidden in another's echo and not drawn).
     #[arg(long, value_name = "PATH")]
     pub record_tracks: Option<PathBuf>,
     /// Draw the last scan to this PNG when the run ends: a radar's echoes, the plots, the

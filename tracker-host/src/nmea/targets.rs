@@ -61,7 +61,8 @@ pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
             f64::from(speed) / f64::from(MPS_PER_KNOT),
             angle_360(degrees(course), 1),
             f64::from(d.cpa_m) / f64::from(METRES_PER_NM),
-            f64::from(d.tcpa_s) / 60.0,
+            // Just past the CPA (under 0.3 s) is 0.00, not -0.00.
+            (f64::from(d.tcpa_s) / 60.0 * 100.0).round() / 100.0 + 0.0,
         )
     };
     let number = t.number;

@@ -83,10 +83,11 @@ impl RadarOptions {
 #[derive(Clone, Debug, Default, PartialEq, serde::Serialize)]
 pub struct RadarCounts {
     /// Scans handed to the tracker (rotations, the first partial one included; a capture's
-    /// last, cut short by its end, only when it is the only one).
+    /// last, ended mid-rotation, only when no whole rotation came before it).
     pub scans: u64,
-    /// Plots of a capture's last rotation, cut short where the capture ends: not tracked
-    /// (the targets in the sector it did not sweep would each count a miss).
+    /// Point plots extracted from a capture's last rotation, ended mid-rotation by the
+    /// capture: not tracked (the targets in the sector it did not sweep would each count a
+    /// miss). NMEA and AIS heard during it are counted, and not taken.
     pub last_rotation_cut_plots: u64,
     /// Plots handed to the tracker.
     pub plots: u64,
@@ -175,7 +176,7 @@ impl std::fmt::Display for RadarCounts {
         if self.last_rotation_cut_plots > 0 {
             write!(
                 f,
-                "; the capture's last rotation, cut short by its end, not tracked ({} plots)",
+                "; the capture's last rotation, ended mid-rotation, not tracked ({} plots)",
                 self.last_rotation_cut_plots
             )?;
         }
@@ -592,8 +593,9 @@ impl RadarPlotSource {
         // Whether the alarm stands (no heading for own ship at all) is the run's to say.
         own.quality.heading_needed = self.counts.plots_without_heading > without_heading;
         let own_ship = Some(own);
-        // The picture as the sweep left it (taken at the wrap; a capture's partial last
-        // rotation, now); the next rotation repaints it bearing by bearing.
+        // The picture as the sweep left it (taken at the wrap; a capture's last rotation
+        // ended mid-way, now, when it is tracked); the next rotation repaints it bearing by
+        // bearing.
         let echoes = self.finished_picture.take().unwrap_or_else(|| {
             let picture = self.image.clone();
             self.image.next_rotation();
@@ -746,7 +748,8 @@ impl PlotSource for RadarPlotSource {
                 // The capture ended mid-rotation: what closed is the last rotation, cut
                 // short. Tracked, the targets in the sector it did not sweep would each miss
                 // a plot and show as coasting in the last picture: it is counted and left,
-                // unless it is all the capture holds.
+                // once a whole rotation has been tracked (scan 1 is the capture's first,
+                // partial one).
                 self.finished = true;
                 self.scan_range_m = self.range_m;
                 if let Some((_, x)) = &mut self.extractor {
@@ -766,7 +769,7 @@ impl PlotSource for RadarPlotSource {
                 if self.current.plots.is_empty() || Some(time_s) <= self.last_scan_s {
                     return Ok(None);
                 }
-                if self.scan > 0 {
+                if self.scan >= 2 {
                     self.counts.last_rotation_cut_plots = self.current.plots.len() as u64;
                     return Ok(None);
                 }
