@@ -117,6 +117,21 @@ pub struct DisplayState {
 /// Lost-target alarms held for acknowledgement, at most (the oldest give way).
 const MAX_UNACKNOWLEDGED: usize = 99;
 
+/// The labels of the targets a scan lost (the device says lost, or a silence of the radar
+/// cancelled them): the lost-target alarm's. A failed acquisition is not one.
+pub(crate) fn lost_targets(view: &ScanReport) -> impl Iterator<Item = String> + '_ {
+    view.ended
+        .iter()
+        .filter(|e| {
+            view.silence.is_some()
+                || view
+                    .tracks
+                    .iter()
+                    .any(|t| t.track == e.track && t.status == TrackStatus::Lost)
+        })
+        .map(|e| e.label())
+}
+
 impl DisplayState {
     /// 6 NM scale, relative 6-minute vectors.
     pub fn new(link: String) -> Self {
@@ -155,14 +170,7 @@ impl DisplayState {
         // them), by their numbers; a failed acquisition is not an alarm. Both alarms stand
         // until the operator acknowledges them (IEC 62388's lost-target alarm): shown for
         // one scan, 2.5 s, they were easily missed.
-        for e in view.ended.iter().filter(|e| {
-            view.silence.is_some()
-                || view
-                    .tracks
-                    .iter()
-                    .any(|t| t.track == e.track && t.status == TrackStatus::Lost)
-        }) {
-            let label = e.label();
+        for label in lost_targets(view) {
             if !self.lost.contains(&label) {
                 if self.lost.len() == MAX_UNACKNOWLEDGED {
                     self.lost.remove(0);
@@ -1604,6 +1612,12 @@ pub(crate) mod tests {
         assert!(
             text.iter().any(|l| *l == format!("LOST TARGET {label}")),
             "{text:?}"
+        );
+        // The plain header says it too (`--plain`, progress lines).
+        let header = crate::display::plain::header(&view);
+        assert!(
+            header.contains(&format!("\n  LOST TARGET {label}")),
+            "{header}"
         );
         let narrow: Vec<String> = alarm_lines(&state, &view, true)
             .iter()

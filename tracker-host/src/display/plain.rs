@@ -60,6 +60,9 @@ pub fn header(r: &ScanReport) -> String {
     for a in r.own.alarms() {
         s += &format!("\n  {a}");
     }
+    for label in crate::display::lost_targets(r) {
+        s += &format!("\n  LOST TARGET {label}");
+    }
     if let Some(silence) = &r.silence {
         s += &format!("\n  {silence}");
     }

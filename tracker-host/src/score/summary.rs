@@ -127,7 +127,7 @@ impl Summary {
                 super::pairing::PAIRING_ALLOWANCE_SCANS,
                 p.time_to_pair_mean_s,
                 p.time_to_pair_p95_s
-                    .map_or("never paired".to_string(), |t| format!("within {t:.1} s")),
+                    .map_or("not reached".to_string(), |t| format!("within {t:.1} s")),
                 p.time_to_pair_max_s,
                 p.merged_correct,
                 p.merged_wrong,
@@ -136,7 +136,7 @@ impl Summary {
                 p.ships_associated,
                 p.time_to_associate_mean_s,
                 p.time_to_associate_p95_s
-                    .map_or("never associated".to_string(), |t| format!("within {t:.1} s")),
+                    .map_or("not reached".to_string(), |t| format!("within {t:.1} s")),
                 p.ships_unpaired,
                 p.ships_unpaired_late,
                 super::pairing::PAIRING_ALLOWANCE_SCANS,
