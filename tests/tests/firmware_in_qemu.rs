@@ -235,7 +235,7 @@ fn filter_costs_are_within_budget() {
         .expect("extraction row");
     assert!(extract.ram_bytes <= 19 * 1024, "{} B", extract.ram_bytes);
     // Configuring the extractor once (the CFAR's factors solved in software f64): measured
-    // 26,192,880 instructions, 0.16 s at 168 MHz; held there.
+    // 25,633,360 instructions, 0.15 s at 168 MHz; held there.
     let configure = rows
         .iter()
         .find(|r| r.name == "extract-configure")

@@ -214,40 +214,8 @@ pub fn trimmed_pfa(reference: u32, rank: u32, factor: f64) -> f64 {
 /// The greatest-of false-alarm probability: `factor` times the larger of two independent
 /// sides' trimmed sums (the module's recursion, O(k²)).
 pub fn greatest_of_pfa(reference: u32, rank: u32, factor: f64) -> f64 {
-    let k = rank.min(reference).min(u32::from(MAX_REFERENCE_CELLS));
-    let ku = k as usize;
-    // Row i of φ(i, ·), from i = k (the first chain absorbed) down to 0; φ(i, k) is the
-    // second chain absorbed, the first still to run from phase i.
-    let mut row = [0.0f64; MAX_REFERENCE_CELLS as usize + 1];
-    if let Some(last) = row.get_mut(ku) {
-        *last = 1.0;
-    }
-    for j in (1..=k).rev() {
-        let r = phase_rate(reference, k, j);
-        let next = row.get(j as usize).copied().unwrap_or(0.0);
-        if let Some(cell) = row.get_mut(j as usize - 1) {
-            *cell = r * next / (r + factor);
-        }
-    }
-    // `row` is now φ(k, ·); by symmetry φ(i, k) = φ(k, i).
-    let absorbed = row;
-    for i in (1..=k).rev() {
-        let ri = phase_rate(reference, k, i);
-        // φ(i−1, k) first, then leftwards: φ(i−1, j−1) needs φ(i, j−1) (the old row) and
-        // φ(i−1, j) (just written).
-        if let Some(cell) = row.get_mut(ku) {
-            *cell = absorbed.get(i as usize - 1).copied().unwrap_or(0.0);
-        }
-        for j in (1..=k).rev() {
-            let rj = phase_rate(reference, k, j);
-            let below = row.get(j as usize - 1).copied().unwrap_or(0.0);
-            let right = row.get(j as usize).copied().unwrap_or(0.0);
-            if let Some(cell) = row.get_mut(j as usize - 1) {
-                *cell = (ri * below + rj * right) / (ri + rj + factor);
-            }
-        }
-    }
-    row.first().copied().unwrap_or(0.0)
+    let side = (reference, rank, 1.0);
+    greatest_of_unequal_pfa(side, side, factor)
 }
 
 /// The rank used on a near side cut to `cells` of the `reference` cells by the blanking

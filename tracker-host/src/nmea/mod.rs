@@ -76,6 +76,13 @@ pub(crate) fn shown_angle_deg(deg: f64, decimals: usize) -> f64 {
     }
 }
 
+/// A signed value as it is shown with `decimals` places: rounded first, and one that rounds
+/// to zero is 0, never −0 (a TCPA just past its CPA).
+pub(crate) fn shown_signed(v: f64, decimals: usize) -> f64 {
+    let scale = 10f64.powi(decimals as i32);
+    (v * scale).round() / scale + 0.0
+}
+
 /// Degrees of an angle in radians.
 pub(crate) fn degrees(rad: f32) -> f64 {
     f64::from(rad).to_degrees()

@@ -62,7 +62,7 @@ pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
             angle_360(degrees(course), 1),
             f64::from(d.cpa_m) / f64::from(METRES_PER_NM),
             // Just past the CPA (under 0.3 s) is 0.00, not -0.00.
-            (f64::from(d.tcpa_s) / 60.0 * 100.0).round() / 100.0 + 0.0,
+            super::shown_signed(f64::from(d.tcpa_s) / 60.0, 2),
         )
     };
     let number = t.number;

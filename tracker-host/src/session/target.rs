@@ -151,12 +151,7 @@ pub fn table(targets: &[TargetData], limits: &AlarmLimits) -> String {
 /// A TCPA in minutes as the tables print it, to a tenth: one just past (−0.04 min) reads
 /// 0.0, not −0.0.
 pub fn tcpa_minutes(tcpa_s: f32) -> f32 {
-    let m = tcpa_s / 60.0;
-    if m > -0.05 && m < 0.05 {
-        0.0
-    } else {
-        m
-    }
+    crate::nmea::shown_signed(f64::from(tcpa_s) / 60.0, 1) as f32
 }
 
 /// [`table`] with an AIS column (when `ais` is given): what `ais` says of each track

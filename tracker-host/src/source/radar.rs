@@ -760,6 +760,10 @@ impl PlotSource for RadarPlotSource {
                         Event::Wrap { .. } => {}
                     });
                 }
+                if self.scan >= 2 {
+                    self.counts.last_rotation_cut_plots = self.current.plots.len() as u64;
+                    return Ok(None);
+                }
                 let time_s = self
                     .current
                     .plots
@@ -767,10 +771,6 @@ impl PlotSource for RadarPlotSource {
                     .map(|p| p.time_ms as f64 / 1000.0)
                     .fold(self.last_scan_s.unwrap_or(0.0), f64::max);
                 if self.current.plots.is_empty() || Some(time_s) <= self.last_scan_s {
-                    return Ok(None);
-                }
-                if self.scan >= 2 {
-                    self.counts.last_rotation_cut_plots = self.current.plots.len() as u64;
                     return Ok(None);
                 }
                 Ok(Some(self.close_scan(time_s)))
