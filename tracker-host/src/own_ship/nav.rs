@@ -722,15 +722,18 @@ impl OwnShipNav {
     /// Own ship at `time_s` (s since 1970), predicted from the last sentence, with what is
     /// known of its quality; `None` before the first position.
     pub fn own_ship_at(&self, time_s: f64) -> Option<OwnShip> {
-        let mut d = self.drkf.clone()?;
+        let d = self.drkf.as_ref()?;
         let dt = time_s - self.time_s;
         let since_fix = self.last_position_s.map_or(f64::INFINITY, |t| time_s - t);
-        if dt > 0.0 {
-            // Dead reckoning is bounded: past the limit the position is held, not flown on.
-            d.predict(dt.min(MAX_DEAD_RECKONING_S)).ok()?;
-        }
-        let p = d.position_m();
+        // Past the last sentence own ship goes straight on at its velocity over ground then,
+        // as a navigator dead-reckons with no sensor: the filter's own prediction would fly
+        // on its acceleration (a/β more speed: gpsd-rst39's turning vehicle, last seen at
+        // 10.1 kn on 080°, was dead-reckoned at 16.8 kn on 107° 26 s later) and let the
+        // current decay (then 15.0 kn on 112°). Bounded: past the limit the position is held.
         let v = d.velocity_over_ground_mps();
+        let ahead = dt.clamp(0.0, MAX_DEAD_RECKONING_S);
+        let p = d.position_m();
+        let p = [p[0] + v[0] * ahead, p[1] + v[1] * ahead];
         if !(p.iter().chain(v.iter()).all(|x| x.is_finite())) {
             return None;
         }
@@ -795,6 +798,39 @@ mod tests {
         assert!(!gone.quality.motion_known);
         // Held, not flown on for an hour.
         assert!(gone.position_m[1] < 360.0 + 6.0 * MAX_DEAD_RECKONING_S as f32 + 50.0);
+    }
+
+    #[test]
+    fn dead_reckoning_goes_straight_on_at_the_last_velocity_over_ground() {
+        // Turning at 1.5°/s at 6 m/s (0.16 m/s² towards the centre) when the feed stops:
+        // dead reckoning keeps the course and speed of the last fix, it does not fly on
+        // the filter's acceleration (which made 11° more course and 0.2 m/s more speed of
+        // them within 30 s here).
+        let origin = Origin::default();
+        let mut nav = OwnShipNav::new(origin, DAY0, None);
+        let (speed, rate) = (6.0, 1.5f64.to_radians());
+        let radius = speed / rate;
+        let start = T0 + 10.0 * 3600.0;
+        for k in 0..90 {
+            let a = rate * f64::from(k);
+            let p = [radius * (1.0 - a.cos()), radius * a.sin()];
+            let v = [speed * a.sin(), speed * a.cos()];
+            for s in own_ship_sentences(p, v, &origin, start + f64::from(k)) {
+                nav.feed(&s);
+            }
+        }
+        let last = nav.own_ship_at(start + 89.0).unwrap();
+        let course = |v: [f32; 2]| f64::from(v[0].atan2(v[1])).to_degrees();
+        assert!((course(last.velocity_mps) - 133.5).abs() < 2.0, "{last:?}");
+        for ahead in [30.0, 120.0, 290.0] {
+            let dr = nav.own_ship_at(start + 89.0 + ahead).unwrap();
+            assert!(dr.quality.motion_known && dr.quality.dead_reckoning_s.is_some());
+            assert_eq!(dr.velocity_mps, last.velocity_mps, "{ahead} s: {dr:?}");
+            for i in 0..2 {
+                let want = last.position_m[i] + last.velocity_mps[i] * ahead as f32;
+                assert!((dr.position_m[i] - want).abs() < 0.5, "{ahead} s: {dr:?}");
+            }
+        }
     }
 
     #[test]
