@@ -1,6 +1,14 @@
 //! Where the tracker's local frame (east, north, metres) sits on the globe: an [`Origin`]
-//! latitude and longitude, and a flat-earth mapping around it, accurate to well under a
-//! metre over a radar's range of the origin.
+//! latitude and longitude, and a flat-earth mapping around it on the WGS84 ellipsoid,
+//! accurate to well under a metre over a radar's range of the origin.
+//!
+//! The metres of a degree are the ellipsoid's radii of curvature at the latitude (NIMA
+//! TR8350.2, WGS84: a = 6,378,137 m, f = 1/298.257223563): north the meridian's, M =
+//! a(1−e²)/(1−e² sin²φ)^{3/2}, taken at the mean latitude of the two points; east the prime
+//! vertical's, N cos φ with N = a/(1−e² sin²φ)^{1/2}. A sphere of 1′ = 1,852 m, which this
+//! replaced, put a point 10 NM east of own ship at 52.9° N 0.39 % (73 m) nearer than its
+//! range, and one north 0.15 % (a nautical mile is a minute of latitude only near 45° and
+//! there only north).
 //!
 //! Own ship leaves the origin behind on a passage, and the frame's east metres are the
 //! origin's (cos of its latitude): 60 NM north of it at 51° N they are 2.2 % short, and a
@@ -11,9 +19,13 @@
 //! origin's frame.
 
 use anyhow::{bail, Context};
-use tracker_core::geo::METRES_PER_NM;
 
-const METRES_PER_DEGREE_LATITUDE: f64 = 60.0 * METRES_PER_NM as f64;
+/// WGS84 semi-major axis, m (NIMA TR8350.2, Table 3.1).
+const WGS84_A_M: f64 = 6_378_137.0;
+/// WGS84 flattening (NIMA TR8350.2, Table 3.1).
+const WGS84_F: f64 = 1.0 / 298.257_223_563;
+/// WGS84 first eccentricity squared, e² = f(2 − f).
+const WGS84_E2: f64 = WGS84_F * (2.0 - WGS84_F);
 
 /// Where the local frame's (0, 0) is on the globe.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -54,7 +66,7 @@ impl Origin {
     /// Latitude and longitude of a local position, degrees; the longitude in
     /// [−180°, 180°) (across the antimeridian it wraps).
     pub fn to_lat_lon(&self, p: [f64; 2]) -> (f64, f64) {
-        let lat = self.lat_deg + p[1] / METRES_PER_DEGREE_LATITUDE;
+        let lat = latitude_north_of(self.lat_deg, p[1]);
         let lon = self.lon_deg + p[0] / metres_per_degree_east(self.lat_deg);
         (lat, wrap_180(lon))
     }
@@ -63,7 +75,7 @@ impl Origin {
     pub fn to_local(&self, lat_deg: f64, lon_deg: f64) -> [f64; 2] {
         [
             wrap_180(lon_deg - self.lon_deg) * metres_per_degree_east(self.lat_deg),
-            (lat_deg - self.lat_deg) * METRES_PER_DEGREE_LATITUDE,
+            metres_north(self.lat_deg, lat_deg),
         ]
     }
 
@@ -74,7 +86,7 @@ impl Origin {
     pub fn to_lat_lon_near(&self, p: [f64; 2], own_m: [f64; 2]) -> (f64, f64) {
         let (lat, lon) = self.to_lat_lon(own_m);
         (
-            lat + (p[1] - own_m[1]) / METRES_PER_DEGREE_LATITUDE,
+            latitude_north_of(lat, p[1] - own_m[1]),
             wrap_180(lon + (p[0] - own_m[0]) / metres_per_degree_east(lat)),
         )
     }
@@ -86,7 +98,7 @@ impl Origin {
         let (lat, lon) = self.to_lat_lon(own_m);
         [
             own_m[0] + wrap_180(lon_deg - lon) * metres_per_degree_east(lat),
-            own_m[1] + (lat_deg - lat) * METRES_PER_DEGREE_LATITUDE,
+            own_m[1] + metres_north(lat, lat_deg),
         ]
     }
 
@@ -99,10 +111,44 @@ impl Origin {
     }
 }
 
-/// Metres a degree of longitude at `lat_deg` (never zero: at the poles a degree of
-/// longitude is taken as a micrometre, so nothing divides by zero).
+/// 1 − e² sin²φ, the ellipsoid's radii's common term at latitude `lat_deg`.
+fn w2(lat_deg: f64) -> f64 {
+    1.0 - WGS84_E2 * lat_deg.to_radians().sin().powi(2)
+}
+
+/// Metres a degree of latitude at `lat_deg`: the meridian's radius of curvature M.
+fn metres_per_degree_north(lat_deg: f64) -> f64 {
+    WGS84_A_M * (1.0 - WGS84_E2) / w2(lat_deg).powf(1.5) * core::f64::consts::PI / 180.0
+}
+
+/// Metres north from latitude `from_deg` to `to_deg`: M at their mean latitude (the arc to
+/// second order: within a millimetre over 60 NM).
+fn metres_north(from_deg: f64, to_deg: f64) -> f64 {
+    (to_deg - from_deg) * metres_per_degree_north(0.5 * (from_deg + to_deg))
+}
+
+/// The latitude `north_m` metres north of `from_deg`: the inverse of [`metres_north`], by
+/// fixed-point iteration (M changes by about 10⁻⁴ a degree, so a step gains at least two
+/// digits even 40° away; bounded, for a non-finite input).
+fn latitude_north_of(from_deg: f64, north_m: f64) -> f64 {
+    let mut lat = from_deg + north_m / metres_per_degree_north(from_deg);
+    for _ in 0..10 {
+        let next = from_deg + north_m / metres_per_degree_north(0.5 * (from_deg + lat));
+        let done = (next - lat).abs() < 1e-13;
+        lat = next;
+        if done {
+            break;
+        }
+    }
+    lat
+}
+
+/// Metres a degree of longitude at `lat_deg`: N cos φ, the prime vertical's radius of
+/// curvature times cos φ (never zero: at the poles a degree of longitude is taken as a
+/// micrometre, so nothing divides by zero).
 fn metres_per_degree_east(lat_deg: f64) -> f64 {
-    (METRES_PER_DEGREE_LATITUDE * lat_deg.to_radians().cos()).max(1e-6)
+    let n = WGS84_A_M / w2(lat_deg).sqrt();
+    (n * lat_deg.to_radians().cos() * core::f64::consts::PI / 180.0).max(1e-6)
 }
 
 /// An angle in degrees wrapped to [−180°, 180°).
@@ -126,6 +172,30 @@ mod tests {
     }
 
     #[test]
+    fn a_degree_is_as_long_as_the_wgs84_tables_say() {
+        // Lengths of a degree on WGS84, m (the published tables: a degree of latitude
+        // centred on φ, a degree of longitude at φ).
+        for (lat, north, east) in [
+            (0.0, 110_574.0, 111_320.0),
+            (45.0, 111_132.0, 78_847.0),
+            (60.0, 111_412.0, 55_800.0),
+        ] {
+            let o = Origin {
+                lat_deg: lat - 0.5,
+                lon_deg: 0.0,
+            };
+            let p = o.to_local(lat + 0.5, 1.0);
+            assert!((p[1] - north).abs() < 1.0, "{lat}°: {p:?}");
+            assert!((metres_per_degree_east(lat) - east).abs() < 1.0, "{lat}°");
+        }
+        // The sphere of 1′ = 1,852 m this replaced: a point 10 NM east at 52.9° N was
+        // placed 73 m short.
+        let cos = 52.9f64.to_radians().cos();
+        let sphere = 18_520.0 / metres_per_degree_east(52.9) * 1852.0 * 60.0 * cos;
+        assert!((18_520.0 - sphere - 72.8).abs() < 0.5, "{sphere}");
+    }
+
+    #[test]
     fn positions_about_own_ship_are_taken_at_its_latitude() {
         let o = Origin::default();
         // Own ship 60 NM north of the origin; a target 6 NM east of it.
@@ -133,12 +203,13 @@ mod tests {
         let target = [own[0] + 11_112.0, own[1]];
         let (lat, lon) = o.to_lat_lon_near(target, own);
         assert!((lat - (o.lat_deg + 1.0)).abs() < 1e-9);
-        // 6 NM east at 51°40′N is 0.161° of longitude; in the origin's frame it would be
-        // 0.158° (the 2.2 % of the module documentation: 240 m).
-        let want = 0.1 / (o.lat_deg + 1.0).to_radians().cos();
+        // 6 NM east at 51°40′N is 0.1606° of longitude; in the origin's frame it would be
+        // 0.1571° (the 2.2 % of the module documentation: 240 m).
+        let want = 11_112.0 / metres_per_degree_east(o.lat_deg + 1.0);
         assert!((lon - o.lon_deg - want).abs() < 1e-9, "{lon}");
+        assert!((want - 0.1606).abs() < 1e-4, "{want}");
         let (_, far) = o.to_lat_lon(target);
-        assert!((lon - far).abs() * 60.0 * 1852.0 * (lat.to_radians().cos()) > 200.0);
+        assert!((lon - far).abs() * metres_per_degree_east(lat) > 200.0);
         // And back.
         let q = o.to_local_near(lat, lon, own);
         assert!((q[0] - target[0]).abs() < 1e-6 && (q[1] - target[1]).abs() < 1e-6);
@@ -157,7 +228,7 @@ mod tests {
         // Own ship 1 km from the pole: a point 10 m east and south of it is there.
         let near_pole = o.to_local(89.99, 0.0);
         let (lat, lon) = o.to_lat_lon_near([near_pole[0] + 10.0, near_pole[1] - 10.0], near_pole);
-        assert!((lat - (89.99 - 10.0 / METRES_PER_DEGREE_LATITUDE)).abs() < 1e-9);
+        assert!((lat - (89.99 - 10.0 / metres_per_degree_north(89.99))).abs() < 1e-9);
         assert!(lon.is_finite() && lon > 0.0 && lon < 1.0, "{lon}");
         assert!(Origin::parse("95,0").is_err() && Origin::parse("x").is_err());
     }

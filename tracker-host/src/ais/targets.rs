@@ -470,7 +470,8 @@ mod tests {
             lon_deg: -1.0,
         };
         let mut t = AisTargets::new(origin);
-        let lon = -1.0 + 0.1 / 51f64.to_radians().cos();
+        // 6 NM of longitude at 51° N on WGS84 (1,169.961 m a minute).
+        let lon = -1.0 + 11_112.0 / (60.0 * 1_169.961);
         t.report(
             0.0,
             &AisReport {

@@ -575,11 +575,12 @@ mod tests {
         let f: Vec<&str> = s.trim()[1..s.find('*').unwrap()].split(',').collect();
         assert_eq!(f[0], "RATLL");
         assert_eq!(f[1], "07");
-        // 4 km north of 50°N: 50°02.15968′N; 3 km east of 1°W at 50°N: 0°57.20′W.
-        assert_eq!((f[2], f[3]), ("5002.15983", "N"));
+        // On WGS84, 4 km north of 50°N is 50°02.15770′N (a minute of latitude there is
+        // 1,853.8 m) and 3 km east of 1°W at 50°N is 0°57.48939′W (1,194.9 m a minute).
+        assert_eq!((f[2], f[3]), ("5002.15770", "N"));
         assert_eq!(f[5], "W");
         let lon_min: f64 = f[4][3..].parse().unwrap();
-        assert!((lon_min - (60.0 - 3000.0 / (1852.0 * 50f64.to_radians().cos()))).abs() < 1e-3);
+        assert!((lon_min - 57.48939).abs() < 1e-4, "{s}");
         assert_eq!((f[6], f[7], f[8]), ("TGT07", "000000.00", "T"));
     }
 
@@ -607,7 +608,8 @@ mod tests {
             deg * 60.0 + field[deg_digits..].parse::<f64>().unwrap()
         };
         assert!((minutes(f[2], 2) - 51.0 * 60.0).abs() * 1852.0 < 1.0, "{s}");
-        let east_m = (60.0 - minutes(f[4], 3)) * 1852.0 * 51f64.to_radians().cos();
+        // A minute of longitude at 51° N on WGS84: 1,169.961 m.
+        let east_m = (60.0 - minutes(f[4], 3)) * 1_169.961;
         assert!((east_m - 11_112.0).abs() < 1.0, "{east_m} m: {s}");
     }
 
