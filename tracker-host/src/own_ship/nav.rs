@@ -699,6 +699,19 @@ impl OwnShipNav {
             }
             return;
         };
+        if fix.gps_position_m.is_none() {
+            let lost_s = self.last_position_s.map_or(0.0, |t| at - t);
+            if lost_s > MAX_DEAD_RECKONING_S {
+                // Past the limit own ship is held: a heading or log does not fly it on.
+                self.counts.used += 1;
+                return;
+            }
+            if lost_s > POSITION_LOST_S {
+                // Dead reckoning on heading or log: on them, not on the acceleration of the
+                // last fixes (own_ship_at's rule when nothing comes at all).
+                drkf.hold_acceleration();
+            }
+        }
         let dt = at - self.time_s;
         if dt > 0.0 {
             if drkf.predict(dt).is_err() {
@@ -731,7 +744,16 @@ impl OwnShipNav {
         // 10.1 kn on 080°, was dead-reckoned at 16.8 kn on 107° 26 s later) and let the
         // current decay (then 15.0 kn on 112°). Bounded: past the limit the position is held.
         let v = d.velocity_over_ground_mps();
-        let ahead = dt.clamp(0.0, MAX_DEAD_RECKONING_S);
+        // Dead reckoning ends MAX_DEAD_RECKONING_S after the last fix, not after the last
+        // sentence (a heading may outlive the fix); NaN and the past go nowhere.
+        let reckoned = self
+            .last_position_s
+            .map_or(0.0, |t| (self.time_s - t).max(0.0));
+        let ahead = if dt > 0.0 {
+            dt.min(MAX_DEAD_RECKONING_S - reckoned).max(0.0)
+        } else {
+            0.0
+        };
         let p = d.position_m();
         let p = [p[0] + v[0] * ahead, p[1] + v[1] * ahead];
         if !(p.iter().chain(v.iter()).all(|x| x.is_finite())) {
@@ -800,25 +822,77 @@ mod tests {
         assert!(gone.position_m[1] < 360.0 + 6.0 * MAX_DEAD_RECKONING_S as f32 + 50.0);
     }
 
+    /// Own ship turning at 1.5°/s at 6 m/s (0.16 m/s² towards the centre) for 90 s, every
+    /// sentence fed; then until `until_s` after the start only those `keep` keeps (at the
+    /// last course and speed: the turn has ended), heard live. The navigator and the start.
+    fn turning_ship_whose_fixes_stop(
+        keep: impl Fn(&str) -> bool,
+        until_s: u32,
+    ) -> (OwnShipNav, f64) {
+        let origin = Origin::default();
+        let mut nav = OwnShipNav::new(origin, DAY0, None);
+        let (speed, rate) = (6.0, 1.5f64.to_radians());
+        let radius = speed / rate;
+        let start = T0 + 10.0 * 3600.0;
+        for k in 0..=until_s {
+            let a = rate * f64::from(k.min(89));
+            let p = [radius * (1.0 - a.cos()), radius * a.sin()];
+            let v = [speed * a.sin(), speed * a.cos()];
+            let t = start + f64::from(k);
+            for s in own_ship_sentences(p, v, &origin, t) {
+                if k < 90 {
+                    nav.feed(&s);
+                } else if keep(&s) {
+                    // Untimed (HDT, VHW): heard live, at their time.
+                    nav.feed_heard(&s, t);
+                }
+            }
+        }
+        (nav, start)
+    }
+
+    #[test]
+    fn dead_reckoning_on_a_heading_or_log_does_not_fly_on_the_last_acceleration() {
+        let course = |v: [f32; 2]| f64::from(v[0].atan2(v[1])).to_degrees();
+        let speed = |v: [f32; 2]| v[0].hypot(v[1]);
+        // The course made good after 2 minutes: the heading holds it; the log alone does
+        // not, and the fixes' acceleration flies on until the position is taken as lost
+        // (10 s): 7.6° further round, 11.9° with no hold at all.
+        for (what, keep, turn_deg) in [
+            (
+                "heading",
+                (|s: &str| s.contains("HDT")) as fn(&str) -> bool,
+                1.0,
+            ),
+            ("log", |s: &str| s.contains("VHW"), 10.0),
+        ] {
+            let at = |k: u32| {
+                let (nav, start) = turning_ship_whose_fixes_stop(keep, k);
+                nav.own_ship_at(start + f64::from(k)).unwrap()
+            };
+            let (last, dr) = (at(89), at(89 + 120));
+            assert!(dr.quality.dead_reckoning_s.is_some(), "{what}: {dr:?}");
+            let turned = course(dr.velocity_mps) - course(last.velocity_mps);
+            assert!(turned.abs() < turn_deg, "{what}: {last:?} then {dr:?}");
+            assert!(
+                (speed(dr.velocity_mps) - speed(last.velocity_mps)).abs() < 0.3,
+                "{what}: {last:?} then {dr:?}"
+            );
+            // Past the limit own ship is held, though the heading or log goes on.
+            let limit = 89 + MAX_DEAD_RECKONING_S as u32;
+            let (held, later) = (at(limit + 10), at(limit + 100));
+            assert!(!held.quality.motion_known, "{what}: {held:?}");
+            assert_eq!(held.position_m, later.position_m, "{what}");
+        }
+    }
+
     #[test]
     fn dead_reckoning_goes_straight_on_at_the_last_velocity_over_ground() {
         // Turning at 1.5°/s at 6 m/s (0.16 m/s² towards the centre) when the feed stops:
         // dead reckoning keeps the course and speed of the last fix, it does not fly on
         // the filter's acceleration (which made 11° more course and 0.2 m/s more speed of
         // them within 30 s here).
-        let origin = Origin::default();
-        let mut nav = OwnShipNav::new(origin, DAY0, None);
-        let (speed, rate) = (6.0, 1.5f64.to_radians());
-        let radius = speed / rate;
-        let start = T0 + 10.0 * 3600.0;
-        for k in 0..90 {
-            let a = rate * f64::from(k);
-            let p = [radius * (1.0 - a.cos()), radius * a.sin()];
-            let v = [speed * a.sin(), speed * a.cos()];
-            for s in own_ship_sentences(p, v, &origin, start + f64::from(k)) {
-                nav.feed(&s);
-            }
-        }
+        let (nav, start) = turning_ship_whose_fixes_stop(|_| false, 89);
         let last = nav.own_ship_at(start + 89.0).unwrap();
         let course = |v: [f32; 2]| f64::from(v[0].atan2(v[1])).to_degrees();
         assert!((course(last.velocity_mps) - 133.5).abs() < 2.0, "{last:?}");
