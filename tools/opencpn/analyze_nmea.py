@@ -13,8 +13,15 @@ def dm(v, h):
     r = d + m / 60
     return -r if h in ('S', 'W') else r
 def ll_to_en(lat0, lon0, lat, lon):
-    R = 6371008.8
-    return (math.radians(lon - lon0) * R * math.cos(math.radians(lat0)), math.radians(lat - lat0) * R)
+    # WGS84, as the product's origin.rs: the meridian's radius of curvature at the mean
+    # latitude north, the prime vertical's times cos(lat0) east (a sphere is 0.1-0.4 % off).
+    a, f = 6378137.0, 1 / 298.257223563
+    e2 = f * (2 - f)
+    def w2(lat):
+        return 1 - e2 * math.sin(math.radians(lat)) ** 2
+    m = a * (1 - e2) / w2((lat0 + lat) / 2) ** 1.5
+    n = a / math.sqrt(w2(lat0))
+    return (math.radians(lon - lon0) * n * math.cos(math.radians(lat0)), math.radians(lat - lat0) * m)
 lines = [l.rstrip('\n').split(' ', 1) for l in open(sys.argv[1]) if ' ' in l]
 bad_ck = 0; too_long = 0; kinds = collections.Counter()
 own = None; scans = []; cur = {'ttm': {}, 'tll': {}}

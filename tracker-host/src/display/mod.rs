@@ -669,7 +669,16 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     let header =
         Row::new(names.map(|h| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD))));
     let places = usize::from(!compact);
-    let rows = view.targets.iter().map(|t: &TargetData| {
+    // Rows that fit under the borders and the header. When fewer than the targets, the
+    // nearest are shown, unless the selected target is further down: then the table is
+    // scrolled so that it is the last row (a navigator who selects a target sees its data),
+    // and the title says which rows these are.
+    let room = usize::from(area.height.saturating_sub(3));
+    let skip = state
+        .selected
+        .and_then(|id| view.targets.iter().position(|t| t.track == id))
+        .map_or(0, |i| (i + 1).saturating_sub(room));
+    let rows = view.targets.iter().skip(skip).map(|t: &TargetData| {
         let style = if t.dangerous(&state.limits) {
             Style::default().fg(Color::Red)
         } else if state.selected == Some(t.track) {
@@ -727,14 +736,15 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             .map(|w| Constraint::Length(*w))
             .collect()
     };
-    // Rows that fit under the borders and the header: when fewer than the targets, the
-    // title says so (the nearest are the ones shown).
-    let room = usize::from(area.height.saturating_sub(3));
-    let title = if view.targets.len() > room {
+    let n = view.targets.len();
+    let title = if skip > 0 {
         format!(
-            " targets, nearest first: {room} of {} shown ",
-            view.targets.len()
+            " targets, nearest first: {}–{} of {n} shown ",
+            skip + 1,
+            skip + room
         )
+    } else if n > room {
+        format!(" targets, nearest first: {room} of {n} shown ")
     } else {
         " targets, nearest first ".to_string()
     };
@@ -1207,7 +1217,11 @@ pub(crate) mod tests {
     }
 
     fn screen(state: &DisplayState, view: &ScanReport) -> String {
-        let mut terminal = Terminal::new(TestBackend::new(160, 40)).unwrap();
+        screen_at(state, view, 160, 40)
+    }
+
+    fn screen_at(state: &DisplayState, view: &ScanReport, width: u16, height: u16) -> String {
+        let mut terminal = Terminal::new(TestBackend::new(width, height)).unwrap();
         terminal.draw(|f| render(f, state, view)).unwrap();
         let buffer = terminal.backend().buffer().clone();
         let mut text = String::new();
@@ -1468,6 +1482,25 @@ pub(crate) mod tests {
         let n = view.targets.len();
         assert!(listed < n, "80×24 lists fewer than the demo's {n} targets");
         assert!(text.contains(&format!("{listed} of {n} shown")), "{text}");
+        // Selecting the farthest target scrolls the table to it: its row is the last, the
+        // nearest is off the table, and the title says which rows are shown.
+        let (i, last) = (view.targets.iter().enumerate().rev())
+            .find(|(_, t)| t.label() != "--")
+            .expect("a numbered target");
+        assert!(
+            i >= listed,
+            "the farthest numbered target is below the fold"
+        );
+        state.selected = Some(last.track);
+        let text = screen_at(&state, &view, 80, 24);
+        let shown = |t: &TargetData| text.contains(&format!("│{} ", t.label()));
+        assert!(shown(last), "{text}");
+        assert!(first.label() == "--" || !shown(first), "{text}");
+        let from = i + 2 - listed;
+        assert!(
+            text.contains(&format!("{from}–{} of {n} shown", i + 1)),
+            "{text}"
+        );
     }
 
     #[test]
