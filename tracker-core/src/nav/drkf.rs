@@ -435,15 +435,6 @@ impl<T: RealField + Copy, A: Algebra> Drkf<T, A> {
         Ok(used)
     }
 
-    /// Sets the acceleration states (eq. 4a's a_x, a_y) to their Gauss–Markov mean, zero,
-    /// their covariance kept: for dead reckoning without a position, so that a prediction
-    /// does not fly on an acceleration no sensor measures any more (a/β of speed: a turn's
-    /// centripetal acceleration of 0.16 m/s² would add 1.6 m/s across the turn at β 0.1).
-    pub fn hold_acceleration(&mut self) {
-        self.x[ix::AX] = T::zero();
-        self.x[ix::AY] = T::zero();
-    }
-
     /// Switches the speedlog between ground-lock and bottom-lock (the log reports which).
     pub fn set_speedlog_mode(&mut self, mode: SpeedlogMode) {
         self.config.speedlog_mode = mode;

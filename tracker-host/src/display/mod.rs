@@ -612,6 +612,14 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
                     ctx.draw(&CanvasLine::new(x, y, x + to(v[0]), y + to(v[1]), colour));
                 }
             }
+            // The selected target, a ring around it in any colour: a target in alarm is
+            // drawn red, and its selection was shown nowhere (a new user's trial).
+            if let Some(t) =
+                (state.selected).and_then(|id| view.targets.iter().find(|t| t.track == id))
+            {
+                let (x, y) = rel(t.position_m);
+                ctx.draw(&Circle::new(x, y, scale / 25.0, Color::Cyan));
+            }
             // Own ship and its heading line.
             let hv = view.own.velocity_mps;
             let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
@@ -679,12 +687,12 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
         .and_then(|id| view.targets.iter().position(|t| t.track == id))
         .map_or(0, |i| (i + 1).saturating_sub(room));
     let rows = view.targets.iter().skip(skip).map(|t: &TargetData| {
-        let style = if t.dangerous(&state.limits) {
-            Style::default().fg(Color::Red)
-        } else if state.selected == Some(t.track) {
-            Style::default().fg(Color::Black).bg(Color::Cyan)
-        } else {
-            Style::default()
+        // Selected: a background (red for a target in alarm, whose row is red anyway).
+        let style = match (t.dangerous(&state.limits), state.selected == Some(t.track)) {
+            (true, true) => Style::default().fg(Color::White).bg(Color::Red),
+            (true, false) => Style::default().fg(Color::Red),
+            (false, true) => Style::default().fg(Color::Black).bg(Color::Cyan),
+            (false, false) => Style::default(),
         };
         // The motion is `---` until its trend is known.
         let motion = |v: f32, places: usize| {
@@ -1501,6 +1509,31 @@ pub(crate) mod tests {
             text.contains(&format!("{from}–{} of {n} shown", i + 1)),
             "{text}"
         );
+        // A selected target in alarm is shown selected: its row red behind, not red
+        // letters alone as every alarmed row has.
+        let alarmed = (view.targets.iter())
+            .find(|t| t.dangerous(&state.limits) && t.label() != "--")
+            .expect("a numbered target in alarm");
+        let background = |state: &DisplayState| {
+            let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
+            terminal.draw(|f| render(f, state, &view)).unwrap();
+            let buffer = terminal.backend().buffer().clone();
+            let label = format!("│{} ", alarmed.label());
+            (0..buffer.area.height)
+                .find_map(|y| {
+                    let row: String = (0..buffer.area.width)
+                        .map(|x| buffer[(x, y)].symbol())
+                        .collect();
+                    let at = row.find(&label)?;
+                    let x = row[..at].chars().count() as u16 + 1;
+                    Some(buffer[(x, y)].bg)
+                })
+                .expect("the alarmed target's row")
+        };
+        state.selected = None;
+        assert_ne!(background(&state), Color::Red);
+        state.selected = Some(alarmed.track);
+        assert_eq!(background(&state), Color::Red);
     }
 
     #[test]
