@@ -241,22 +241,33 @@ impl DisplayState {
             ']' => self.vector_length = (self.vector_length + 1).min(VECTOR_MINUTES.len() - 1),
             '[' => self.vector_length = self.vector_length.saturating_sub(1),
             'p' => self.paused = !self.paused,
-            'e' => self.echoes = !self.echoes,
+            'e' => {
+                self.echoes = !self.echoes;
+                if view.is_some_and(|v| v.echoes.is_none()) {
+                    self.message = Some("echoes: this source sends plots, no radar picture".into());
+                }
+            }
             'C' => return Action::CancelAll,
             // Enter: the lost-target and radar-silence alarms acknowledged.
             '\n' => {
+                if self.lost.is_empty() && self.silence.is_none() {
+                    self.message = Some("no alarm to acknowledge".into());
+                }
                 self.lost.clear();
                 self.silence = None;
             }
+            // A command that cannot be done is answered too (the README's promise).
             'c' => {
                 if let Some(id) = self.selected {
                     return Action::Cancel(id);
                 }
+                self.message = Some("cancel: no target selected (↑↓ selects)".into());
             }
             'a' => {
                 if let Some(p) = view.and_then(nearest_untracked_plot) {
                     return Action::Acquire(p);
                 }
+                self.message = Some("acquire: no plot without a track".into());
             }
             '↓' | '↑' => {
                 if let Some(v) = view {
@@ -1534,6 +1545,24 @@ pub(crate) mod tests {
         assert_ne!(background(&state), Color::Red);
         state.selected = Some(alarmed.track);
         assert_eq!(background(&state), Color::Red);
+    }
+
+    #[test]
+    fn a_key_that_cannot_act_is_answered() {
+        let mut d = demo();
+        let mut state = DisplayState::new("inproc".into());
+        let view = step(&mut d);
+        state.observe(&view);
+        for (key, said) in [
+            ('c', "no target selected"),
+            ('\n', "no alarm to acknowledge"),
+            ('e', "no radar picture"),
+        ] {
+            state.message = None;
+            assert!(matches!(state.key(key, Some(&view)), Action::None));
+            let m = state.message.clone().unwrap_or_default();
+            assert!(m.contains(said), "{key:?}: {m:?}");
+        }
     }
 
     #[test]
