@@ -369,7 +369,7 @@ pub fn render_paused(
             // A narrow pane's header lines wrap, each onto a second row.
             Constraint::Length(if columns[1].width < 80 { 7 } else { 5 }),
             Constraint::Min(5),
-            Constraint::Length(alarm_box_rows(&alarms, state)),
+            Constraint::Length(alarm_box_rows(&alarms, state, columns[1].width)),
         ])
         .split(columns[1]);
     render_header(frame, right[0], state, view);
@@ -822,16 +822,63 @@ fn fit(name: &str, suffix: &str) -> String {
     out
 }
 
-/// The alarm box's key help, drawn under the alarms while there is room.
-const ALARM_HELP: [&str; 2] = [
-    "+/- range, v vectors, [/] vector length, ↑↓ select",
-    "a acquire, c cancel, C cancel all, e echoes, p pause, q quit, Enter acknowledge",
+/// The alarm box's key help, drawn under the alarms while there is room, laid out to the
+/// box's width ([`wrap`]: at 80 columns two fixed lines were cut to "… ↑" and "… e echoe",
+/// and `p`, `q` and Enter went unlisted).
+const KEY_HELP: [&str; 11] = [
+    "+/- range",
+    "v vectors",
+    "[/] vector length",
+    "↑↓ select",
+    "a acquire",
+    "c cancel",
+    "C cancel all",
+    "e echoes",
+    "p pause",
+    "q quit",
+    "Enter acknowledge",
 ];
 
-/// The alarm box's height in rows (borders included): room for every line and the help,
-/// from 7 up to [`ALARM_BOX_MAX_ROWS`].
-fn alarm_box_rows(alarms: &[Line], state: &DisplayState) -> u16 {
-    let lines = alarms.len().max(1) + usize::from(state.message.is_some()) + ALARM_HELP.len() + 2;
+/// `pieces` joined with `separator` into lines of at most `width` characters (a piece
+/// longer than that alone on its line, cut by the box).
+fn wrap<'a>(
+    pieces: impl IntoIterator<Item = &'a str>,
+    separator: &str,
+    width: usize,
+) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    for piece in pieces {
+        match lines.last_mut() {
+            Some(l)
+                if l.chars().count() + separator.chars().count() + piece.chars().count()
+                    <= width =>
+            {
+                l.push_str(separator);
+                l.push_str(piece);
+            }
+            _ => lines.push(piece.to_string()),
+        }
+    }
+    lines
+}
+
+/// The answer to the operator's last command, in lines of the box's inner `width` (a reply
+/// cut at 80 columns read "target 35 cancelled: gone from the next ro").
+fn message_lines(state: &DisplayState, width: usize) -> Vec<String> {
+    state
+        .message
+        .as_deref()
+        .map_or_else(Vec::new, |m| wrap(m.split(' '), " ", width))
+}
+
+/// The alarm box's height in rows (borders included) in a pane `width` columns wide: room
+/// for every line and the help, from 7 up to [`ALARM_BOX_MAX_ROWS`].
+fn alarm_box_rows(alarms: &[Line], state: &DisplayState, width: u16) -> u16 {
+    let inner = usize::from(width.saturating_sub(2));
+    let lines = alarms.len().max(1)
+        + message_lines(state, inner).len()
+        + wrap(KEY_HELP, ", ", inner).len()
+        + 2;
     u16::try_from(lines).map_or(ALARM_BOX_MAX_ROWS, |n| n.clamp(7, ALARM_BOX_MAX_ROWS))
 }
 
@@ -953,12 +1000,13 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, mut lines:
     // Inside the borders, less a row for the answer to the operator's last command (a key
     // just pressed must show its effect, whatever the alarms). Lines that do not fit are
     // never dropped silently: the last row counts them.
-    let message = state
-        .message
-        .as_ref()
-        .map(|m| Line::styled(m.clone(), Style::default().fg(Color::Yellow)));
+    let width = usize::from(area.width.saturating_sub(2));
+    let message: Vec<Line> = message_lines(state, width)
+        .into_iter()
+        .map(|m| Line::styled(m, Style::default().fg(Color::Yellow)))
+        .collect();
     let inner = usize::from(area.height.saturating_sub(2));
-    let rows = inner.saturating_sub(usize::from(message.is_some()));
+    let rows = inner.saturating_sub(message.len());
     if lines.len() > rows && rows > 0 {
         let more = lines.len() - (rows - 1);
         lines.truncate(rows - 1);
@@ -968,7 +1016,7 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, mut lines:
         ));
     }
     lines.extend(message);
-    for help in ALARM_HELP
+    for help in wrap(KEY_HELP, ", ", width)
         .into_iter()
         .take(inner.saturating_sub(lines.len()))
     {
@@ -1545,6 +1593,35 @@ pub(crate) mod tests {
         assert_ne!(background(&state), Color::Red);
         state.selected = Some(alarmed.track);
         assert_eq!(background(&state), Color::Red);
+    }
+
+    #[test]
+    fn the_key_help_and_a_reply_are_laid_out_to_the_box_not_cut() {
+        // 80 columns: the right pane is 44 wide, 42 inside the borders.
+        let help = wrap(KEY_HELP, ", ", 42);
+        assert!(help.iter().all(|l| l.chars().count() <= 42), "{help:?}");
+        assert_eq!(help.join(", "), KEY_HELP.join(", "));
+        let mut state = DisplayState::new("inproc".into());
+        state.message = Some("target 35 cancelled: gone from the next rotation".into());
+        let lines = message_lines(&state, 42);
+        assert_eq!(
+            lines.join(" "),
+            "target 35 cancelled: gone from the next rotation"
+        );
+        assert!(lines.len() == 2 && lines.iter().all(|l| l.chars().count() <= 42));
+        // On the screen, with no alarm to crowd it out: every key listed, the reply whole.
+        let mut d = demo();
+        let view = step(&mut d);
+        let text = screen_at(&state, &view, 80, 24);
+        for item in [
+            "q quit",
+            "Enter acknowledge",
+            "p pause",
+            "gone from the next",
+            "│rotation ",
+        ] {
+            assert!(text.contains(item), "{item}: {text}");
+        }
     }
 
     #[test]
