@@ -841,7 +841,7 @@ const KEY_HELP: [&str; 11] = [
 
 /// `pieces` joined with `separator` into lines of at most `width` characters (a piece
 /// longer than that alone on its line, cut by the box).
-fn wrap<'a>(
+pub(crate) fn wrap<'a>(
     pieces: impl IntoIterator<Item = &'a str>,
     separator: &str,
     width: usize,
@@ -868,7 +868,7 @@ fn message_lines(state: &DisplayState, width: usize) -> Vec<String> {
     state
         .message
         .as_deref()
-        .map_or_else(Vec::new, |m| wrap(m.split(' '), " ", width))
+        .map_or_else(Vec::new, |m| wrap(m.split_whitespace(), " ", width))
 }
 
 /// The alarm box's height in rows (borders included) in a pane `width` columns wide: room

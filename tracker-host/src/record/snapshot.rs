@@ -320,17 +320,7 @@ const NOTE_COLUMNS: usize = 95;
 
 /// `text` cut at spaces into lines of at most `columns` characters (a longer word alone).
 fn wrapped(text: &str, columns: usize) -> Vec<String> {
-    let mut lines: Vec<String> = Vec::new();
-    for word in text.split_whitespace() {
-        match lines.last_mut() {
-            Some(line) if line.chars().count() + 1 + word.chars().count() <= columns => {
-                line.push(' ');
-                line.push_str(word);
-            }
-            _ => lines.push(word.to_string()),
-        }
-    }
-    lines
+    crate::display::wrap(text.split_whitespace(), " ", columns)
 }
 
 /// The smallest of the display's range scales that holds `reach_m`, NM; past the largest,
