@@ -1,15 +1,17 @@
 #!/usr/bin/env python3
 """Independent check of the sentences tracker-host sends to chart plotters (TTM, TLL, own
 ship's RMC/HDT/OSD), with pynmea2: every sentence parses with a valid checksum, every TLL
-position is where the `# expect LAT LON` line after it says (within 1e-4 degrees), bearings
-and courses are within 0-359.9 (a course may be empty: a target whose motion is not
-known yet).
+position is where the `# expect OWN_LAT OWN_LON RANGE_M BEARING_DEG` line after it says: at
+that range and bearing from own ship on the WGS84 ellipsoid, by Karney's geodesics in
+geographiclib (within 1e-6 degrees, a decimetre), bearings and courses are within
+0-359.9 (a course may be empty: a target whose motion is not known yet).
 
 Usage: check_nmea.py FILE    (exit 0 when every sentence passes)
 """
 import sys
 
 import pynmea2
+from geographiclib.geodesic import Geodesic
 
 
 def position(tll):
@@ -32,11 +34,13 @@ def main(path):
             if not line:
                 continue
             if line.startswith("# expect"):
-                lat, lon = map(float, line.split()[2:4])
+                own_lat, own_lon, range_m, bearing = map(float, line.split()[2:6])
                 if last_tll is None:
                     sys.exit(f"line {n}: an expectation without a TLL")
+                at = Geodesic.WGS84.Direct(own_lat, own_lon, bearing, range_m)
+                lat, lon = at["lat2"], (at["lon2"] + 180.0) % 360.0 - 180.0
                 got = position(last_tll)
-                if abs(got[0] - lat) > 1e-4 or abs(got[1] - lon) > 1e-4:
+                if abs(got[0] - lat) > 1e-6 or abs((got[1] - lon + 180.0) % 360.0 - 180.0) > 1e-6:
                     sys.exit(f"line {n}: TLL at {got}, expected {(lat, lon)}")
                 continue
             msg = pynmea2.parse(line, check=True)

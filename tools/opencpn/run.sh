@@ -13,6 +13,7 @@
 #      MINIMAL_CONF=1 to write a from-scratch opencpn.conf instead of patching the template,
 #      DEMO_ARGS to run another picture (default "--duration 900"; e.g. real Solent traffic:
 #      "--ais-truth ../shared/realdata/ais/stonesoup-SolentAIS_20160112_130211.csv --own-mmsi 234586000").
+#      PYTHON (default python3; .venv/bin/python has geographiclib for the TTM/TLL check).
 # Leaves in /tmp/opencpn-check: TAG-1.png, TAG-2.png (a minute later), TAG-list.png (AIS
 # target list sorted by range), TAG-overview.png (zoomed out x2), TAG-nmea.txt (the stream
 # as a second TCP client saw it), TAG-analysis.txt, TAG-tracker.out, TAG-opencpn.log.
@@ -124,4 +125,4 @@ kill -TERM $OCPN; sleep 6
 cp "$H/.opencpn/opencpn.log" "$D/$TAG-opencpn.log"
 echo "--- OpenCPN log: connection and errors"
 grep -E 'MakeCommDriver|NetworkDataStream|TCP Server|comm_drv|rror|WARN' "$D/$TAG-opencpn.log" | grep -v -E 'ENCShow|mmsitoname|navobj' || true
-python3 "$TOOLS/analyze_nmea.py" "$D/$TAG-nmea.txt" | tee "$D/$TAG-analysis.txt"
+"${PYTHON:-python3}" "$TOOLS/analyze_nmea.py" "$D/$TAG-nmea.txt" | tee "$D/$TAG-analysis.txt"

@@ -14,11 +14,19 @@
 //! origin's (cos of its latitude): 60 NM north of it at 51° N they are 2.2 % short, and a
 //! target 6 NM east of own ship would be placed 240 m off where its range and bearing put
 //! it. So a target's latitude and longitude are taken about own ship
-//! ([`Origin::to_lat_lon_near`], [`Origin::to_local_near`]): the offset from own ship in
-//! metres at own ship's latitude, as a radar measures it, while own ship itself stays in the
-//! origin's frame.
+//! ([`Origin::to_lat_lon_near`], [`Origin::to_local_near`]): at the geodesic distance and
+//! azimuth from own ship that its offset in the frame gives, as a radar measures range and
+//! bearing, while own ship itself stays in the origin's frame. The geodesics are Karney's
+//! (C. F. F. Karney, "Algorithms for geodesics", J. Geodesy 87, 2013), from the
+//! `geographiclib-rs` crate. They replaced an offset in metres at own ship's latitude, a
+//! plane whose meridians do not converge: a target 10 NM from own ship at 50° N lay up to
+//! 37 m (35 m of it across its bearing) from where TTM's range and bearing put it on the
+//! ellipsoid, and 85 m at 70° N, growing with the square of the range.
+
+use std::sync::LazyLock;
 
 use anyhow::{bail, Context};
+use geographiclib_rs::{DirectGeodesic, Geodesic, InverseGeodesic};
 
 /// WGS84 semi-major axis, m (NIMA TR8350.2, Table 3.1).
 const WGS84_A_M: f64 = 6_378_137.0;
@@ -26,6 +34,9 @@ const WGS84_A_M: f64 = 6_378_137.0;
 const WGS84_F: f64 = 1.0 / 298.257_223_563;
 /// WGS84 first eccentricity squared, e² = f(2 − f).
 const WGS84_E2: f64 = WGS84_F * (2.0 - WGS84_F);
+
+/// The WGS84 ellipsoid's geodesics (its series' coefficients, computed once).
+static WGS84: LazyLock<Geodesic> = LazyLock::new(|| Geodesic::new(WGS84_A_M, WGS84_F));
 
 /// Where the local frame's (0, 0) is on the globe.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -80,35 +91,70 @@ impl Origin {
     }
 
     /// Latitude and longitude, degrees, of a local position `p` near own ship at `own_m`
-    /// (local, m): own ship's own latitude and longitude ([`Origin::to_lat_lon`]) and the
-    /// offset `p − own_m` taken in metres at own ship's latitude, as its range and bearing
-    /// measure it. The longitude in [−180°, 180°).
+    /// (local, m): the point at the geodesic distance |p − own_m| from own ship's own
+    /// latitude and longitude ([`Origin::to_lat_lon`]) on the azimuth of p − own_m, as its
+    /// range and bearing measure it. The longitude in [−180°, 180°). Not a number when
+    /// either position is not, or own ship's is no place on the globe (dead reckoned past a
+    /// pole: the frame's latitude beyond ±90°).
     pub fn to_lat_lon_near(&self, p: [f64; 2], own_m: [f64; 2]) -> (f64, f64) {
         let (lat, lon) = self.to_lat_lon(own_m);
-        (
-            latitude_north_of(lat, p[1] - own_m[1]),
-            wrap_180(lon + (p[0] - own_m[0]) / metres_per_degree_east(lat)),
-        )
+        let d = [p[0] - own_m[0], p[1] - own_m[1]];
+        let s_m = d[0].hypot(d[1]);
+        if !(s_m.is_finite() && lat.abs() <= 90.0 && lon.is_finite()) {
+            return (f64::NAN, f64::NAN);
+        }
+        along_geodesic(lat, lon, d[0].atan2(d[1]).to_degrees(), s_m)
     }
 
     /// Local position (east, north), m, of a latitude and longitude near own ship at `own_m`
-    /// (local, m): own ship's local position and the offset to the point in metres at own
-    /// ship's latitude. The inverse of [`Origin::to_lat_lon_near`].
+    /// (local, m): own ship's local position and the geodesic from own ship to the point,
+    /// its length along its azimuth at own ship. The inverse of [`Origin::to_lat_lon_near`].
+    /// Not a number when the point is not on the globe (a latitude beyond ±90°).
     pub fn to_local_near(&self, lat_deg: f64, lon_deg: f64, own_m: [f64; 2]) -> [f64; 2] {
         let (lat, lon) = self.to_lat_lon(own_m);
-        [
-            own_m[0] + wrap_180(lon_deg - lon) * metres_per_degree_east(lat),
-            own_m[1] + metres_north(lat, lat_deg),
-        ]
+        let on_globe = |la: f64, lo: f64| la.abs() <= 90.0 && lo.is_finite();
+        if !(on_globe(lat, lon) && on_globe(lat_deg, lon_deg)) {
+            return [f64::NAN, f64::NAN];
+        }
+        let (s_m, azi_deg, _, _): (f64, f64, f64, f64) = WGS84.inverse(lat, lon, lat_deg, lon_deg);
+        let (sin, cos) = azi_deg.to_radians().sin_cos();
+        [own_m[0] + s_m * sin, own_m[1] + s_m * cos]
     }
 
-    /// The east metres at own ship's latitude over the origin's: a local offset east of own
-    /// ship at `own_m` ([`Origin::to_local`]) times this is the same offset taken about own
-    /// ship ([`Origin::to_local_near`]).
-    pub fn east_scale_near(&self, own_m: [f64; 2]) -> f64 {
-        let (lat, _) = self.to_lat_lon(own_m);
-        metres_per_degree_east(lat) / metres_per_degree_east(self.lat_deg)
+    /// A position `p` and velocity `v` in the origin's frame (local, m and m/s) taken about
+    /// own ship at `own_m` ([`Origin::to_local_near`] of the position's latitude and
+    /// longitude; the velocity as the motion of the point over a second): where the same
+    /// ship's AIS report is put, and where own ship's radar sees it.
+    pub fn about_own_ship(
+        &self,
+        p: [f64; 2],
+        v: [f64; 2],
+        own_m: [f64; 2],
+    ) -> ([f64; 2], [f64; 2]) {
+        let near = |x: [f64; 2]| {
+            let (lat, lon) = self.to_lat_lon(x);
+            self.to_local_near(lat, lon, own_m)
+        };
+        let a = near(p);
+        let b = near([p[0] + v[0], p[1] + v[1]]);
+        (a, [b[0] - a[0], b[1] - a[1]])
     }
+}
+
+/// The point `distance_m` along the WGS84 geodesic from `lat_deg`, `lon_deg` (degrees) on
+/// the azimuth `azimuth_deg` (degrees true) there: latitude and longitude, degrees, the
+/// longitude in [−180°, 180°). Not a number for a start off the globe or a distance not a
+/// number.
+pub fn along_geodesic(lat_deg: f64, lon_deg: f64, azimuth_deg: f64, distance_m: f64) -> (f64, f64) {
+    if !(lat_deg.abs() <= 90.0
+        && lon_deg.is_finite()
+        && azimuth_deg.is_finite()
+        && distance_m.is_finite())
+    {
+        return (f64::NAN, f64::NAN);
+    }
+    let (lat, lon): (f64, f64) = WGS84.direct(lat_deg, lon_deg, azimuth_deg, distance_m);
+    (lat, wrap_180(lon))
 }
 
 /// 1 − e² sin²φ, the ellipsoid's radii's common term at latitude `lat_deg`.
@@ -197,31 +243,103 @@ mod tests {
         assert!((18_520.0 - sphere - 72.8).abs() < 0.5, "{sphere}");
     }
 
+    /// Vincenty's inverse on WGS84 (T. Vincenty, "Direct and inverse solutions of geodesics
+    /// on the ellipsoid", Survey Review 23, 1975, eqs. 13–21 and 3–6): a second, independent
+    /// algorithm to check the geodesics against (within a millimetre at these distances).
+    /// The distance, m, and the azimuth at the first point, degrees.
+    fn vincenty(lat1: f64, lon1: f64, lat2: f64, lon2: f64) -> (f64, f64) {
+        let b = WGS84_A_M * (1.0 - WGS84_F);
+        let u1 = ((1.0 - WGS84_F) * lat1.to_radians().tan()).atan();
+        let u2 = ((1.0 - WGS84_F) * lat2.to_radians().tan()).atan();
+        let l = (lon2 - lon1).to_radians();
+        let (su1, cu1) = u1.sin_cos();
+        let (su2, cu2) = u2.sin_cos();
+        let mut lambda = l;
+        let (mut sigma, mut ss, mut cs, mut c2a, mut c2sm) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        for _ in 0..100 {
+            let (sl, cl) = lambda.sin_cos();
+            ss = ((cu2 * sl).powi(2) + (cu1 * su2 - su1 * cu2 * cl).powi(2)).sqrt();
+            cs = su1 * su2 + cu1 * cu2 * cl;
+            sigma = ss.atan2(cs);
+            let sa = cu1 * cu2 * sl / ss;
+            c2a = 1.0 - sa * sa;
+            c2sm = cs - 2.0 * su1 * su2 / c2a;
+            let c = WGS84_F / 16.0 * c2a * (4.0 + WGS84_F * (4.0 - 3.0 * c2a));
+            let next = l
+                + (1.0 - c)
+                    * WGS84_F
+                    * sa
+                    * (sigma + c * ss * (c2sm + c * cs * (-1.0 + 2.0 * c2sm * c2sm)));
+            let done = (next - lambda).abs() < 1e-13;
+            lambda = next;
+            if done {
+                break;
+            }
+        }
+        let u2sq = c2a * (WGS84_A_M * WGS84_A_M - b * b) / (b * b);
+        let aa =
+            1.0 + u2sq / 16_384.0 * (4_096.0 + u2sq * (-768.0 + u2sq * (320.0 - 175.0 * u2sq)));
+        let bb = u2sq / 1_024.0 * (256.0 + u2sq * (-128.0 + u2sq * (74.0 - 47.0 * u2sq)));
+        let ds = bb
+            * ss
+            * (c2sm
+                + bb / 4.0
+                    * (cs * (-1.0 + 2.0 * c2sm * c2sm)
+                        - bb / 6.0 * c2sm * (-3.0 + 4.0 * ss * ss) * (-3.0 + 4.0 * c2sm * c2sm)));
+        let (sl, cl) = lambda.sin_cos();
+        let azi = (cu2 * sl).atan2(cu1 * su2 - su1 * cu2 * cl).to_degrees();
+        (b * aa * (sigma - ds), azi)
+    }
+
     #[test]
-    fn positions_about_own_ship_are_taken_at_its_latitude() {
+    fn positions_about_own_ship_are_at_their_range_and_bearing() {
         let o = Origin::default();
-        // Own ship 60 NM north of the origin; a target 6 NM east of it.
-        let own = o.to_local(o.lat_deg + 1.0, o.lon_deg);
-        let target = [own[0] + 11_112.0, own[1]];
-        let (lat, lon) = o.to_lat_lon_near(target, own);
-        assert!((lat - (o.lat_deg + 1.0)).abs() < 1e-9);
-        // 6 NM east at 51°40′N is 0.1606° of longitude; in the origin's frame it would be
-        // 0.1571° (the 2.2 % of the module documentation: 240 m).
-        let want = 11_112.0 / metres_per_degree_east(o.lat_deg + 1.0);
-        assert!((lon - o.lon_deg - want).abs() < 1e-9, "{lon}");
-        assert!((want - 0.1606).abs() < 1e-4, "{want}");
-        let (_, far) = o.to_lat_lon(target);
-        assert!((lon - far).abs() * metres_per_degree_east(lat) > 200.0);
-        // And back.
-        let q = o.to_local_near(lat, lon, own);
-        assert!((q[0] - target[0]).abs() < 1e-6 && (q[1] - target[1]).abs() < 1e-6);
-        let k = o.east_scale_near(own);
-        let p = o.to_local(lat, lon);
-        assert!((own[0] + (p[0] - own[0]) * k - target[0]).abs() < 1e-6);
-        // At the origin the two are the same mapping.
-        let at = o.to_lat_lon_near([500.0, -300.0], [0.0, 0.0]);
-        assert_eq!(at, o.to_lat_lon([500.0, -300.0]));
-        // Across the antimeridian and at a pole: finite.
+        // Own ship at the origin, 60 NM north of it (where the origin's east metres are
+        // 2.2 % short) and at 70° N; targets at 1, 6 and 10 NM all round.
+        let north = Origin {
+            lat_deg: 70.0,
+            lon_deg: 20.0,
+        };
+        for (frame, own) in [
+            (o, [0.0, 0.0]),
+            (o, o.to_local(o.lat_deg + 1.0, o.lon_deg + 0.3)),
+            (north, [5_000.0, -3_000.0]),
+        ] {
+            let (own_lat, own_lon) = frame.to_lat_lon(own);
+            for range_m in [1_852.0, 11_112.0, 18_520.0] {
+                for bearing in (0..360).step_by(15) {
+                    let b = f64::from(bearing).to_radians();
+                    let p = [own[0] + range_m * b.sin(), own[1] + range_m * b.cos()];
+                    let (lat, lon) = frame.to_lat_lon_near(p, own);
+                    let (s, azi) = vincenty(own_lat, own_lon, lat, lon);
+                    let turn = (azi - f64::from(bearing) + 540.0).rem_euclid(360.0) - 180.0;
+                    assert!(
+                        (s - range_m).abs() < 1e-3,
+                        "{own:?} {range_m} {bearing}: {s}"
+                    );
+                    assert!(turn.abs() < 1e-7, "{own:?} {range_m} {bearing}: {azi}");
+                    // And back.
+                    let q = frame.to_local_near(lat, lon, own);
+                    assert!((q[0] - p[0]).abs() < 1e-6 && (q[1] - p[1]).abs() < 1e-6);
+                }
+            }
+        }
+        // A ship's position and velocity in the origin's frame taken about own ship: at the
+        // geodesic's distance and azimuth from own ship, moving as before within 0.25 % (the
+        // origin's east metres are not those at own ship's latitude).
+        let own = o.to_local(o.lat_deg - 0.2, o.lon_deg + 0.1);
+        let (own_lat, own_lon) = o.to_lat_lon(own);
+        let (p, v) = o.about_own_ship([3_000.0, 4_000.0], [2.0, -1.0], own);
+        let (lat, lon) = o.to_lat_lon([3_000.0, 4_000.0]);
+        let (s, azi) = vincenty(own_lat, own_lon, lat, lon);
+        let (sin, cos) = azi.to_radians().sin_cos();
+        assert!((own[0] + s * sin - p[0]).abs() < 1e-3, "{p:?}");
+        assert!((own[1] + s * cos - p[1]).abs() < 1e-3, "{p:?}");
+        assert!(
+            (v[0] - 2.0).abs() < 5e-3 && (v[1] + 1.0).abs() < 2.5e-3,
+            "{v:?}"
+        );
+        // Across the antimeridian: wrapped.
         let east = Origin {
             lat_deg: 0.0,
             lon_deg: 179.99,
@@ -230,8 +348,16 @@ mod tests {
         // Own ship 1 km from the pole: a point 10 m east and south of it is there.
         let near_pole = o.to_local(89.99, 0.0);
         let (lat, lon) = o.to_lat_lon_near([near_pole[0] + 10.0, near_pole[1] - 10.0], near_pole);
-        assert!((lat - (89.99 - 10.0 / metres_per_degree_north(89.99))).abs() < 1e-9);
+        assert!(lat < 89.99 && lat > 89.9898, "{lat}");
         assert!(lon.is_finite() && lon > 0.0 && lon < 1.0, "{lon}");
+        // Not on the globe, or not a number: not a number, never a panic.
+        assert!(o.to_local_near(91.0, 0.0, [0.0, 0.0])[0].is_nan());
+        assert!(o.to_local_near(f64::NAN, 0.0, [0.0, 0.0])[1].is_nan());
+        assert!(o.to_lat_lon_near([f64::NAN, 0.0], [0.0, 0.0]).0.is_nan());
+        assert!(o
+            .to_lat_lon_near([f64::INFINITY, 0.0], [0.0, 0.0])
+            .0
+            .is_nan());
         assert!(Origin::parse("95,0").is_err() && Origin::parse("x").is_err());
     }
 }

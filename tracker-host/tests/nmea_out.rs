@@ -240,7 +240,8 @@ fn positions_are_valid_in_every_hemisphere_and_across_the_antimeridian() {
             status: 'T',
             data: target(east, north),
         };
-        let s = tracker_host::nmea::tll(&t, &origin, [0.0, 0.0], 1_767_225_600.0 + 45_296.5);
+        let s = tracker_host::nmea::tll(&t, &origin, [0.0, 0.0], 1_767_225_600.0 + 45_296.5)
+            .expect("a place on the globe");
         let f = fields(&s);
         assert_eq!(
             (f[3].chars().next(), f[5].chars().next()),
@@ -257,11 +258,11 @@ fn positions_are_valid_in_every_hemisphere_and_across_the_antimeridian() {
             "{s}"
         );
         assert_eq!(f[7], "123456.50");
-        // Back to the local frame: the same place.
+        // Back to the local frame about own ship: the same place.
         let sign = |c: char| if c == 'S' || c == 'W' { -1.0 } else { 1.0 };
         let lat = sign(lat_ok) * (lat_deg + lat_min / 60.0);
         let lon = sign(lon_ok) * (lon_deg + lon_min / 60.0);
-        let back = origin.to_local(lat, lon);
+        let back = origin.to_local_near(lat, lon, [0.0, 0.0]);
         assert!(
             (back[0] - f64::from(east)).abs() < 1.0 && (back[1] - f64::from(north)).abs() < 1.0,
             "{s} {back:?}"
@@ -277,21 +278,21 @@ fn positions_are_valid_in_every_hemisphere_and_across_the_antimeridian() {
     tracker_host_tools_check();
 }
 
-/// Runs `tools/check_nmea.py` (pynmea2) over sentences in every hemisphere, when Python and
-/// pynmea2 are there; `scripts/setup` installs them, and the test command requires them.
+/// Runs `tools/check_nmea.py` (pynmea2, geographiclib) over sentences in every hemisphere, when
+/// they are there; `scripts/setup` installs them, and the test command requires them.
 fn tracker_host_tools_check() {
     let python = std::env::var("TRACKER_PYTHON").unwrap_or_else(|_| "python3".to_string());
     let script = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tools/check_nmea.py");
     let have = std::process::Command::new(&python)
-        .args(["-c", "import pynmea2"])
+        .args(["-c", "import pynmea2, geographiclib"])
         .status()
         .is_ok_and(|s| s.success());
     if !have {
         assert!(
             std::env::var_os("TRACKER_REQUIRE_TOOLS").is_none(),
-            "pynmea2 is required (TRACKER_REQUIRE_TOOLS is set): scripts/setup installs it"
+            "pynmea2 and geographiclib are required (TRACKER_REQUIRE_TOOLS is set): scripts/setup installs them"
         );
-        eprintln!("pynmea2 not installed: the independent check is skipped");
+        eprintln!("pynmea2 or geographiclib not installed: the independent check is skipped");
         return;
     }
     let dir = tempfile::tempdir().unwrap();
@@ -308,8 +309,10 @@ fn tracker_host_tools_check() {
             lat_deg: lat,
             lon_deg: lon,
         };
+        // Own ship 20 km from the origin, a target 11 km from own ship.
         for (e, n) in [(10_000.0, -5_000.0), (-10_000.0, 5_000.0)] {
-            let own = tracker_host::own_ship::OwnShip::at([0.0, 0.0], [1.0, 5.0]);
+            let own = tracker_host::own_ship::OwnShip::at([12_000.0, -16_000.0], [1.0, 5.0]);
+            let (e, n) = (e + own.position_m[0], n + own.position_m[1]);
             let t = tracker_core::icd::TrackState {
                 track: 3,
                 status: TrackStatus::Confirmed,
@@ -324,10 +327,15 @@ fn tracker_host_tools_check() {
                 status: 'T',
                 data: tracker_host::session::target::TargetData::new(&own, &t),
             };
-            let (tlat, tlon) = origin.to_lat_lon([f64::from(e), f64::from(n)]);
+            let (own_lat, own_lon) = origin.to_lat_lon([12_000.0, -16_000.0]);
+            let (range_m, bearing) = (
+                f64::from(p.data.range_m),
+                f64::from(p.data.bearing_rad).to_degrees(),
+            );
             text += &tracker_host::nmea::ttm(&p, 1_767_225_600.0);
-            text += &tracker_host::nmea::tll(&p, &origin, own.position_m, 1_767_225_600.0);
-            text += &format!("# expect {tlat:.6} {tlon:.6}\n");
+            text += &tracker_host::nmea::tll(&p, &origin, own.position_m, 1_767_225_600.0)
+                .expect("a place on the globe");
+            text += &format!("# expect {own_lat:.9} {own_lon:.9} {range_m:.3} {bearing:.7}\n");
             text +=
                 &tracker_host::nmea::targets::own_ship_sentences(&own, &origin, 1_767_225_600.0)
                     .concat();

@@ -99,20 +99,25 @@ fn name_field(t: &PlotterTarget<'_>) -> String {
 /// `TLL` for one target: number, latitude and longitude (longitude wrapped to ±180°),
 /// name, UTC, status, no reference target. The position is taken about own ship at `own_m`
 /// (local, m; [`Origin::to_lat_lon_near`]), where the target's range and bearing put it,
-/// however far own ship has come from the origin.
-pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64) -> String {
+/// however far own ship has come from the origin. `None` when that is no place on the
+/// globe (own ship dead reckoned past a pole, a position not a number): no `TLL` is
+/// better than a broken one.
+pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64) -> Option<String> {
     let d = &t.data;
     let f = |x: [f32; 2]| [f64::from(x[0]), f64::from(x[1])];
     let (lat, lon) = origin.to_lat_lon_near(f(d.position_m), f(own_m));
+    if !(lat.abs() <= 90.0 && lon.is_finite()) {
+        return None;
+    }
     let number = t.number;
-    sentence(&format!(
+    Some(sentence(&format!(
         "RATLL,{number:02},{},{},{},{},{},",
         angle_field(lat, 2, 'N', 'S'),
         angle_field(lon, 3, 'E', 'W'),
         name_field(t),
         utc(time_s),
         t.status
-    ))
+    )))
 }
 
 /// Own ship for a plotter without GNSS: `RMC` (position, SOG, COG, UTC and date; status
@@ -389,7 +394,7 @@ impl TargetsOut {
     ) {
         out.push(ttm(t, time_s));
         if !position_unknown {
-            out.push(tll(t, &self.origin, own_m, time_s));
+            out.extend(tll(t, &self.origin, own_m, time_s));
         }
     }
 }
@@ -449,7 +454,7 @@ pub fn targets_sentences(
                 status: 'T',
                 data: *d,
             };
-            [ttm(&t, time_s), tll(&t, origin, own_m, time_s)]
+            std::iter::once(ttm(&t, time_s)).chain(tll(&t, origin, own_m, time_s))
         })
         .collect()
 }
@@ -516,7 +521,9 @@ mod tests {
             format!("{:02X}", checksum(&s[1..s.find('*').unwrap()]))
         );
         t.name = Some(" ,*");
-        assert!(tll(&t, &Origin::default(), [0.0, 0.0], 0.0).contains(",TGT07,"));
+        assert!(tll(&t, &Origin::default(), [0.0, 0.0], 0.0)
+            .unwrap()
+            .contains(",TGT07,"));
     }
 
     #[test]
@@ -568,27 +575,28 @@ mod tests {
             lat_deg: 50.0,
             lon_deg: -1.0,
         };
-        let s = tll(&plotter(t), &origin, [0.0, 0.0], 0.0);
+        let s = tll(&plotter(t), &origin, [0.0, 0.0], 0.0).unwrap();
         // The nmea crate checks the frame and checksum (it has no TLL field parser).
         let frame = nmea::parse_nmea_sentence(s.trim()).unwrap();
         assert_eq!(frame.checksum, checksum(&s[1..s.find('*').unwrap()]));
         let f: Vec<&str> = s.trim()[1..s.find('*').unwrap()].split(',').collect();
         assert_eq!(f[0], "RATLL");
         assert_eq!(f[1], "07");
-        // On WGS84, 4 km north of 50°N is 50°02.15770′N (a minute of latitude there is
-        // 1,853.8 m) and 3 km east of 1°W at 50°N is 0°57.48939′W (1,194.9 m a minute).
-        assert_eq!((f[2], f[3]), ("5002.15770", "N"));
+        // On WGS84, 5 km from 50°N 1°W on 036.87° (4 km north, 3 km east) is 50°02.15725′N
+        // 0°57.48752′W (Karney's geodesic, by geographiclib 2.0 for Python).
+        assert_eq!((f[2], f[3]), ("5002.15725", "N"));
         assert_eq!(f[5], "W");
         let lon_min: f64 = f[4][3..].parse().unwrap();
-        assert!((lon_min - 57.48939).abs() < 1e-4, "{s}");
+        assert!((lon_min - 57.48752).abs() < 2e-5, "{s}");
         assert_eq!((f[6], f[7], f[8]), ("TGT07", "000000.00", "T"));
     }
 
     #[test]
     fn tll_is_where_range_and_bearing_put_the_target_far_from_the_origin() {
-        // Own ship 60 NM north of the origin, a target 6 NM due east of it: TLL on own
-        // ship's latitude, 6 NM of longitude there east of own ship (within a metre), not
-        // the 240 m short that the origin's east metres would put it.
+        // Own ship 60 NM north of the origin, a target 6 NM due east of it: TLL 6 NM of
+        // longitude there east of own ship (within a metre), not the 240 m short that the
+        // origin's east metres would put it, and 11.9 m south of own ship's parallel, where
+        // the geodesic leaving due east is (s² tan φ / 2N).
         let origin = Origin {
             lat_deg: 50.0,
             lon_deg: -1.0,
@@ -601,13 +609,14 @@ mod tests {
         };
         let d = TargetData::new(&own, &track);
         assert!((d.range_m - 11_112.0).abs() < 0.01);
-        let s = tll(&plotter(d), &origin, own.position_m, 0.0);
+        let s = tll(&plotter(d), &origin, own.position_m, 0.0).unwrap();
         let f: Vec<&str> = s.trim()[1..s.find('*').unwrap()].split(',').collect();
         let minutes = |field: &str, deg_digits: usize| -> f64 {
             let deg: f64 = field[..deg_digits].parse().unwrap();
             deg * 60.0 + field[deg_digits..].parse::<f64>().unwrap()
         };
-        assert!((minutes(f[2], 2) - 51.0 * 60.0).abs() * 1852.0 < 1.0, "{s}");
+        let south_m = (51.0 * 60.0 - minutes(f[2], 2)) * 1852.0;
+        assert!((south_m - 11.9).abs() < 1.0, "{south_m} m: {s}");
         // A minute of longitude at 51° N on WGS84: 1,169.961 m.
         let east_m = (60.0 - minutes(f[4], 3)) * 1_169.961;
         assert!((east_m - 11_112.0).abs() < 1.0, "{east_m} m: {s}");

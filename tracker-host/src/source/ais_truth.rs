@@ -245,8 +245,8 @@ pub struct AisTruthOptions {
 /// The source. See the module documentation.
 pub struct AisTruthSource {
     tracks: AisTracks,
-    /// The local frame's origin: the vessels are placed about own ship at its latitude
-    /// ([`Origin::east_scale_near`]), where the AIS positions heard are put.
+    /// The local frame's origin: the vessels are placed about own ship
+    /// ([`Origin::about_own_ship`]), where the AIS positions heard are put.
     origin: Origin,
     own_mmsi: u32,
     still_gap_s: f64,
@@ -415,7 +415,6 @@ impl PlotSource for AisTruthSource {
         };
         let f = |x: [f64; 2]| [x[0] as f32, x[1] as f32];
         let own_m = f(own_p);
-        let east = self.origin.east_scale_near(own_p);
         // The vessels present, nearest first, as many as the radar model holds.
         let sensor = *self.model.sensor();
         let mut present: Vec<(u32, [f64; 2], [f64; 2], f64)> = self
@@ -424,9 +423,8 @@ impl PlotSource for AisTruthSource {
             .filter(|m| **m != self.own_mmsi)
             .filter_map(|m| {
                 let (p, v) = self.tracks.at(*m, t, MAX_GAP_S, self.still_gap_s)?;
-                // About own ship, in metres at its latitude, as its radar sees them.
-                let p = [own_p[0] + (p[0] - own_p[0]) * east, p[1]];
-                let v = [v[0] * east, v[1]];
+                // About own ship, as its radar sees them.
+                let (p, v) = self.origin.about_own_ship(p, v, own_p);
                 let d = (p[0] - own_p[0]).hypot(p[1] - own_p[1]);
                 Some((*m, p, v, d))
             })
