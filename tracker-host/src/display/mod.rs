@@ -738,7 +738,11 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             course,
             motion(t.speed_mps / MPS_PER_KNOT, 1),
             motion(t.cpa_m / METRES_PER_NM, 2),
-            motion(crate::session::target::tcpa_minutes(t.tcpa_s), 1),
+            if t.trend_known {
+                crate::session::target::tcpa_text(t.tcpa_s)
+            } else {
+                "---".to_string()
+            },
             ais_column(view, t.track),
         ])
         .style(style)

@@ -154,6 +154,26 @@ pub fn tcpa_minutes(tcpa_s: f32) -> f32 {
     crate::nmea::shown_signed(f64::from(tcpa_s) / 60.0, 1) as f32
 }
 
+/// The largest TCPA the tables show, min (IEC 62388 asks for CPA and TCPA, not how far; an
+/// ARPA's field is commonly three figures): beyond it the target has next to no motion
+/// relative to own ship, and its TCPA runs to hours either way (−900 min for a moored boat
+/// 1 NM off whose track drifts 0.07 kn relative; a new user's trial) without meaning
+/// anything to a navigator.
+pub const TCPA_SHOWN_MIN: f32 = 99.9;
+
+/// A TCPA as the tables show it: minutes to a tenth ([`tcpa_minutes`]), or `>99.9` and
+/// `<-99.9` beyond [`TCPA_SHOWN_MIN`].
+pub fn tcpa_text(tcpa_s: f32) -> String {
+    let minutes = tcpa_minutes(tcpa_s);
+    if minutes > TCPA_SHOWN_MIN {
+        format!(">{TCPA_SHOWN_MIN:.1}")
+    } else if minutes < -TCPA_SHOWN_MIN {
+        format!("<-{TCPA_SHOWN_MIN:.1}")
+    } else {
+        format!("{minutes:.1}")
+    }
+}
+
 /// [`table`] with an AIS column (when `ais` is given): what `ais` says of each track
 /// number, the paired AIS target's name for instance, at most 20 characters.
 pub fn table_with_ais(
@@ -181,9 +201,14 @@ pub fn table_with_ais(
             }
         };
         let (trend, truth) = (t.trend_known, t.trend_known && t.true_motion_known);
+        let tcpa = if trend {
+            tcpa_text(t.tcpa_s)
+        } else {
+            "---".to_string()
+        };
         let name = ais.map(|f| format!("  {:<20}", f(t.track)));
         let line = format!(
-            "{:>4} {:<9} {:>7.2} {:>7.1} {} {} {} {} {} {} {:>4}{}{}",
+            "{:>4} {:<9} {:>7.2} {:>7.1} {} {} {} {:>9} {} {} {:>4}{}{}",
             t.label(),
             shown_status(t),
             t.range_m / METRES_PER_NM,
@@ -191,7 +216,7 @@ pub fn table_with_ais(
             known(truth, 7, deg(t.course_rad), 1),
             known(truth, 8, t.speed_mps / MPS_PER_KNOT, 1),
             known(trend, 7, t.cpa_m / METRES_PER_NM, 2),
-            known(trend, 9, tcpa_minutes(t.tcpa_s), 1),
+            tcpa,
             known(trend, 8, deg(t.rel_course_rad), 1),
             known(trend, 8, t.rel_speed_mps / MPS_PER_KNOT, 1),
             t.age_scans,
@@ -272,6 +297,34 @@ mod tests {
         assert_eq!(format!("{:.1}", tcpa_minutes(-2.0)), "0.0");
         assert_eq!(format!("{:.1}", tcpa_minutes(-4.0)), "-0.1");
         assert_eq!(format!("{:.1}", tcpa_minutes(90.0)), "1.5");
+    }
+
+    #[test]
+    fn a_target_with_next_to_no_relative_motion_shows_no_tcpa_of_hours() {
+        // Both stopped, the target's track drifting 0.07 kn away 1 NM off: its TCPA is
+        // −900 min, shown as beyond the field; one minute off is shown as it is.
+        let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
+        let t = TrackState {
+            track: 3,
+            status: TrackStatus::Confirmed,
+            position_m: [0.0, 1852.0],
+            velocity_mps: [0.0, 0.0343],
+            age_scans: 40,
+            hit_history: 0x3ff,
+        };
+        let d = TargetData::new(&own, &t);
+        assert!((tcpa_minutes(d.tcpa_s) + 900.0).abs() < 1.0, "{}", d.tcpa_s);
+        let row = |d: TargetData| table(&[d], &AlarmLimits::default());
+        assert!(row(d).contains(" <-99.9 "), "{}", row(d));
+        let coming = TargetData {
+            tcpa_s: -d.tcpa_s,
+            ..d
+        };
+        assert!(row(coming).contains(" >99.9 "), "{}", row(coming));
+        let soon = TargetData { tcpa_s: 60.0, ..d };
+        assert!(row(soon).contains(" 1.0 "), "{}", row(soon));
+        assert_eq!(tcpa_text(99.9 * 60.0), "99.9");
+        assert_eq!(tcpa_text(-100.0 * 60.0), "<-99.9");
     }
 
     #[test]
