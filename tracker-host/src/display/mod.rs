@@ -380,6 +380,9 @@ pub fn render_paused(
 fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
     // In a narrow pane (an 80-column terminal's is 44) the words are cut, not the figures.
     let narrow = area.width < 80;
+    // A figure and its word are joined by a no-break space where the line wraps, so that a
+    // count never starts the next line apart from its word ("trk" / "12" at 80 columns).
+    let join = if narrow { "\u{a0}" } else { " " };
     let (gap, link, tracked, acquiring, in_echo) = if narrow {
         (" ", "", "trk", "acq", "held")
     } else {
@@ -402,28 +405,32 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     } else {
         ""
     };
-    let counts =
-        |gap: &str, link: &str, name: &str, tracked: &str, acquiring: &str, in_echo: &str| {
-            // Targets held hidden in others' echoes (not drawn), when there are any.
-            let held = if view.in_echo.is_empty() {
-                String::new()
-            } else {
-                format!("{gap}{in_echo} {}", view.in_echo.len())
-            };
-            let link = if name.is_empty() {
-                String::new()
-            } else {
-                format!("{gap}{link}{name}")
-            };
-            format!(
-                "scan {}{gap}{}{link}{gap}plots {}{gap}{tracked} {}{gap}{acquiring} {}{held}",
+    let counts = |gap: &str,
+                  link: &str,
+                  name: &str,
+                  tracked: &str,
+                  acquiring: &str,
+                  in_echo: &str| {
+        // Targets held hidden in others' echoes (not drawn), when there are any.
+        let held = if view.in_echo.is_empty() {
+            String::new()
+        } else {
+            format!("{gap}{in_echo}{join}{}", view.in_echo.len())
+        };
+        let link = if name.is_empty() {
+            String::new()
+        } else {
+            format!("{gap}{link}{name}")
+        };
+        format!(
+                "scan{join}{}{gap}{}{link}{gap}plots{join}{}{gap}{tracked}{join}{}{gap}{acquiring}{join}{}{held}",
                 view.scan,
                 view.time_label(),
                 view.plots.len(),
                 view.tracked(),
                 view.acquiring(),
             )
-        };
+    };
     let mut first = counts(gap, link, &state.link, tracked, acquiring, in_echo);
     // A wide pane that still cannot hold the line (PAUSED in front of it at about 160
     // columns) takes the short words, so that no count is cut off at its end; and where
@@ -452,7 +459,7 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             own_ship_line(&view.own)
         }),
         Line::raw(format!(
-            "{} NM{gap}{} vectors {} min{gap}{} {:.2} NM / {:.0} min",
+            "{}{join}NM{gap}{} vectors{join}{}{join}min{gap}{} {:.2}{join}NM / {:.0}{join}min",
             RANGE_SCALES_NM[state.range_scale],
             match (state.vectors, narrow) {
                 (VectorMode::Relative, false) => "relative",
@@ -1539,9 +1546,10 @@ pub(crate) mod tests {
         for a in alarms {
             assert!(a.contains(" min "), "{a}");
         }
-        // The header's counts, wrapped rather than cut.
+        // The header's counts, wrapped rather than cut (each joined to its word by a
+        // no-break space).
         assert!(
-            text.contains(&format!("acq {}", view.acquiring())),
+            text.contains(&format!("acq\u{a0}{}", view.acquiring())),
             "{text}"
         );
         // A table too short for every target says how many it shows.
@@ -1597,6 +1605,43 @@ pub(crate) mod tests {
         assert_ne!(background(&state), Color::Red);
         state.selected = Some(alarmed.track);
         assert_eq!(background(&state), Color::Red);
+    }
+
+    #[test]
+    fn the_narrow_headers_counts_stay_beside_their_words() {
+        // 80 columns: the header wraps in a 44-column pane; a count is never on the line
+        // after its word ("trk" at a line's end and "12" at the next's start, a trial).
+        let mut d = demo();
+        let mut view = step(&mut d);
+        for _ in 0..12 {
+            view = step(&mut d);
+        }
+        let state = DisplayState::new("inproc".into());
+        let text = screen_at(&state, &view, 80, 24);
+        let header: Vec<String> = text
+            .lines()
+            .take(7)
+            .map(|l| {
+                l.rsplit('│')
+                    .nth(1)
+                    .unwrap_or("")
+                    .trim()
+                    .replace('\u{a0}', " ")
+            })
+            .collect();
+        for item in [
+            format!("scan {}", view.scan),
+            format!("plots {}", view.plots.len()),
+            format!("trk {}", view.tracked()),
+            format!("acq {}", view.acquiring()),
+            "1.00 NM".to_string(),
+            "12 min".to_string(),
+        ] {
+            assert!(
+                header.iter().any(|l| l.contains(&item)),
+                "{item}: {header:#?}"
+            );
+        }
     }
 
     #[test]
