@@ -40,7 +40,7 @@ for t, s in lines:
     f = s.split('*')[0].split(',')
     k = f[0][3:]; kinds[f[0]] += 1
     if k == 'TTM':
-        cur['ttm'][f[1]] = dict(t=t, rng=float(f[2] or 0), brg=float(f[3] or 0), spd=float(f[5] or 0), crs=float(f[6] or 0),
+        cur['ttm'][f[1]] = dict(t=t, rng=float(f[2] or 0), brg=float(f[3] or 0), spd=float(f[5] or 0), crs=float(f[6] or 0), motion_sent=bool(f[5] and f[6]),
                                 cpa=f[8], tcpa=f[9], name=f[11], st=f[12], raw=s)
     elif k == 'TLL':
         cur['tll'][f[1]] = dict(t=t, lat=dm(f[2], f[3]), lon=dm(f[4], f[5]), name=f[6], st=f[8])
@@ -93,11 +93,11 @@ for n, h in hist.items():
         if x[1] == 'L': run += 1
         elif run: lost_runs.append(run); run = 0
     if run: lost_runs.append(run)
-print(f'numbers reused after L (L then Q/T on same number): {len(reuse)}  e.g. {reuse[:8]}')
+print(f'numbers sent again after L (L then Q/T on the same number: the same track back, or another given the number): {len(reuse)}  e.g. {reuse[:8]}')
 print(f'same number jumping >200 m + 2x its speed between consecutive scans (not via L): {len(jumps)} e.g. {jumps[:8]}')
 if lost_runs: print(f'L is repeated for {min(lost_runs)}..{max(lost_runs)} scans (median {sorted(lost_runs)[len(lost_runs)//2]})')
-qzero = sum(1 for sc in scans for m in sc['ttm'].values() if m['st'] in 'QL' and m['spd'] == 0 and m['crs'] == 0)
-print(f'Q/L TTMs with speed 0.0 and course 0.0 (shown by OpenCPN as a stationary target): {qzero}')
+qzero = sum(1 for sc in scans for m in sc['ttm'].values() if m['st'] in 'QL' and m['motion_sent'] and m['spd'] == 0 and m['crs'] == 0)
+print(f'Q/L TTMs sent with speed 0.0 and course 0.0 (shown by OpenCPN as a stationary target; empty fields, a motion not known, are not counted): {qzero}')
 print('first and last RMC:', scans[0]['own'] if scans else None, scans[-1]['own'] if scans else None)
 # status transitions and reuse gaps
 trans = collections.Counter(); gaps = collections.Counter()

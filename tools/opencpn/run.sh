@@ -7,7 +7,7 @@
 # Uses target/release/tracker-host (TRACKER_HOST overrides); writes to $OUT (default
 # /tmp/opencpn-check).
 #
-# Env: PORT (default 10110; if that port is taken, the next free one from 10111 is used),
+# Env: CHART_LAT, CHART_LON (the chart's centre; default the origin), PORT (default 10110; if that port is taken, the next free one from 10111 is used),
 #      WAIT1 (s before the first screenshot, default 75), WAIT2 (s to the second, default 60),
 #      WIDTH_NM (chart width in NM, default 12), DISP (X display number, default 99),
 #      MINIMAL_CONF=1 to write a from-scratch opencpn.conf instead of patching the template,
@@ -20,10 +20,13 @@
 # Everything is written under /tmp/opencpn-check (OpenCPN runs with HOME=/tmp/opencpn-check/home-TAG).
 set -uo pipefail
 TOOLS=$(cd "$(dirname "$0")" && pwd)
+# The tracker runs where this was started, so that DEMO_ARGS' relative paths (the README's
+# ../shared/...) mean what they meant there.
+CALLER=$PWD
+TRACKER_HOST=$(realpath -m "${TRACKER_HOST:-$TOOLS/../../target/release/tracker-host}")
 D=${OUT:-/tmp/opencpn-check}
 mkdir -p "$D"
 cd "$D"
-TRACKER_HOST=${TRACKER_HOST:-$TOOLS/../../target/release/tracker-host}
 WHERE=${1:-solent}
 case "$WHERE" in
   solent) LAT=50.6667; LON=-1.0; ORIGIN_ARG=() ;;              # the tracker's default origin
@@ -32,6 +35,9 @@ case "$WHERE" in
   *) echo "usage: $0 [solent|sydney|LAT,LON] [TAG]"; exit 2 ;;
 esac
 TAG=${2:-$WHERE}; TAG=${TAG//[^A-Za-z0-9_-]/_}
+# The chart's centre: the origin unless told (own ship may start elsewhere, e.g. in
+# Portsmouth Harbour with --own-mmsi 234586000: CHART_LAT=50.8015 CHART_LON=-1.1119).
+CHART_LAT=${CHART_LAT:-$LAT}; CHART_LON=${CHART_LON:-$LON}
 WAIT1=${WAIT1:-75}; WAIT2=${WAIT2:-60}; WIDTH_NM=${WIDTH_NM:-12}; DISP=${DISP:-99}
 export DISPLAY=:$DISP
 
@@ -61,9 +67,9 @@ echo "tracker NMEA port: $PORT"
 H="$D/home-$TAG"; rm -rf "$H"; mkdir -p "$H/.opencpn"
 if [ "${MINIMAL_CONF:-0}" = 1 ] || [ ! -f "$D/opencpn.conf.template" ]; then
   printf '[Settings]\nNavMessageShown=1\n[Settings/GlobalState]\n[Settings/AIS]\n[Settings/NMEADataSource]\n[Canvas]\nCanvasConfig=0\n[Canvas/CanvasConfig1]\n' > "$H/tmpl.conf"
-  python3 "$TOOLS/make_conf.py" "$H/tmpl.conf" "$H/.opencpn/opencpn.conf" "$LAT" "$LON" "$PORT" "$WIDTH_NM"
+  python3 "$TOOLS/make_conf.py" "$H/tmpl.conf" "$H/.opencpn/opencpn.conf" "$CHART_LAT" "$CHART_LON" "$PORT" "$WIDTH_NM"
 else
-  python3 "$TOOLS/make_conf.py" "$D/opencpn.conf.template" "$H/.opencpn/opencpn.conf" "$LAT" "$LON" "$PORT" "$WIDTH_NM"
+  python3 "$TOOLS/make_conf.py" "$D/opencpn.conf.template" "$H/.opencpn/opencpn.conf" "$CHART_LAT" "$CHART_LON" "$PORT" "$WIDTH_NM"
 fi
 grep -E '^(DataConnections|canvasVPLatLon|canvasVPScale|OwnShipLatLon)=' "$H/.opencpn/opencpn.conf"
 
@@ -79,9 +85,12 @@ if ! xdpyinfo >/dev/null 2>&1; then
 fi
 # DEMO_ARGS replaces the demo's own arguments (e.g. "--ais-truth FILE --own-mmsi N").
 read -r -a DEMO <<< "${DEMO_ARGS:---duration 900}"
-"$TRACKER_HOST" --link inproc demo --plain --speedup 1 "${DEMO[@]}" \
-  --nmea-out tcp:$PORT --nmea-out-own-ship "${ORIGIN_ARG[@]}" > "$D/$TAG-tracker.out" 2>&1 & PIDS+=($!)
+(cd "$CALLER" && exec "$TRACKER_HOST" --link inproc demo --plain --speedup 1 "${DEMO[@]}" \
+  --nmea-out tcp:$PORT --nmea-out-own-ship "${ORIGIN_ARG[@]}") > "$D/$TAG-tracker.out" 2>&1 & TRACKER=$!; PIDS+=($TRACKER)
 sleep 2
+if ! kill -0 "$TRACKER" 2>/dev/null; then
+  echo "tracker-host stopped at once:"; cat "$D/$TAG-tracker.out"; exit 1
+fi
 python3 "$TOOLS/nmea_tap.py" 127.0.0.1 $PORT "$D/$TAG-nmea.txt" $((WAIT1 + WAIT2 + 60)) & PIDS+=($!)
 HOME="$H" opencpn > "$D/$TAG-opencpn.out" 2>&1 & OCPN=$!; PIDS+=($OCPN)
 
