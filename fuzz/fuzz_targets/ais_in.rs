@@ -18,8 +18,8 @@ fuzz_target!(|data: &[u8]| {
     }
     assert!(table.len() <= MAX_AIS_TARGETS);
     for t in table.targets() {
-        if let Some(p) = t.position_at(&Origin::default(), [0.0, 0.0], 1.0e6) {
-            assert!(p.iter().all(|v| v.is_finite()), "{t:?}");
+        if let Some((p, v)) = t.position_at(&Origin::default(), [0.0, 0.0], 1.0e6) {
+            assert!(p.iter().chain(&v).all(|x| x.is_finite()), "{t:?}");
         }
     }
 });
