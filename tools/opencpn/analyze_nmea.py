@@ -12,16 +12,21 @@ def dm(v, h):
     x = float(v); d = int(x / 100); m = x - 100 * d
     r = d + m / 60
     return -r if h in ('S', 'W') else r
+try:
+    from geographiclib.geodesic import Geodesic
+    print('TTM against TLL along the WGS84 geodesic (geographiclib)')
+except ImportError:
+    Geodesic = None
+    print('geographiclib not installed: TTM against TLL on a plane at own ship (up to 37 m off at 10 NM)')
 def ll_to_en(lat0, lon0, lat, lon):
     # East and north of (lat0, lon0) along the WGS84 geodesic (Karney's, geographiclib), as
     # the product's TLL puts a target at TTM's range and bearing (origin.rs). Without
     # geographiclib, the WGS84 radii at lat0: up to 37 m off at 10 NM at 50 deg N.
-    try:
-        from geographiclib.geodesic import Geodesic
+    if Geodesic is not None:
         g = Geodesic.WGS84.Inverse(lat0, lon0, lat, lon)
         az = math.radians(g['azi1'])
         return (g['s12'] * math.sin(az), g['s12'] * math.cos(az))
-    except ImportError:
+    else:
         a, f = 6378137.0, 1 / 298.257223563
         e2 = f * (2 - f)
         def w2(lat):

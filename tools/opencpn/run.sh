@@ -24,6 +24,8 @@ TOOLS=$(cd "$(dirname "$0")" && pwd)
 # ../shared/...) mean what they meant there.
 CALLER=$PWD
 TRACKER_HOST=$(realpath -m "${TRACKER_HOST:-$TOOLS/../../target/release/tracker-host}")
+PYTHON=$(command -v "${PYTHON:-python3}" || echo python3)
+case "$PYTHON" in /*) ;; *) PYTHON=$(realpath -m "$PYTHON") ;; esac
 D=${OUT:-/tmp/opencpn-check}
 mkdir -p "$D"
 cd "$D"
@@ -88,9 +90,11 @@ read -r -a DEMO <<< "${DEMO_ARGS:---duration 900}"
 (cd "$CALLER" && exec "$TRACKER_HOST" --link inproc demo --plain --speedup 1 "${DEMO[@]}" \
   --nmea-out tcp:$PORT --nmea-out-own-ship "${ORIGIN_ARG[@]}") > "$D/$TAG-tracker.out" 2>&1 & TRACKER=$!; PIDS+=($TRACKER)
 sleep 2
-if ! kill -0 "$TRACKER" 2>/dev/null; then
-  echo "tracker-host stopped at once:"; cat "$D/$TAG-tracker.out"; exit 1
-fi
+tracker_alive() {
+  kill -0 "$TRACKER" 2>/dev/null && return
+  echo "tracker-host stopped:"; cat "$D/$TAG-tracker.out"; exit 1
+}
+tracker_alive
 python3 "$TOOLS/nmea_tap.py" 127.0.0.1 $PORT "$D/$TAG-nmea.txt" $((WAIT1 + WAIT2 + 60)) & PIDS+=($!)
 HOME="$H" opencpn > "$D/$TAG-opencpn.out" 2>&1 & OCPN=$!; PIDS+=($OCPN)
 
@@ -109,9 +113,9 @@ dismiss_dialogs() {
   done
 }
 for i in $(seq 1 30); do sleep 1; dismiss_dialogs; done   # the nav warning blocks the data connection
-sleep $((WAIT1 > 30 ? WAIT1 - 30 : 0)); dismiss_dialogs
+sleep $((WAIT1 > 30 ? WAIT1 - 30 : 0)); dismiss_dialogs; tracker_alive
 import -window root "$D/$TAG-1.png"; echo "screenshot $D/$TAG-1.png at $(date -u +%T)"
-sleep "$WAIT2"; dismiss_dialogs
+sleep "$WAIT2"; dismiss_dialogs; tracker_alive
 import -window root "$D/$TAG-2.png"; echo "screenshot $D/$TAG-2.png at $(date -u +%T)"
 
 # 5. AIS target list: menu AIS > "AIS target list...", enlarge it so CPA/TCPA show, sort by range.
@@ -134,4 +138,4 @@ kill -TERM $OCPN; sleep 6
 cp "$H/.opencpn/opencpn.log" "$D/$TAG-opencpn.log"
 echo "--- OpenCPN log: connection and errors"
 grep -E 'MakeCommDriver|NetworkDataStream|TCP Server|comm_drv|rror|WARN' "$D/$TAG-opencpn.log" | grep -v -E 'ENCShow|mmsitoname|navobj' || true
-"${PYTHON:-python3}" "$TOOLS/analyze_nmea.py" "$D/$TAG-nmea.txt" | tee "$D/$TAG-analysis.txt"
+"$PYTHON" "$TOOLS/analyze_nmea.py" "$D/$TAG-nmea.txt" | tee "$D/$TAG-analysis.txt"
