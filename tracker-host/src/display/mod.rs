@@ -454,7 +454,13 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             Span::raw(first),
         ]),
         Line::raw(if narrow {
-            own_ship_line(&view.own).replace("  ", " ")
+            // Each figure kept with its word and unit where the line wraps.
+            own_ship_line(&view.own)
+                .replace("  ", " ")
+                .replace("COG ", "COG\u{a0}")
+                .replace("SOG ", "SOG\u{a0}")
+                .replace(" kn", "\u{a0}kn")
+                .replace("HDG ", "HDG\u{a0}")
         } else {
             own_ship_line(&view.own)
         }),
@@ -939,10 +945,10 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
             (
                 t.tcpa_s,
                 format!(
-                    "{head} {of}{} {cpa}{:.2} NM {within}{:.1} min",
+                    "{head} {of}{} {cpa}{:.2} NM {within}{} min",
                     t.label(),
                     t.cpa_m / METRES_PER_NM,
-                    crate::session::target::tcpa_minutes(t.tcpa_s)
+                    crate::session::target::tcpa_text(t.tcpa_s)
                 ),
             )
         })
@@ -952,14 +958,14 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
         Some((
             c.tcpa_s,
             format!(
-                "{head} AIS {} {cpa}{:.2} NM {within}{:.1} min",
+                "{head} AIS {} {cpa}{:.2} NM {within}{} min",
                 if narrow {
                     a.label.chars().take(NARROW_AIS_NAME).collect::<String>()
                 } else {
                     a.label.clone()
                 },
                 c.cpa_m / METRES_PER_NM,
-                crate::session::target::tcpa_minutes(c.tcpa_s)
+                crate::session::target::tcpa_text(c.tcpa_s)
             ),
         ))
     }));
@@ -1636,6 +1642,7 @@ pub(crate) mod tests {
             format!("acq {}", view.acquiring()),
             "1.00 NM".to_string(),
             "12 min".to_string(),
+            "SOG 12.0 kn".to_string(),
         ] {
             assert!(
                 header.iter().any(|l| l.contains(&item)),
