@@ -99,11 +99,7 @@ impl Origin {
     pub fn to_lat_lon_near(&self, p: [f64; 2], own_m: [f64; 2]) -> (f64, f64) {
         let (lat, lon) = self.to_lat_lon(own_m);
         let d = [p[0] - own_m[0], p[1] - own_m[1]];
-        let s_m = d[0].hypot(d[1]);
-        if !(s_m.is_finite() && lat.abs() <= 90.0 && lon.is_finite()) {
-            return (f64::NAN, f64::NAN);
-        }
-        along_geodesic(lat, lon, d[0].atan2(d[1]).to_degrees(), s_m)
+        along_geodesic(lat, lon, d[0].atan2(d[1]).to_degrees(), d[0].hypot(d[1]))
     }
 
     /// Local position (east, north), m, of a latitude and longitude near own ship at `own_m`
@@ -112,7 +108,6 @@ impl Origin {
     /// Not a number when the point is not on the globe (a latitude beyond ±90°).
     pub fn to_local_near(&self, lat_deg: f64, lon_deg: f64, own_m: [f64; 2]) -> [f64; 2] {
         let (lat, lon) = self.to_lat_lon(own_m);
-        let on_globe = |la: f64, lo: f64| la.abs() <= 90.0 && lo.is_finite();
         if !(on_globe(lat, lon) && on_globe(lat_deg, lon_deg)) {
             return [f64::NAN, f64::NAN];
         }
@@ -146,15 +141,17 @@ impl Origin {
 /// longitude in [−180°, 180°). Not a number for a start off the globe or a distance not a
 /// number.
 pub fn along_geodesic(lat_deg: f64, lon_deg: f64, azimuth_deg: f64, distance_m: f64) -> (f64, f64) {
-    if !(lat_deg.abs() <= 90.0
-        && lon_deg.is_finite()
-        && azimuth_deg.is_finite()
-        && distance_m.is_finite())
-    {
+    if !(on_globe(lat_deg, lon_deg) && azimuth_deg.is_finite() && distance_m.is_finite()) {
         return (f64::NAN, f64::NAN);
     }
     let (lat, lon): (f64, f64) = WGS84.direct(lat_deg, lon_deg, azimuth_deg, distance_m);
     (lat, wrap_180(lon))
+}
+
+/// A latitude and longitude, degrees, that are a place on the globe (what the geodesics
+/// take; anything else gives not a number).
+fn on_globe(lat_deg: f64, lon_deg: f64) -> bool {
+    lat_deg.abs() <= 90.0 && lon_deg.is_finite()
 }
 
 /// 1 − e² sin²φ, the ellipsoid's radii's common term at latitude `lat_deg`.

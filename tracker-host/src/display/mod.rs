@@ -453,17 +453,7 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             ),
             Span::raw(first),
         ]),
-        Line::raw(if narrow {
-            // Each figure kept with its word and unit where the line wraps.
-            own_ship_line(&view.own)
-                .replace("  ", " ")
-                .replace("COG ", "COG\u{a0}")
-                .replace("SOG ", "SOG\u{a0}")
-                .replace(" kn", "\u{a0}kn")
-                .replace("HDG ", "HDG\u{a0}")
-        } else {
-            own_ship_line(&view.own)
-        }),
+        Line::raw(own_ship_words(&view.own, narrow)),
         Line::raw(format!(
             "{}{join}NM{gap}{} vectors{join}{}{join}min{gap}{} {:.2}{join}NM / {:.0}{join}min",
             RANGE_SCALES_NM[state.range_scale],
@@ -492,6 +482,13 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
 /// Own ship as the header shows it: course and speed over ground, heading, and how it is
 /// known.
 pub fn own_ship_line(own: &crate::own_ship::OwnShip) -> String {
+    own_ship_words(own, false)
+}
+
+/// [`own_ship_line`], or for a `narrow` pane whose lines wrap, with single spaces between
+/// the items and each figure joined to its word and unit by a no-break space.
+fn own_ship_words(own: &crate::own_ship::OwnShip, narrow: bool) -> String {
+    let (gap, join) = if narrow { (" ", "\u{a0}") } else { ("  ", " ") };
     let heading = own.heading_rad.map_or("---".to_string(), |h| {
         format!(
             "{:0>5}",
@@ -500,9 +497,11 @@ pub fn own_ship_line(own: &crate::own_ship::OwnShip) -> String {
     });
     let q = own.quality;
     // Unknown motion is not a ship stopped, and a ship stopped has no course.
-    let sog = own
-        .sog_kn()
-        .map_or("---- kn".to_string(), |kn| format!("{kn:4.1} kn"));
+    let sog = own.sog_kn().map_or(format!("----{join}kn"), |kn| {
+        let figure = format!("{kn:4.1}");
+        let figure = if narrow { figure.trim_start() } else { &figure };
+        format!("{figure}{join}kn")
+    });
     let cog = own.cog_deg().map_or("---.-".to_string(), |deg| {
         format!("{:0>5}", crate::nmea::angle_360(deg, 1))
     });
@@ -513,7 +512,7 @@ pub fn own_ship_line(own: &crate::own_ship::OwnShip) -> String {
     } else {
         "fix".to_string()
     };
-    format!("OWN  COG {cog}  SOG {sog}  HDG {heading}  {state}")
+    format!("OWN{gap}COG{join}{cog}{gap}SOG{join}{sog}{gap}HDG{join}{heading}{gap}{state}")
 }
 
 fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {

@@ -106,7 +106,7 @@ pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64)
     let d = &t.data;
     let f = |x: [f32; 2]| [f64::from(x[0]), f64::from(x[1])];
     let (lat, lon) = origin.to_lat_lon_near(f(d.position_m), f(own_m));
-    if !(lat.abs() <= 90.0 && lon.is_finite()) {
+    if !(lat.is_finite() && lon.is_finite()) {
         return None;
     }
     let number = t.number;
