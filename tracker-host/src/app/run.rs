@@ -52,12 +52,13 @@ impl Run {
         sinks: Vec<Box<dyn ScanSink>>,
     ) -> Self {
         let scan_s = plots.scan_period_s().unwrap_or(2.5) as f32;
+        let limits = session.config().alarms;
         Run {
             plots,
             own_ship,
             session,
             sinks,
-            score: ScoreSink::new(scan_s),
+            score: ScoreSink::new(scan_s).with_alarms(limits),
             scans: 0,
             finished: false,
             shown: std::collections::HashSet::new(),

@@ -14,6 +14,7 @@
 //! starts a *track break*, which ends when a track follows it again (the time to
 //! re-acquire).
 
+pub mod motion;
 pub mod ospa;
 pub mod pairing;
 mod summary;
@@ -249,6 +250,7 @@ impl Scorer {
         let mean = |v: &[f64]| v.iter().fold(0.0, |a, x| a + x) / v.len().max(1) as f64;
         let reacquired = self.reacquire_scans.len();
         Summary {
+            motion: Default::default(),
             scans: self.scans,
             targets: self.targets.len(),
             targets_detected: detected.len(),
@@ -317,6 +319,9 @@ pub struct ScoreSink {
     scan_s: f32,
     scored: bool,
     pairing: pairing::PairingScorer,
+    motion: motion::MotionScorer,
+    /// The run's CPA/TCPA alarm limits (the motion scorer counts false alarms).
+    limits: crate::session::target::AlarmLimits,
     /// Pairing is scored once the truth's ids are MMSIs (real traffic) and AIS is heard.
     pairing_scored: bool,
 }
@@ -330,10 +335,17 @@ impl ScoreSink {
         }
     }
 
+    /// … counting the alarms raised with `limits` against the truth.
+    pub fn with_alarms(mut self, limits: crate::session::target::AlarmLimits) -> Self {
+        self.limits = limits;
+        self
+    }
+
     /// The scores so far; `None` when no scan carried truth.
     pub fn summary(&self) -> Option<Summary> {
         self.scored.then(|| {
             let mut s = self.scorer.summary();
+            s.motion = self.motion.scores();
             s.pairing = self
                 .pairing_scored
                 .then(|| self.pairing.scores(f64::from(self.scan_s)));
@@ -352,11 +364,13 @@ impl crate::sink::ScanSink for ScoreSink {
             self.scorer
                 .scan(report.scan, truth, &report.tracks, self.scan_s);
             self.scored = true;
+            let matched = self.scorer.matched(&report.tracks);
+            self.motion
+                .scan(truth, &matched, &report.targets, &self.limits);
             if truth.ids_are_mmsi && !report.ais.is_empty() {
                 let pairs: Vec<(u16, u32)> =
                     report.paired.iter().map(|p| (p.track, p.mmsi)).collect();
                 let ais: Vec<u32> = report.ais.iter().map(|a| a.mmsi).collect();
-                let matched = self.scorer.matched(&report.tracks);
                 let nearest = nearest_truth(truth, &report.tracks, &matched);
                 let merged: Vec<(u16, u32)> =
                     report.merged.iter().map(|c| (c.track, c.mmsi)).collect();

@@ -64,6 +64,9 @@ pub struct Summary {
     pub reacquire_mean_scans: f64,
     /// Longest such time, scans.
     pub reacquire_max_scans: u32,
+    /// The motion shown against the truth ([`super::motion`]).
+    #[serde(flatten)]
+    pub motion: super::motion::MotionScores,
     /// Radar/AIS pairing against the truth, when the truth's ids are MMSIs and AIS was
     /// heard.
     #[serde(skip_serializing_if = "Option::is_none", flatten)]
@@ -114,6 +117,17 @@ impl Summary {
             self.breaks_reacquired,
             self.reacquire_mean_scans,
             self.reacquire_max_scans,
+        );
+        let m = &self.motion;
+        s += &format!(
+            "\nmotion shown: targets standing still shown at 1 kn or more {} of {} target-scans, targets under way shown under 0.5 kn {} of {}; CPA/TCPA alarms {} target-scans, {} not borne out by the truth ({} on targets standing still)",
+            m.still_shown_moving,
+            m.still_target_scans,
+            m.moving_shown_still,
+            m.moving_target_scans,
+            m.alarm_target_scans,
+            m.alarms_false,
+            m.alarms_false_still,
         );
         if let Some(p) = &self.pairing {
             s += &format!(

@@ -18,11 +18,13 @@
 //! | [`target`] | range, bearing, course, speed, CPA, TCPA, alarms |
 //! | [`numbers`] | the target numbers (01–99) the navigator and plotters know targets by |
 //! | [`trend`] | when a target's motion is known well enough to show and to alarm on |
+//! | [`stationary`] | whether a target stands still, shown then with no motion |
 
 pub mod ais;
 pub mod associate;
 pub mod device;
 pub mod numbers;
+pub mod stationary;
 pub mod target;
 pub mod trend;
 
@@ -331,6 +333,8 @@ pub struct Session {
     tracks_held: usize,
     /// A silence whose tracks were cancelled, not told yet (its scan was skipped).
     pending_silence: Option<(f64, u32)>,
+    /// Which targets stand still ([`stationary`]).
+    stationary: stationary::StationaryTest,
 }
 
 impl Session {
@@ -356,6 +360,7 @@ impl Session {
             intervals: Default::default(),
             tracks_held: 0,
             pending_silence: None,
+            stationary: Default::default(),
         })
     }
 
@@ -490,6 +495,7 @@ impl Session {
             self.firm.clear();
             self.lost.clear();
             self.in_echo.clear();
+            self.stationary.clear();
             self.tracks_held = 0;
             // Told with the scan that is tracked next (this one, unless it is skipped).
             self.pending_silence = silence;
@@ -541,9 +547,14 @@ impl Session {
         self.tracks_held = held_tracks(&tracks);
         // A silence is no antenna period: it would make the next one look like one.
         self.update_trend(gap_s.filter(|_| silence.is_none()));
-        let mut numbered =
-            self.numbers
-                .scan(own, &tracks, &self.config.alarms, self.trend.as_ref());
+        // A target found standing still is shown with no motion (the device's filter keeps
+        // its velocity, which gates its next plots).
+        self.stationary
+            .observe(radar.time_s, &tracks, &association.assignments, &plots_m);
+        let shown = self.stationary.shown(&tracks);
+        let mut numbered = self
+            .numbers
+            .scan(own, &shown, &self.config.alarms, self.trend.as_ref());
         // A firm track whose target is hidden in a plot another firm track took (two ships
         // in one resolution cell, [`Association::TwoStageUnresolved`]) is kept but not
         // drawn: the radar shows one echo, and a second symbol coasting beside it would

@@ -52,6 +52,12 @@ pub struct TargetData {
     pub alarm_held: bool,
 }
 
+/// Below this relative speed, m/s, a target keeps its range ([`geo::cpa`]: TCPA 0, CPA the
+/// present range) and is not approaching: no CPA/TCPA alarm. Own ship moored (or taken as
+/// stopped without GNSS) and a target found standing still ([`super::stationary`]) are
+/// such a pair; every moored boat within the CPA limit would alarm otherwise.
+pub const NO_RELATIVE_MOTION_MPS: f32 = 1e-3;
+
 /// An alarm once on stays on until the target's CPA or TCPA is this many times its limit.
 /// A CPA near the limit moves across it with the velocity's noise from scan to scan: on
 /// the Solent an alarm was raised again and again on one target (21 times in 20 minutes on
@@ -107,12 +113,14 @@ impl TargetData {
     /// True when the target will pass closer than `cpa_limit_m` within `tcpa_limit_s`, its
     /// motion being known ([`TargetData::trend_known`]); an alarm held from the last scan
     /// ([`TargetData::alarm_held`]) within the limits widened by [`ALARM_CLEAR_FACTOR`]
-    /// and until [`ALARM_PASSED_S`] past its CPA.
+    /// and until [`ALARM_PASSED_S`] past its CPA. A target with no motion relative to own
+    /// ship ([`NO_RELATIVE_MOTION_MPS`]) keeps its range and raises none.
     pub fn dangerous(&self, limits: &AlarmLimits) -> bool {
         let within = |cpa_m: f32, tcpa_from_s: f32, tcpa_to_s: f32| {
             self.cpa_m < cpa_m && self.tcpa_s >= tcpa_from_s && self.tcpa_s < tcpa_to_s
         };
         self.trend_known
+            && self.rel_speed_mps >= NO_RELATIVE_MOTION_MPS
             && (within(limits.cpa_m, 0.0, limits.tcpa_s)
                 || self.alarm_held
                     && within(
@@ -325,6 +333,33 @@ mod tests {
         assert!(row(soon).contains(" 1.0 "), "{}", row(soon));
         assert_eq!(tcpa_text(99.9 * 60.0), "99.9");
         assert_eq!(tcpa_text(-100.0 * 60.0), "<-99.9");
+    }
+
+    #[test]
+    fn a_target_keeping_its_range_raises_no_alarm() {
+        // Own ship moored and a moored boat 200 m off found standing still: no relative
+        // motion, TCPA 0 and CPA the range, inside the limits, but not approaching. The
+        // same boat drifting 1 kn towards own ship does alarm.
+        let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
+        let t = TrackState {
+            track: 3,
+            status: TrackStatus::Confirmed,
+            position_m: [0.0, 200.0],
+            velocity_mps: [0.0, 0.0],
+            age_scans: 40,
+            hit_history: 0x3ff,
+        };
+        let d = TargetData::new(&own, &t);
+        assert_eq!((d.cpa_m, d.tcpa_s), (200.0, 0.0));
+        assert!(!d.dangerous(&AlarmLimits::default()));
+        let drifting = TargetData::new(
+            &own,
+            &TrackState {
+                velocity_mps: [0.0, -0.5],
+                ..t
+            },
+        );
+        assert!(drifting.dangerous(&AlarmLimits::default()));
     }
 
     #[test]

@@ -1,0 +1,441 @@
+//! Whether a target stands still (moored, at anchor, a buoy): a target found so is shown
+//! with no motion, its course and speed over ground 0, its CPA that of own ship passing a
+//! fixed point.
+//!
+//! **Why.** A constant-velocity filter's velocity on a target that does not move is the
+//! noise of its plots: on the Solent's moored boats (plots of 20–40 m) it showed a median
+//! 0.5–1.2 kn in swinging directions, and about ten of them raised CPA alarms in a harbour;
+//! on real radar captures stationary echoes' tracks showed up to 1.9 kn (issue #17,
+//! docs/radar.md). A navigator reads a vector on a moored boat as a boat under way. The
+//! device's filter is left alone (its velocity gates the next plots); only what is shown
+//! changes.
+//!
+//! **The test** is the extra-sum-of-squares F-test of two nested least-squares fits (Draper
+//! & Smith, *Applied Regression Analysis*, 3rd ed., Wiley 1998, §6.1), on the plots a track
+//! took over its last [`WINDOW_S`] (at most [`MAX_PLOTS`]): a fixed point (the plots' mean,
+//! residual sum of squares RSS₀) against a constant velocity (a straight line in time per
+//! axis, RSS₁). With n plots and both axes pooled, RSS₁ has 2n − 4 degrees of freedom and
+//! the velocity's 2 explain RSS₀ − RSS₁; for a target that stands still
+//! F = ((RSS₀ − RSS₁)/2) / (RSS₁/(2n − 4)) is F(2, 2n − 4)-distributed *whatever the plots'
+//! accuracy*, so the test needs no plot σ (which on real radars is not known well, and
+//! for the IMO model grows with range). F(2, m) has a closed form: P(F > x) =
+//! (1 + 2x/m)^(−m/2), so its p-quantile is (m/2)·((1 − p)^(−2/m) − 1).
+//!
+//! A target is found standing still when F is below its [`ENTER_LEVEL`] quantile (the
+//! velocity explains no more than chance would) and the fitted speed plus twice its standard
+//! error is at most [`ENTER_BOUND_MPS`] (with 97.5 % confidence it is slower: plots too
+//! noisy to bound the speed say nothing), over at least [`MIN_PLOTS`] plots spanning
+//! [`MIN_SPAN_S`]; it is found moving again when F exceeds its [`LEAVE_LEVEL`] quantile or
+//! the fitted speed exceeds [`LEAVE_SPEED_MPS`] (hysteresis: the window slides one plot a
+//! scan, so one plot's noise does not make a vector come and go). A test that cannot tell
+//! (too few plots) leaves the filter's motion shown. What it costs: a target slower than the
+//! plots can tell from still over a minute (up to about 3 kn with 30 m plots) is shown
+//! still, and a ship getting under way shows its motion some scans late (10–17 scans after
+//! casting off at 0.1 m/s² through 20 m plots, in the tests below; on the Solent, docs/ais.md).
+
+use std::collections::{BTreeMap, VecDeque};
+
+use tracker_core::geo::EastNorth;
+use tracker_core::icd::{Assignment, TrackState, HIDDEN_PLOT};
+
+/// The plots a track took over this long are tested, s.
+pub const WINDOW_S: f64 = 60.0;
+/// … at most this many (the newest).
+pub const MAX_PLOTS: usize = 32;
+/// The test says nothing with fewer plots than this …
+pub const MIN_PLOTS: usize = 8;
+/// … or spanning less than this, s.
+pub const MIN_SPAN_S: f64 = 15.0;
+/// A moving target is found still when F is below this quantile of F(2, 2n − 4).
+pub const ENTER_LEVEL: f64 = 0.95;
+/// … and its fitted speed plus twice that speed's standard error is at most this, m/s
+/// (2.9 kn): with 97.5 % confidence the target is slower.
+pub const ENTER_BOUND_MPS: f64 = 1.5;
+/// A still target is found moving when F exceeds this quantile …
+pub const LEAVE_LEVEL: f64 = 0.999;
+/// … or its fitted speed exceeds this, m/s (2.9 kn).
+pub const LEAVE_SPEED_MPS: f64 = 1.5;
+
+/// The p-quantile of the F distribution with 2 and `m` degrees of freedom (see [the
+/// module](self)); `m` > 0, 0 < `p` < 1.
+pub fn f2_quantile(p: f64, m: f64) -> f64 {
+    (m / 2.0) * ((1.0 - p).powf(-2.0 / m) - 1.0)
+}
+
+/// The two fits over a track's plots.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Fit {
+    /// Plots fitted.
+    pub plots: usize,
+    /// Time from the first to the last, s.
+    pub span_s: f64,
+    /// The fitted velocity, m/s (east, north).
+    pub velocity_mps: [f64; 2],
+    /// The fitted velocity's standard error, m/s (one axis), from the line's residuals.
+    pub velocity_sigma_mps: f64,
+    /// The F statistic: how much better the velocity explains the plots than a fixed point,
+    /// against the line's own residuals (`f64::INFINITY` when the line fits exactly and the
+    /// point does not).
+    pub f: f64,
+}
+
+impl Fit {
+    /// Both fits over `plots` (time s, position m); `None` with fewer than 3 plots or no
+    /// spread in time.
+    pub fn of(plots: impl Iterator<Item = (f64, [f64; 2])> + Clone) -> Option<Fit> {
+        let n = plots.clone().count();
+        if n < 3 {
+            return None;
+        }
+        let nf = n as f64;
+        let (st, sx, sy) = plots.clone().fold((0.0, 0.0, 0.0), |(a, b, c), (t, p)| {
+            (a + t, b + p[0], c + p[1])
+        });
+        let (tm, xm, ym) = (st / nf, sx / nf, sy / nf);
+        let (mut stt, mut stx, mut sty, mut sxx, mut syy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut t0, mut t1) = (f64::INFINITY, f64::NEG_INFINITY);
+        for (t, p) in plots {
+            let (dt, dx, dy) = (t - tm, p[0] - xm, p[1] - ym);
+            stt += dt * dt;
+            stx += dt * dx;
+            sty += dt * dy;
+            sxx += dx * dx;
+            syy += dy * dy;
+            t0 = t0.min(t);
+            t1 = t1.max(t);
+        }
+        if !(stt > 0.0 && stt.is_finite() && (sxx + syy).is_finite()) {
+            return None;
+        }
+        let rss0 = sxx + syy;
+        let explained = (stx * stx + sty * sty) / stt;
+        let rss1 = (rss0 - explained).max(0.0);
+        let dof = 2.0 * nf - 4.0;
+        let f = if rss1 > 0.0 {
+            (explained / 2.0) / (rss1 / dof)
+        } else if explained > 0.0 {
+            f64::INFINITY
+        } else {
+            0.0
+        };
+        Some(Fit {
+            plots: n,
+            span_s: t1 - t0,
+            velocity_mps: [stx / stt, sty / stt],
+            velocity_sigma_mps: (rss1 / dof / stt).sqrt(),
+            f,
+        })
+    }
+
+    /// The fitted speed, m/s.
+    pub fn speed_mps(&self) -> f64 {
+        self.velocity_mps[0].hypot(self.velocity_mps[1])
+    }
+
+    /// Enough plots over enough time for the test to say anything.
+    pub fn telling(&self) -> bool {
+        self.plots >= MIN_PLOTS && self.span_s >= MIN_SPAN_S
+    }
+
+    /// Found still, for a target not found still before.
+    pub fn enters(&self) -> bool {
+        self.telling()
+            && self.f <= f2_quantile(ENTER_LEVEL, 2.0 * self.plots as f64 - 4.0)
+            && self.speed_mps() + 2.0 * self.velocity_sigma_mps <= ENTER_BOUND_MPS
+    }
+
+    /// Found moving, for a target found still before.
+    pub fn leaves(&self) -> bool {
+        !self.telling()
+            || self.f > f2_quantile(LEAVE_LEVEL, 2.0 * self.plots as f64 - 4.0)
+            || self.speed_mps() > LEAVE_SPEED_MPS
+    }
+}
+
+#[derive(Clone, Debug, Default)]
+struct Window {
+    plots: VecDeque<(f64, [f64; 2])>,
+    still: bool,
+}
+
+/// Every track's plots and whether its target stands still. Memory: at most
+/// [`MAX_PLOTS`] plots for each track the device holds (a track's window goes with it).
+#[derive(Clone, Debug, Default)]
+pub struct StationaryTest {
+    windows: BTreeMap<u16, Window>,
+}
+
+impl StationaryTest {
+    /// Takes a scan: the tracks the device reported, the plots each took (`assignments`,
+    /// indices into `plots_m`, the scan's plots in the local frame, m) at `time_s`, s.
+    pub fn observe(
+        &mut self,
+        time_s: f64,
+        tracks: &[TrackState],
+        assignments: &[Assignment],
+        plots_m: &[EastNorth],
+    ) {
+        self.windows.retain(|id, _| {
+            tracks
+                .iter()
+                .any(|t| t.track == *id && t.status != tracker_core::icd::TrackStatus::Lost)
+        });
+        for a in assignments {
+            let Some(p) = a
+                .plot
+                .filter(|p| *p != HIDDEN_PLOT)
+                .and_then(|p| plots_m.get(usize::from(p)))
+            else {
+                continue;
+            };
+            if !tracks.iter().any(|t| t.track == a.track) || !time_s.is_finite() {
+                continue;
+            }
+            let w = self.windows.entry(a.track).or_default();
+            w.plots
+                .push_back((time_s, [f64::from(p[0]), f64::from(p[1])]));
+            while w.plots.len() > MAX_PLOTS
+                || w.plots.front().is_some_and(|(t, _)| time_s - t > WINDOW_S)
+            {
+                w.plots.pop_front();
+            }
+        }
+        for w in self.windows.values_mut() {
+            // Relative to the newest plot: metres, not the frame's tens of kilometres.
+            let Some(&(tn, pn)) = w.plots.back() else {
+                w.still = false;
+                continue;
+            };
+            let fit = Fit::of(
+                w.plots
+                    .iter()
+                    .map(|(t, p)| (t - tn, [p[0] - pn[0], p[1] - pn[1]])),
+            );
+            w.still = match fit {
+                None => false,
+                Some(f) if w.still => !f.leaves(),
+                Some(f) => f.enters(),
+            };
+        }
+    }
+
+    /// True when `track`'s target is found standing still.
+    pub fn still(&self, track: u16) -> bool {
+        self.windows.get(&track).is_some_and(|w| w.still)
+    }
+
+    /// `tracks` as shown: those found still with no velocity.
+    pub fn shown(&self, tracks: &[TrackState]) -> Vec<TrackState> {
+        tracks
+            .iter()
+            .map(|t| TrackState {
+                velocity_mps: if self.still(t.track) {
+                    [0.0; 2]
+                } else {
+                    t.velocity_mps
+                },
+                ..*t
+            })
+            .collect()
+    }
+
+    /// Forgets every track (the device's were cancelled).
+    pub fn clear(&mut self) {
+        self.windows.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tracker_core::icd::TrackStatus;
+
+    /// Gaussian noise from a seeded generator (Box–Muller).
+    struct Noise(fastrand::Rng);
+
+    impl Noise {
+        fn gauss(&mut self, sigma: f64) -> f64 {
+            let u = self.0.f64().max(1e-12);
+            let v = self.0.f64();
+            sigma * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
+        }
+    }
+
+    fn state(track: u16) -> TrackState {
+        TrackState {
+            track,
+            status: TrackStatus::Confirmed,
+            position_m: [0.0; 2],
+            velocity_mps: [3.0, 4.0],
+            age_scans: 10,
+            hit_history: 0x3ff,
+        }
+    }
+
+    /// Scans every 2.5 s of one track whose plot at scan `k` is `at(k)` plus noise of
+    /// `sigma_m` a axis; returns, per scan, whether it was found still.
+    fn run(scans: u32, sigma_m: f64, seed: u64, at: impl Fn(f64) -> [f64; 2]) -> Vec<bool> {
+        let mut noise = Noise(fastrand::Rng::with_seed(seed));
+        let mut test = StationaryTest::default();
+        let tracks = [state(5)];
+        (0..scans)
+            .map(|k| {
+                let t = 2.5 * f64::from(k);
+                let p = at(t);
+                let z = [
+                    (p[0] + noise.gauss(sigma_m)) as f32,
+                    (p[1] + noise.gauss(sigma_m)) as f32,
+                ];
+                let took = [Assignment {
+                    track: 5,
+                    plot: Some(0),
+                }];
+                test.observe(1.0e9 + t, &tracks, &took, &[z]);
+                test.still(5)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn the_f_quantiles_are_the_tables() {
+        // F(2, m) 95 % and 99.9 % points from the tables (e.g. NIST/SEMATECH e-Handbook
+        // §1.3.6.7.3): 4.103 and 14.905 at m = 10, 3.316 and 8.773 at m = 30; χ²₂/2 as m
+        // grows (2.996 and 6.908).
+        for (p, m, x) in [
+            (0.95, 10.0, 4.103),
+            (0.999, 10.0, 14.905),
+            (0.95, 30.0, 3.316),
+            (0.999, 30.0, 8.773),
+            (0.95, 1e7, 2.996),
+            (0.999, 1e7, 6.908),
+        ] {
+            assert!((f2_quantile(p, m) - x).abs() < 2e-3, "{p} {m}");
+        }
+    }
+
+    #[test]
+    fn a_moored_boat_is_found_still_and_stays_so() {
+        // 30 m plots (the IMO model's at a few NM) for ten minutes, ten seeds: found still
+        // once a window of plots bounds its speed (a minute or so), and held.
+        for seed in 0..10 {
+            let still = run(240, 30.0, seed, |_| [1500.0, -800.0]);
+            let first = still.iter().position(|s| *s).expect("found still");
+            assert!(first <= 30, "seed {seed}: first at scan {first}");
+            let held = still[first..].iter().filter(|s| **s).count();
+            assert!(
+                held * 100 >= (still.len() - first) * 98,
+                "seed {seed}: held {held} of {}",
+                still.len() - first
+            );
+        }
+    }
+
+    #[test]
+    fn a_ship_under_way_is_seldom_found_still() {
+        // Through 30 m plots, ten minutes, ten seeds: at 3 kn (at the bound the speed is
+        // tested against) on under 2.5 % of the scans; at 4.5 kn and 6 kn never.
+        let still_scans = |speed: f64| -> usize {
+            (0..10)
+                .map(|seed| {
+                    let still = run(240, 30.0, seed, |t| [speed * t, 0.5 * speed * t]);
+                    still.iter().filter(|s| **s).count()
+                })
+                .sum()
+        };
+        let at_3_kn = still_scans(1.543);
+        assert!(
+            at_3_kn * 40 <= 2400,
+            "3 kn: still on {at_3_kn} of 2400 scans"
+        );
+        assert_eq!(still_scans(2.315), 0);
+        assert_eq!(still_scans(3.086), 0);
+    }
+
+    #[test]
+    fn a_ship_getting_under_way_shows_its_motion_within_a_minute() {
+        // Moored for five minutes, then 0.1 m/s² to 4 m/s (7.8 kn): found moving again
+        // within 20 scans of casting off (10–17 measured), on every seed.
+        for seed in 0..10 {
+            let off = 300.0;
+            let still = run(240, 20.0, seed, |t| {
+                let s = (t - off).max(0.0);
+                let d = if s < 40.0 {
+                    0.05 * s * s
+                } else {
+                    80.0 + 4.0 * (s - 40.0)
+                };
+                [d, 0.0]
+            });
+            let cast_off = (off / 2.5) as usize;
+            assert!(still[cast_off - 1], "seed {seed}: not still when moored");
+            let moving = still[cast_off..].iter().position(|s| !*s).expect("moving");
+            assert!(moving <= 20, "seed {seed}: still {moving} scans under way");
+        }
+    }
+
+    #[test]
+    fn memory_is_bounded_and_lost_tracks_are_forgotten() {
+        let mut test = StationaryTest::default();
+        let tracks = [state(1), state(2)];
+        for k in 0..1000 {
+            let took = [
+                Assignment {
+                    track: 1,
+                    plot: Some(0),
+                },
+                // A plot index past the scan's plots, and the hidden-plot marker: ignored.
+                Assignment {
+                    track: 2,
+                    plot: Some(7),
+                },
+                Assignment {
+                    track: 2,
+                    plot: Some(HIDDEN_PLOT),
+                },
+                // A track the device did not report: not taken.
+                Assignment {
+                    track: 9,
+                    plot: Some(0),
+                },
+            ];
+            test.observe(f64::from(k) * 0.1, &tracks, &took, &[[1.0, 2.0]]);
+        }
+        assert_eq!(test.windows.len(), 1);
+        assert!(test.windows.values().all(|w| w.plots.len() <= MAX_PLOTS));
+        // A plot of no number and a time of none: no panic, no still target.
+        test.observe(
+            f64::NAN,
+            &tracks,
+            &[Assignment {
+                track: 1,
+                plot: Some(0),
+            }],
+            &[[f32::NAN, 0.0]],
+        );
+        test.observe(200.0, &tracks, &[], &[[f32::NAN, 0.0]]);
+        // Track 1 lost: forgotten.
+        let lost = TrackState {
+            status: TrackStatus::Lost,
+            ..state(1)
+        };
+        test.observe(201.0, &[lost], &[], &[]);
+        assert!(test.windows.is_empty());
+        assert!(!test.still(1));
+    }
+
+    #[test]
+    fn only_a_still_targets_motion_is_taken_away() {
+        let mut test = StationaryTest::default();
+        test.windows.insert(
+            1,
+            Window {
+                plots: VecDeque::new(),
+                still: true,
+            },
+        );
+        let shown = test.shown(&[state(1), state(2)]);
+        assert_eq!(shown[0].velocity_mps, [0.0; 2]);
+        assert_eq!(shown[1].velocity_mps, [3.0, 4.0]);
+        assert_eq!(shown[0].position_m, state(1).position_m);
+    }
+}
