@@ -191,6 +191,8 @@ pub struct AisTargetData {
     /// motion relative to own ship needs own ship's, which the radar measures for its
     /// targets and AIS cannot.
     pub cpa: Option<geo::Cpa>,
+    /// Speed relative to own ship, m/s; `None` as [`AisTargetData::cpa`].
+    pub rel_speed_mps: Option<f32>,
     /// Heading, rad true.
     pub heading_rad: Option<f32>,
     /// The hull's centre, local frame, m: `position_m` (the antenna's) moved by the
@@ -395,6 +397,8 @@ impl AisTargets {
                     .quality
                     .motion_known
                     .then(|| geo::cpa(own.position_m, own.velocity_mps, p, vel));
+                let rel = [vel[0] - own.velocity_mps[0], vel[1] - own.velocity_mps[1]];
+                let rel_speed_mps = cpa.map(|_| rel[0].hypot(rel[1]));
                 let (hull_centre_m, hull_centre_unknown_m) = t.hull_centre(p);
                 Some(AisTargetData {
                     mmsi: t.mmsi,
@@ -404,6 +408,7 @@ impl AisTargets {
                     range_m,
                     bearing_rad,
                     cpa,
+                    rel_speed_mps,
                     heading_rad: t.last.heading_deg.map(|h| f32::from(h).to_radians()),
                     hull_centre_m,
                     hull_centre_unknown_m,
@@ -635,5 +640,14 @@ mod tests {
         let seen = t.picture(&known, 1.0);
         let c = seen[0].cpa.expect("a CPA");
         assert!(c.tcpa_s > 0.0 && c.cpa_m < 1.0, "{c:?}");
+        let limits = crate::session::target::AlarmLimits::default();
+        assert!(crate::display::ais_dangerous(&seen[0], &limits));
+        // Own ship moored and the target moored 1.1 km off: CPA the range and TCPA 0, but
+        // it keeps its range and raises no alarm.
+        let moored = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
+        let seen = t.picture(&moored, 1.0);
+        assert_eq!(seen[0].cpa.map(|c| c.tcpa_s), Some(0.0));
+        assert!(seen[0].rel_speed_mps.is_some_and(|v| v < 1e-6));
+        assert!(!crate::display::ais_dangerous(&seen[0], &limits));
     }
 }

@@ -295,11 +295,14 @@ impl DisplayState {
     }
 }
 
-/// True when an AIS target will pass closer than the alarm limits, as for radar targets;
+/// True when an AIS target will pass closer than the alarm limits, as for radar targets
+/// (one keeping its range raises none: [`crate::session::target::NO_RELATIVE_MOTION_MPS`]);
 /// false while its CPA is not known (own ship's motion unknown).
 pub fn ais_dangerous(a: &crate::ais::AisTargetData, limits: &AlarmLimits) -> bool {
     a.cpa
         .is_some_and(|c| c.cpa_m < limits.cpa_m && c.tcpa_s >= 0.0 && c.tcpa_s < limits.tcpa_s)
+        && a.rel_speed_mps
+            .is_some_and(|v| v >= crate::session::target::NO_RELATIVE_MOTION_MPS)
 }
 
 /// The AIS targets that raise their own CPA/TCPA alarm: activated, dangerous, and paired
@@ -1334,6 +1337,7 @@ pub(crate) mod tests {
                 cpa_m: t.cpa_m,
                 tcpa_s: t.tcpa_s,
             }),
+            rel_speed_mps: Some(t.rel_speed_mps),
             heading_rad: None,
             hull_centre_m: t.position_m,
             hull_centre_unknown_m: 0.0,
