@@ -102,7 +102,7 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
         );
         let m = &s.motion;
         println!(
-            "|   | motion shown: standing still shown at 1 kn or more {} of {} target-scans, under way (3 kn or more) shown under 0.5 kn {} of {}; alarms {}, not borne out {} ({} on targets standing still) |",
+            "|   | motion shown: standing still shown at 1 kn or more {} of {} target-scans, under way (3 kn or more) shown under 0.5 kn {} of {}; alarms {}, not borne out {} ({} on targets standing still); due by the truth {}, missed {} |",
             m.still_shown_moving,
             m.still_target_scans,
             m.moving_shown_still,
@@ -110,6 +110,8 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
             m.alarm_target_scans,
             m.alarms_false,
             m.alarms_false_still,
+            m.alarms_due,
+            m.alarms_missed,
         );
         assert!(s.scans > 1000, "{own_mmsi}: {} scans", s.scans);
         assert_eq!(
@@ -138,15 +140,20 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
             p.ships_paired * 10 >= p.ships_with_track_and_ais * 9,
             "{p:?}"
         );
-        // Moored boats shown moving: 5.7 % / 10.5 % of their target-scans since a target
+        // Moored boats shown moving: 7.0 % / 11.3 % of their target-scans since a target
         // found standing still is shown so (38 % / 61 % before, the CV filter's velocity
-        // noise); ships under way shown still: 4.1 % / 2.9 % (0.5 % / 0.2 % before: slow
+        // noise); ships under way shown still: 2.9 % / 2.8 % (0.5 % / 0.2 % before: slow
         // ships far off, and ships getting under way shown still for tens of seconds);
         // alarms on targets that stand still and are not approaching: 4.8 % of the alarms
-        // (11.5 % before; own ship 370869000 raises none).
+        // (11.5 % before). Own ship 234586000's alarms only (370869000 raises none: 8
+        // target-scans are due by the truth, all missed, before as after): of those due by
+        // the truth 16.8 % missed, as before.
         assert!(m.still_shown_moving * 8 <= m.still_target_scans, "{m:?}");
         assert!(m.moving_shown_still * 20 <= m.moving_target_scans, "{m:?}");
-        assert!(m.alarms_false_still * 15 <= m.alarm_target_scans, "{m:?}");
+        if own_mmsi == 234_586_000 {
+            assert!(m.alarms_false_still * 15 <= m.alarm_target_scans, "{m:?}");
+            assert!(m.alarms_missed * 100 <= m.alarms_due * 18, "{m:?}");
+        }
         let pair_scans = p.pairs_correct + p.pairs_wrong;
         assert!(p.pairs_wrong * 200 <= pair_scans, "{p:?}");
         let all = p.pairs_correct + p.pairs_wrong + p.pairs_unverified;

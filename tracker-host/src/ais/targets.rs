@@ -642,8 +642,18 @@ mod tests {
         assert!(c.tcpa_s > 0.0 && c.cpa_m < 1.0, "{c:?}");
         let limits = crate::session::target::AlarmLimits::default();
         assert!(crate::display::ais_dangerous(&seen[0], &limits));
-        // Own ship moored and the target moored 1.1 km off: CPA the range and TCPA 0, but
-        // it keeps its range and raises no alarm.
+    }
+
+    /// Own ship moored and an AIS target moored 1.1 km off: CPA the range and TCPA 0,
+    /// within the limits, but it keeps its range and raises no alarm.
+    #[test]
+    fn a_moored_ais_target_beside_own_ship_moored_raises_no_alarm() {
+        let mut t = AisTargets::new(Origin {
+            lat_deg: 50.0,
+            lon_deg: -1.0,
+        });
+        t.report(0.0, &report(1, 50.01, 0.0, StationClass::ClassA));
+        let limits = crate::session::target::AlarmLimits::default();
         let moored = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
         let seen = t.picture(&moored, 1.0);
         assert_eq!(seen[0].cpa.map(|c| c.tcpa_s), Some(0.0));

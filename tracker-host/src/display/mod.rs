@@ -736,7 +736,7 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
                 format!("{shown:.1}")
             }
         };
-        let course = if t.trend_known {
+        let course = if t.trend_known && t.moving() {
             angle(t.course_rad.to_degrees())
         } else {
             "---".to_string()

@@ -47,16 +47,22 @@ pub struct MotionScores {
     pub alarms_false: u64,
     /// … of those on a true target standing still.
     pub alarms_false_still: u64,
+    /// Target-scans drawn with their motion known whose true target is within the limits
+    /// (CPA under the limit, TCPA from 0 to its limit, approaching): an alarm is due.
+    pub alarms_due: u64,
+    /// … of those drawn without the alarm.
+    pub alarms_missed: u64,
 }
 
-/// The tally.
+/// The tally, scan by scan ([`MotionScorer::scan`]).
 #[derive(Clone, Debug, Default)]
 pub struct MotionScorer {
     scores: MotionScores,
 }
 
 impl MotionScorer {
-    /// One scan: `matched` maps tracks to true targets' ids, `targets` are those drawn.
+    /// One scan: `matched` maps tracks to true targets' ids, `targets` are those drawn,
+    /// `limits` the CPA/TCPA alarm limits they were drawn with.
     pub fn scan(
         &mut self,
         truth: &ScanTruth,
@@ -84,27 +90,37 @@ impl MotionScorer {
                     self.scores.moving_shown_still += 1;
                 }
             }
-            if d.dangerous(limits) {
+            let c = geo::cpa(
+                truth.own.position_m,
+                truth.own.velocity_mps,
+                x.position_m,
+                x.velocity_mps,
+            );
+            let rel = [
+                x.velocity_mps[0] - truth.own.velocity_mps[0],
+                x.velocity_mps[1] - truth.own.velocity_mps[1],
+            ];
+            let closing = rel[0].hypot(rel[1]) >= NO_RELATIVE_MOTION_MPS;
+            let within = |factor: f32, passed_s: f32| {
+                closing
+                    && c.cpa_m < limits.cpa_m * factor
+                    && c.tcpa_s >= -passed_s
+                    && c.tcpa_s < limits.tcpa_s * factor
+            };
+            let dangerous = d.dangerous(limits);
+            if dangerous {
                 self.scores.alarm_target_scans += 1;
-                let c = geo::cpa(
-                    truth.own.position_m,
-                    truth.own.velocity_mps,
-                    x.position_m,
-                    x.velocity_mps,
-                );
-                let rel = [
-                    x.velocity_mps[0] - truth.own.velocity_mps[0],
-                    x.velocity_mps[1] - truth.own.velocity_mps[1],
-                ];
-                let bears_out = rel[0].hypot(rel[1]) >= NO_RELATIVE_MOTION_MPS
-                    && c.cpa_m < limits.cpa_m * ALARM_CLEAR_FACTOR
-                    && c.tcpa_s >= -ALARM_PASSED_S
-                    && c.tcpa_s < limits.tcpa_s * ALARM_CLEAR_FACTOR;
-                if !bears_out {
+                if !within(ALARM_CLEAR_FACTOR, ALARM_PASSED_S) {
                     self.scores.alarms_false += 1;
                     if still {
                         self.scores.alarms_false_still += 1;
                     }
+                }
+            }
+            if within(1.0, 0.0) {
+                self.scores.alarms_due += 1;
+                if !dangerous {
+                    self.scores.alarms_missed += 1;
                 }
             }
         }
@@ -220,8 +236,16 @@ mod tests {
             &[shown([-2.0, 0.0], 1000.0)],
             &limits,
         );
+        // A boat truly closing at 1 kn shown still: an alarm due and missed.
+        s.scan(
+            &truth([-0.5, 0.0], 300.0),
+            &matched,
+            &[shown([0.0; 2], 300.0)],
+            &limits,
+        );
         let m = s.scores();
         assert_eq!(m.alarm_target_scans, 2);
         assert_eq!((m.alarms_false, m.alarms_false_still), (1, 1));
+        assert_eq!((m.alarms_due, m.alarms_missed), (2, 1));
     }
 }

@@ -120,7 +120,7 @@ impl Summary {
         );
         let m = &self.motion;
         s += &format!(
-            "\nmotion shown: targets standing still shown at 1 kn or more {} of {} target-scans, targets under way shown under 0.5 kn {} of {}; CPA/TCPA alarms {} target-scans, {} not borne out by the truth ({} on targets standing still)",
+            "\nmotion shown: targets standing still shown at 1 kn or more {} of {} target-scans, targets under way shown under 0.5 kn {} of {}; CPA/TCPA alarms {} target-scans, {} not borne out by the truth ({} on targets standing still), {} of {} due by the truth missed",
             m.still_shown_moving,
             m.still_target_scans,
             m.moving_shown_still,
@@ -128,6 +128,8 @@ impl Summary {
             m.alarm_target_scans,
             m.alarms_false,
             m.alarms_false_still,
+            m.alarms_missed,
+            m.alarms_due,
         );
         if let Some(p) = &self.pairing {
             s += &format!(

@@ -702,6 +702,8 @@ impl Session {
     /// The handshake or the track report fails.
     pub fn restart_host(&mut self) -> anyhow::Result<Vec<TrackState>> {
         let tracks = self.device.restart_host()?;
+        // The device may have been reset meanwhile and numbered its tracks again.
+        self.stationary.clear();
         self.firm = firm_tracks(&tracks);
         self.lost = lost_tracks(&tracks);
         self.in_echo

@@ -10,28 +10,36 @@
 //! device's filter is left alone (its velocity gates the next plots); only what is shown
 //! changes.
 //!
-//! **The test** is the extra-sum-of-squares F-test of two nested least-squares fits (Draper
-//! & Smith, *Applied Regression Analysis*, 3rd ed., Wiley 1998, §6.1), on the plots a track
-//! took over its last [`WINDOW_S`] (at most [`MAX_PLOTS`]): a fixed point (the plots' mean,
-//! residual sum of squares RSS₀) against a constant velocity (a straight line in time per
-//! axis, RSS₁). With n plots and both axes pooled, RSS₁ has 2n − 4 degrees of freedom and
-//! the velocity's 2 explain RSS₀ − RSS₁; for a target that stands still
-//! F = ((RSS₀ − RSS₁)/2) / (RSS₁/(2n − 4)) is F(2, 2n − 4)-distributed *whatever the plots'
-//! accuracy*, so the test needs no plot σ (which on real radars is not known well, and
-//! for the IMO model grows with range). F(2, m) has a closed form: P(F > x) =
-//! (1 + 2x/m)^(−m/2), so its p-quantile is (m/2)·((1 − p)^(−2/m) − 1).
+//! **The test** is Hotelling's T² on the velocity of a straight line in time fitted by least
+//! squares to the plots a track took over its last [`WINDOW_S`] (at most [`MAX_PLOTS`]):
+//! the test that the slope vector of a two-variate linear regression is zero (Johnson &
+//! Wichern, *Applied Multivariate Statistical Analysis*, 6th ed., Pearson 2007, §7.8). With
+//! n plots at times tᵢ, the fitted velocity v̂ and the residuals' 2 × 2 covariance Σ̂ (ν = n − 2
+//! degrees of freedom), T² = Sₜₜ·v̂ᵀΣ̂⁻¹v̂ with Sₜₜ = Σ(tᵢ − t̄)², and for a target that stands
+//! still F = (ν − 1)/(2ν)·T² is F(2, n − 3)-distributed *whatever the plots' accuracy and
+//! its shape*: a radar's plot is an ellipse, its error across the beam (range × bearing
+//! error) often many times its error along it, and the covariance is estimated, not assumed
+//! round (pooling the axes, as a first version did, overstated the evidence across the beam).
+//! F(2, m) has a closed form: P(F > x) = (1 + 2x/m)^(−m/2), so its p-quantile is
+//! (m/2)·((1 − p)^(−2/m) − 1) (Abramowitz & Stegun 26.6.4 with ν₁ = 2).
 //!
-//! A target is found standing still when F is below its [`ENTER_LEVEL`] quantile (the
-//! velocity explains no more than chance would) and the fitted speed plus twice its standard
-//! error is at most [`ENTER_BOUND_MPS`] (with 97.5 % confidence it is slower: plots too
-//! noisy to bound the speed say nothing), over at least [`MIN_PLOTS`] plots spanning
-//! [`MIN_SPAN_S`]; it is found moving again when F exceeds its [`LEAVE_LEVEL`] quantile or
-//! the fitted speed exceeds [`LEAVE_SPEED_MPS`] (hysteresis: the window slides one plot a
-//! scan, so one plot's noise does not make a vector come and go). A test that cannot tell
-//! (too few plots) leaves the filter's motion shown. What it costs: a target slower than the
-//! plots can tell from still over a minute (up to about 3 kn with 30 m plots) is shown
-//! still, and a ship getting under way shows its motion some scans late (10–17 scans after
-//! casting off at 0.1 m/s² through 20 m plots, in the tests below; on the Solent, docs/ais.md).
+//! A target is found standing still when the fitted speed plus twice its standard error
+//! along the worse axis is at most [`ENTER_BOUND_MPS`] (with about 97.5 % confidence it is
+//! slower: plots too noisy to bound the speed say nothing) and either F is at most its
+//! [`ENTER_LEVEL`] quantile (the velocity explains no more than chance would) or that bound
+//! is under [`DRIFT_MPS`] (a motion too slow to matter, however significant), over at least
+//! [`MIN_PLOTS`] plots spanning [`MIN_SPAN_S`]; it is found moving again when the fitted
+//! speed exceeds [`LEAVE_SPEED_MPS`], or F its [`LEAVE_LEVEL`] quantile with the fitted
+//! speed over [`DRIFT_MPS`], or when its
+//! window no longer holds enough plots (a coasting track: plots older than the window are
+//! dropped every scan). The window slides one plot a scan; the two levels are its
+//! hysteresis, so one plot's noise does not make a vector come and go. What it costs: a
+//! target the plots cannot tell from still over a minute is shown still, up to about 3 kn
+//! once found still (the leaving speed), and a ship getting under way shows its motion some
+//! scans late (10–17 scans after casting off at 0.1 m/s² through 20 m plots, in the tests
+//! below; on the Solent, docs/ais.md). A target shown still keeps its range from own ship
+//! moored, and then raises no CPA/TCPA alarm ([`super::target::NO_RELATIVE_MOTION_MPS`]):
+//! one closing on own ship at about a knot can be among them (measured, docs/ais.md).
 
 use std::collections::{BTreeMap, VecDeque};
 
@@ -46,23 +54,31 @@ pub const MAX_PLOTS: usize = 32;
 pub const MIN_PLOTS: usize = 8;
 /// … or spanning less than this, s.
 pub const MIN_SPAN_S: f64 = 15.0;
-/// A moving target is found still when F is below this quantile of F(2, 2n − 4).
+/// A moving target is found still when F is at most this quantile of F(2, n − 3).
 pub const ENTER_LEVEL: f64 = 0.95;
-/// … and its fitted speed plus twice that speed's standard error is at most this, m/s
-/// (2.9 kn): with 97.5 % confidence the target is slower.
+/// … and its fitted speed plus twice that speed's standard error (along the worse axis) is
+/// at most this, m/s (2.9 kn): with about 97.5 % confidence the target is slower.
 pub const ENTER_BOUND_MPS: f64 = 1.5;
-/// A still target is found moving when F exceeds this quantile …
+/// A motion this slow or slower is a drift, not a passage, m/s (0.5 kn): a moored boat
+/// swinging, an echo's centroid wandering over its returns, a ship's own yaw left in the
+/// picture. Sharp plots show it significant (on the 4G harbour capture's 2 m plots, 0.1–0.2
+/// m/s with standard errors of 0.02–0.06 m/s), and a navigator reads it as standing
+/// still: a target bounded under it is found still whatever F says, and one found still
+/// is not found moving for a significant motion under it.
+pub const DRIFT_MPS: f64 = 0.257;
+/// A still target is found moving when F exceeds this quantile (and its fitted speed
+/// [`DRIFT_MPS`]) …
 pub const LEAVE_LEVEL: f64 = 0.999;
 /// … or its fitted speed exceeds this, m/s (2.9 kn).
 pub const LEAVE_SPEED_MPS: f64 = 1.5;
 
 /// The p-quantile of the F distribution with 2 and `m` degrees of freedom (see [the
-/// module](self)); `m` > 0, 0 < `p` < 1.
+/// module](self)) for `m` > 0 and 0 < `p` < 1; not a number or infinite outside them.
 pub fn f2_quantile(p: f64, m: f64) -> f64 {
     (m / 2.0) * ((1.0 - p).powf(-2.0 / m) - 1.0)
 }
 
-/// The two fits over a track's plots.
+/// A straight line in time fitted to a track's plots, and the test of its velocity.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Fit {
     /// Plots fitted.
@@ -71,20 +87,20 @@ pub struct Fit {
     pub span_s: f64,
     /// The fitted velocity, m/s (east, north).
     pub velocity_mps: [f64; 2],
-    /// The fitted velocity's standard error, m/s (one axis), from the line's residuals.
+    /// The fitted velocity's standard error along the axis it is worst known on, m/s (from
+    /// the residuals' covariance).
     pub velocity_sigma_mps: f64,
-    /// The F statistic: how much better the velocity explains the plots than a fixed point,
-    /// against the line's own residuals (`f64::INFINITY` when the line fits exactly and the
-    /// point does not).
+    /// The F statistic of Hotelling's T² for a velocity of zero (`f64::INFINITY` when the
+    /// line fits exactly and the velocity is not zero).
     pub f: f64,
 }
 
 impl Fit {
-    /// Both fits over `plots` (time s, position m); `None` with fewer than 3 plots or no
-    /// spread in time.
+    /// The line through `plots` (time s, position m); `None` with fewer than 4 plots, no
+    /// spread in time, or a value not a number.
     pub fn of(plots: impl Iterator<Item = (f64, [f64; 2])> + Clone) -> Option<Fit> {
         let n = plots.clone().count();
-        if n < 3 {
+        if n < 4 {
             return None;
         }
         let nf = n as f64;
@@ -92,7 +108,8 @@ impl Fit {
             (a + t, b + p[0], c + p[1])
         });
         let (tm, xm, ym) = (st / nf, sx / nf, sy / nf);
-        let (mut stt, mut stx, mut sty, mut sxx, mut syy) = (0.0, 0.0, 0.0, 0.0, 0.0);
+        let (mut stt, mut stx, mut sty) = (0.0, 0.0, 0.0);
+        let (mut sxx, mut syy, mut sxy) = (0.0, 0.0, 0.0);
         let (mut t0, mut t1) = (f64::INFINITY, f64::NEG_INFINITY);
         for (t, p) in plots {
             let (dt, dx, dy) = (t - tm, p[0] - xm, p[1] - ym);
@@ -101,28 +118,37 @@ impl Fit {
             sty += dt * dy;
             sxx += dx * dx;
             syy += dy * dy;
+            sxy += dx * dy;
             t0 = t0.min(t);
             t1 = t1.max(t);
         }
-        if !(stt > 0.0 && stt.is_finite() && (sxx + syy).is_finite()) {
+        if !(stt > 0.0 && [stt, stx, sty, sxx, syy, sxy].iter().all(|v| v.is_finite())) {
             return None;
         }
-        let rss0 = sxx + syy;
-        let explained = (stx * stx + sty * sty) / stt;
-        let rss1 = (rss0 - explained).max(0.0);
-        let dof = 2.0 * nf - 4.0;
-        let f = if rss1 > 0.0 {
-            (explained / 2.0) / (rss1 / dof)
-        } else if explained > 0.0 {
+        let v = [stx / stt, sty / stt];
+        // The residuals' sums of squares and products about the line.
+        let (exx, eyy, exy) = (
+            (sxx - stx * v[0]).max(0.0),
+            (syy - sty * v[1]).max(0.0),
+            sxy - stx * v[1],
+        );
+        let nu = nf - 2.0;
+        let det = exx * eyy - exy * exy;
+        // T² = Sₜₜ·vᵀ(E/ν)⁻¹v, E⁻¹ = [[eyy, −exy], [−exy, exx]]/det.
+        let q = v[0] * v[0] * eyy - 2.0 * v[0] * v[1] * exy + v[1] * v[1] * exx;
+        let f = if det > 0.0 {
+            (nu - 1.0) / (2.0 * nu) * stt * nu * q / det
+        } else if v != [0.0, 0.0] {
             f64::INFINITY
         } else {
             0.0
         };
+        let worst = 0.5 * (exx + eyy) + (0.25 * (exx - eyy).powi(2) + exy * exy).sqrt();
         Some(Fit {
             plots: n,
             span_s: t1 - t0,
-            velocity_mps: [stx / stt, sty / stt],
-            velocity_sigma_mps: (rss1 / dof / stt).sqrt(),
+            velocity_mps: v,
+            velocity_sigma_mps: (worst / nu / stt).sqrt(),
             f,
         })
     }
@@ -137,24 +163,36 @@ impl Fit {
         self.plots >= MIN_PLOTS && self.span_s >= MIN_SPAN_S
     }
 
+    /// The fitted speed plus twice its standard error, m/s: what the target is slower than
+    /// with about 97.5 % confidence.
+    pub fn speed_bound_mps(&self) -> f64 {
+        self.speed_mps() + 2.0 * self.velocity_sigma_mps
+    }
+
     /// Found still, for a target not found still before.
     pub fn enters(&self) -> bool {
         self.telling()
-            && self.f <= f2_quantile(ENTER_LEVEL, 2.0 * self.plots as f64 - 4.0)
-            && self.speed_mps() + 2.0 * self.velocity_sigma_mps <= ENTER_BOUND_MPS
+            && self.speed_bound_mps() <= ENTER_BOUND_MPS
+            && (self.f <= f2_quantile(ENTER_LEVEL, self.plots as f64 - 3.0)
+                || self.speed_bound_mps() <= DRIFT_MPS)
     }
 
     /// Found moving, for a target found still before.
     pub fn leaves(&self) -> bool {
         !self.telling()
-            || self.f > f2_quantile(LEAVE_LEVEL, 2.0 * self.plots as f64 - 4.0)
             || self.speed_mps() > LEAVE_SPEED_MPS
+            || (self.f > f2_quantile(LEAVE_LEVEL, self.plots as f64 - 3.0)
+                && self.speed_mps() > DRIFT_MPS)
     }
 }
 
 #[derive(Clone, Debug, Default)]
 struct Window {
+    /// The plots the track took: time, s, and position in the local frame, m.
     plots: VecDeque<(f64, [f64; 2])>,
+    /// The track's age when last reported, scans: a track of the same number reported
+    /// younger is another (the device was reset and numbers its tracks again).
+    age_scans: u16,
     still: bool,
 }
 
@@ -167,7 +205,8 @@ pub struct StationaryTest {
 
 impl StationaryTest {
     /// Takes a scan: the tracks the device reported, the plots each took (`assignments`,
-    /// indices into `plots_m`, the scan's plots in the local frame, m) at `time_s`, s.
+    /// indices into `plots_m`, the scan's plots in the local frame, m) at `time_s`, s. A plot
+    /// or a time that is not a number is not taken.
     pub fn observe(
         &mut self,
         time_s: f64,
@@ -175,32 +214,46 @@ impl StationaryTest {
         assignments: &[Assignment],
         plots_m: &[EastNorth],
     ) {
-        self.windows.retain(|id, _| {
+        // A track reported lost keeps its window this scan (its last report is shown with
+        // the motion it was shown with); gone from the report, it is forgotten.
+        self.windows.retain(|id, w| {
             tracks
                 .iter()
-                .any(|t| t.track == *id && t.status != tracker_core::icd::TrackStatus::Lost)
+                .any(|t| t.track == *id && t.age_scans >= w.age_scans)
         });
+        for t in tracks {
+            if let Some(w) = self.windows.get_mut(&t.track) {
+                w.age_scans = t.age_scans;
+            }
+        }
+        if !time_s.is_finite() {
+            return;
+        }
         for a in assignments {
             let Some(p) = a
                 .plot
                 .filter(|p| *p != HIDDEN_PLOT)
                 .and_then(|p| plots_m.get(usize::from(p)))
+                .filter(|p| p.iter().all(|v| v.is_finite()))
             else {
                 continue;
             };
-            if !tracks.iter().any(|t| t.track == a.track) || !time_s.is_finite() {
+            let Some(t) = tracks.iter().find(|t| t.track == a.track) else {
                 continue;
-            }
+            };
             let w = self.windows.entry(a.track).or_default();
+            w.age_scans = t.age_scans;
             w.plots
                 .push_back((time_s, [f64::from(p[0]), f64::from(p[1])]));
-            while w.plots.len() > MAX_PLOTS
-                || w.plots.front().is_some_and(|(t, _)| time_s - t > WINDOW_S)
-            {
+            while w.plots.len() > MAX_PLOTS {
                 w.plots.pop_front();
             }
         }
         for w in self.windows.values_mut() {
+            // Every window, not only those given a plot: a coasting track's plots age out.
+            while w.plots.front().is_some_and(|(t, _)| time_s - t > WINDOW_S) {
+                w.plots.pop_front();
+            }
             // Relative to the newest plot: metres, not the frame's tens of kilometres.
             let Some(&(tn, pn)) = w.plots.back() else {
                 w.still = false;
@@ -370,11 +423,39 @@ mod tests {
             assert!(still[cast_off - 1], "seed {seed}: not still when moored");
             let moving = still[cast_off..].iter().position(|s| !*s).expect("moving");
             assert!(moving <= 20, "seed {seed}: still {moving} scans under way");
+            assert!(
+                still[cast_off + moving..].iter().all(|s| !*s),
+                "seed {seed}: found still again under way"
+            );
         }
     }
 
+    /// Feeds track 1 a plot at (1500, −800) m ± 10 m every 2.5 s for `scans` scans from
+    /// `t0_s`, as `state`; returns the last time.
+    fn moored(test: &mut StationaryTest, state: TrackState, t0_s: f64, scans: u16) -> f64 {
+        let mut noise = Noise(fastrand::Rng::with_seed(7));
+        let mut t = t0_s;
+        for k in 0..scans {
+            t = t0_s + 2.5 * f64::from(k);
+            let z = [
+                (1500.0 + noise.gauss(10.0)) as f32,
+                (-800.0 + noise.gauss(10.0)) as f32,
+            ];
+            let took = [Assignment {
+                track: state.track,
+                plot: Some(0),
+            }];
+            let s = TrackState {
+                age_scans: state.age_scans + k,
+                ..state
+            };
+            test.observe(t, &[s], &took, &[z]);
+        }
+        t
+    }
+
     #[test]
-    fn memory_is_bounded_and_lost_tracks_are_forgotten() {
+    fn memory_is_bounded_and_bad_plots_are_not_taken() {
         let mut test = StationaryTest::default();
         let tracks = [state(1), state(2)];
         for k in 0..1000 {
@@ -402,25 +483,101 @@ mod tests {
         }
         assert_eq!(test.windows.len(), 1);
         assert!(test.windows.values().all(|w| w.plots.len() <= MAX_PLOTS));
-        // A plot of no number and a time of none: no panic, no still target.
-        test.observe(
-            f64::NAN,
-            &tracks,
-            &[Assignment {
-                track: 1,
-                plot: Some(0),
-            }],
-            &[[f32::NAN, 0.0]],
-        );
-        test.observe(200.0, &tracks, &[], &[[f32::NAN, 0.0]]);
-        // Track 1 lost: forgotten.
-        let lost = TrackState {
-            status: TrackStatus::Lost,
+        // A moored boat found still; then a plot of no number and a time of none: not
+        // taken, no panic, and the boat is still found still.
+        let mut test = StationaryTest::default();
+        let t = moored(&mut test, state(1), 0.0, 40);
+        assert!(test.still(1));
+        let nan = [Assignment {
+            track: 1,
+            plot: Some(0),
+        }];
+        let older = TrackState {
+            age_scans: 60,
             ..state(1)
         };
-        test.observe(201.0, &[lost], &[], &[]);
-        assert!(test.windows.is_empty());
+        test.observe(t + 2.5, &[older], &nan, &[[f32::NAN, 0.0]]);
+        test.observe(f64::NAN, &[older], &nan, &[[1500.0, -800.0]]);
+        assert!(test.windows[&1]
+            .plots
+            .iter()
+            .all(|(t, p)| t.is_finite() && p.iter().all(|v| v.is_finite())));
+        assert!(test.still(1));
+    }
+
+    #[test]
+    fn a_windows_life_is_its_tracks() {
+        // Found still, then reported lost: still shown so on that report, forgotten after.
+        let mut test = StationaryTest::default();
+        let t = moored(&mut test, state(1), 0.0, 40);
+        assert!(test.still(1));
+        let lost = TrackState {
+            status: TrackStatus::Lost,
+            age_scans: 50,
+            ..state(1)
+        };
+        test.observe(t + 2.5, &[lost], &[], &[]);
+        assert!(test.still(1));
+        test.observe(t + 5.0, &[], &[], &[]);
+        assert!(!test.still(1) && test.windows.is_empty());
+        // A device reset numbers its tracks again: a younger track of the same number is
+        // another, and starts with no plots.
+        let mut test = StationaryTest::default();
+        let t = moored(&mut test, state(1), 0.0, 40);
+        let young = TrackState {
+            age_scans: 2,
+            ..state(1)
+        };
+        test.observe(t + 2.5, &[young], &[], &[]);
+        assert!(!test.still(1) && test.windows.is_empty());
+        // Coasting: no plot for more than the window less the span the test needs, and
+        // the plots left cannot tell: its motion is the filter's again.
+        let mut test = StationaryTest::default();
+        let t = moored(&mut test, state(1), 0.0, 40);
+        let coasting = TrackState {
+            status: TrackStatus::Coasting,
+            age_scans: 60,
+            ..state(1)
+        };
+        test.observe(t + 30.0, &[coasting], &[], &[]);
+        assert!(test.still(1));
+        test.observe(t + WINDOW_S - 10.0, &[coasting], &[], &[]);
         assert!(!test.still(1));
+    }
+
+    #[test]
+    fn plots_spread_across_the_beam_are_not_taken_for_motion() {
+        // Plots of σ 30 m across the beam (east) and 3 m along it (north), the target still:
+        // the test's F has the same distribution whatever the error's shape, so the boat is
+        // found still about as often as with round plots.
+        let mut found = 0;
+        for seed in 0..20 {
+            let mut noise = Noise(fastrand::Rng::with_seed(seed));
+            let mut test = StationaryTest::default();
+            for k in 0..120u16 {
+                let z = [
+                    (900.0 + noise.gauss(30.0)) as f32,
+                    (300.0 + noise.gauss(3.0)) as f32,
+                ];
+                let s = TrackState {
+                    age_scans: k + 1,
+                    ..state(1)
+                };
+                let took = [Assignment {
+                    track: 1,
+                    plot: Some(0),
+                }];
+                test.observe(2.5 * f64::from(k), &[s], &took, &[z]);
+                if k >= 40 && test.still(1) {
+                    found += 1;
+                }
+            }
+        }
+        // 20 runs × 80 scans.
+        assert!(
+            found * 100 >= 1600 * 90,
+            "found still on {found} of 1600 scans"
+        );
     }
 
     #[test]
@@ -430,6 +587,7 @@ mod tests {
             1,
             Window {
                 plots: VecDeque::new(),
+                age_scans: 10,
                 still: true,
             },
         );

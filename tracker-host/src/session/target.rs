@@ -105,6 +105,12 @@ impl TargetData {
         }
     }
 
+    /// False for a target shown with no motion ([`super::stationary`]): it has no course
+    /// over ground to show.
+    pub fn moving(&self) -> bool {
+        self.speed_mps > 0.0
+    }
+
     /// The target's number as the navigator reads it (`07`), or `--` while it has none.
     pub fn label(&self) -> String {
         self.number.map_or("--".to_string(), |n| format!("{n:02}"))
@@ -200,7 +206,8 @@ pub fn table_with_ais(
     s.push('\n');
     for t in targets {
         // A column is `---` when what it shows is not known: the motion before the trend
-        // is, the true course and speed without own ship's motion.
+        // is, the true course and speed without own ship's motion, the course of a target
+        // shown still.
         let known = |ok: bool, width: usize, v: f32, places: usize| {
             if ok {
                 format!("{v:>width$.places$}")
@@ -221,7 +228,7 @@ pub fn table_with_ais(
             shown_status(t),
             t.range_m / METRES_PER_NM,
             deg(t.bearing_rad),
-            known(truth, 7, deg(t.course_rad), 1),
+            known(truth && t.moving(), 7, deg(t.course_rad), 1),
             known(truth, 8, t.speed_mps / MPS_PER_KNOT, 1),
             known(trend, 7, t.cpa_m / METRES_PER_NM, 2),
             tcpa,
@@ -352,6 +359,10 @@ mod tests {
         let d = TargetData::new(&own, &t);
         assert_eq!((d.cpa_m, d.tcpa_s), (200.0, 0.0));
         assert!(!d.dangerous(&AlarmLimits::default()));
+        // Shown still, it has no course to show: `---` where a moving one shows 000.0.
+        let row = table(&[d], &AlarmLimits::default());
+        let fields: Vec<&str> = row.lines().nth(1).unwrap().split_whitespace().collect();
+        assert_eq!((fields[4], fields[5]), ("---", "0.0"), "{row}");
         let drifting = TargetData::new(
             &own,
             &TrackState {
