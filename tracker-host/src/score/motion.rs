@@ -47,10 +47,12 @@ pub struct MotionScores {
     pub alarms_false: u64,
     /// … of those on a true target standing still.
     pub alarms_false_still: u64,
-    /// Target-scans drawn with their motion known whose true target is within the limits
-    /// (CPA under the limit, TCPA from 0 to its limit, approaching): an alarm is due.
+    /// Target-scans of true targets followed by a track drawn with its motion known and
+    /// well within the limits (CPA and TCPA under the limits narrowed by
+    /// [`ALARM_CLEAR_FACTOR`], TCPA from 0, approaching): an alarm is due. Counted once a
+    /// target, however many tracks follow it.
     pub alarms_due: u64,
-    /// … of those drawn without the alarm.
+    /// … of those with the alarm raised on none of their tracks.
     pub alarms_missed: u64,
 }
 
@@ -70,6 +72,8 @@ impl MotionScorer {
         targets: &[TargetData],
         limits: &AlarmLimits,
     ) {
+        // True targets with an alarm due: raised on any of their tracks?
+        let mut due: BTreeMap<u32, bool> = BTreeMap::new();
         for d in targets.iter().filter(|d| d.trend_known) {
             let Some(x) = matched
                 .get(&d.track)
@@ -117,13 +121,14 @@ impl MotionScorer {
                     }
                 }
             }
-            if within(1.0, 0.0) {
-                self.scores.alarms_due += 1;
-                if !dangerous {
-                    self.scores.alarms_missed += 1;
-                }
+            // Due well inside the limits (a shown CPA a little over the limit for a true one a
+            // little under is no miss), once for a target however many tracks follow it.
+            if within(1.0 / ALARM_CLEAR_FACTOR, 0.0) {
+                *due.entry(x.id).or_insert(false) |= dangerous;
             }
         }
+        self.scores.alarms_due += due.len() as u64;
+        self.scores.alarms_missed += due.values().filter(|raised| !**raised).count() as u64;
     }
 
     /// The scores so far.
@@ -238,14 +243,26 @@ mod tests {
         );
         // A boat truly closing at 1 kn shown still: an alarm due and missed.
         s.scan(
-            &truth([-0.5, 0.0], 300.0),
+            &truth([-0.5, 0.0], 250.0),
             &matched,
-            &[shown([0.0; 2], 300.0)],
+            &[shown([0.0; 2], 250.0)],
+            &limits,
+        );
+        // Two tracks on one ship due an alarm, one raising it: due once, not missed.
+        let both = BTreeMap::from([(3u16, 7u32), (4u16, 7u32)]);
+        let other = TargetData {
+            track: 4,
+            ..shown([0.0; 2], 1000.0)
+        };
+        s.scan(
+            &truth([-2.0, 0.0], 1000.0),
+            &both,
+            &[shown([-2.0, 0.0], 1000.0), other],
             &limits,
         );
         let m = s.scores();
-        assert_eq!(m.alarm_target_scans, 2);
+        assert_eq!(m.alarm_target_scans, 3);
         assert_eq!((m.alarms_false, m.alarms_false_still), (1, 1));
-        assert_eq!((m.alarms_due, m.alarms_missed), (2, 1));
+        assert_eq!((m.alarms_due, m.alarms_missed), (3, 1));
     }
 }
