@@ -25,16 +25,16 @@
 //!
 //! A target is found standing still when the fitted speed plus twice its standard error
 //! along the worse axis is at most [`ENTER_BOUND_MPS`] (with 95–97 % confidence it is
-//! slower, by Student's t with n − 2 degrees of freedom from 8 plots to 24: plots too noisy to bound the speed say nothing) and either F is at most its
-//! [`ENTER_LEVEL`] quantile (the velocity explains no more than chance would) or that bound
-//! is under [`DRIFT_MPS`] (a motion too slow to matter, however significant), over at least
-//! [`MIN_PLOTS`] plots spanning [`MIN_SPAN_S`]; it is found moving again when the fitted
-//! speed exceeds [`LEAVE_SPEED_MPS`], or F its [`LEAVE_LEVEL`] quantile with the fitted
-//! speed less twice its standard error over [`DRIFT_MPS`] (the motion is surely more than a
-//! drift: entering by a bound under it and leaving by a fitted speed just over it would
-//! make a vector come and go), or when its
-//! window no longer holds enough plots (a coasting track: plots older than the window are
-//! dropped every scan). The window slides one plot a scan; the two levels are its
+//! slower, by Student's t with n − 2 degrees of freedom from 8 plots to 24: plots too noisy
+//! to bound the speed say nothing) and either F is at most its [`ENTER_LEVEL`] quantile (the
+//! velocity explains no more than chance would) or that bound is under [`DRIFT_MPS`] (a
+//! motion too slow to matter, however significant), over at least [`MIN_PLOTS`] plots
+//! spanning [`MIN_SPAN_S`]. It is found moving again when the fitted speed exceeds
+//! [`LEAVE_SPEED_MPS`], or F its [`LEAVE_LEVEL`] quantile with the fitted speed less twice
+//! its standard error over [`DRIFT_MPS`] (surely more than a drift: entering by a bound
+//! under it and leaving by a fitted speed just over it made a vector come and go), or when
+//! its window no longer holds enough plots (a coasting track: plots older than the window
+//! are dropped every scan). The window slides one plot a scan; the two levels are its
 //! hysteresis, so one plot's noise does not make a vector come and go. What it costs: a
 //! target the plots cannot tell from still over a minute is shown still, up to about 3 kn
 //! once found still (the leaving speed), and a ship getting under way shows its motion some
@@ -71,12 +71,13 @@ pub const DRIFT_MPS: f64 = 0.257;
 /// A still target is found moving when F exceeds this quantile and its fitted speed less
 /// twice its standard error exceeds [`DRIFT_MPS`] …
 pub const LEAVE_LEVEL: f64 = 0.999;
+/// … or its fitted speed exceeds this, m/s (2.9 kn).
+pub const LEAVE_SPEED_MPS: f64 = 1.5;
+
 /// The plots' positions are on a grid of this, m (tenths of a metre on the wire): their
 /// rounding's variance, added to the residuals', keeps the test defined when every plot
 /// lies on one line.
 const GRID_M: f64 = 0.1;
-/// … or its fitted speed exceeds this, m/s (2.9 kn).
-pub const LEAVE_SPEED_MPS: f64 = 1.5;
 
 /// The p-quantile of the F distribution with 2 and `m` degrees of freedom (see [the
 /// module](self)) for `m` > 0 and 0 < `p` < 1; not a number or infinite outside them.
