@@ -101,18 +101,7 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
             s.targets, ais.table.targets, ais.table.lost
         );
         let m = &s.motion;
-        println!(
-            "|   | motion shown: standing still shown at 1 kn or more {} of {} target-scans, under way (3 kn or more) shown under 0.5 kn {} of {}; alarms {}, not borne out {} ({} on targets standing still); due by the truth {}, missed {} |",
-            m.still_shown_moving,
-            m.still_target_scans,
-            m.moving_shown_still,
-            m.moving_target_scans,
-            m.alarm_target_scans,
-            m.alarms_false,
-            m.alarms_false_still,
-            m.alarms_due,
-            m.alarms_missed,
-        );
+        println!("|   | motion shown: {} |", m.line());
         assert!(s.scans > 1000, "{own_mmsi}: {} scans", s.scans);
         assert_eq!(
             ais.sentences.decoded(),

@@ -299,10 +299,10 @@ impl DisplayState {
 /// (one keeping its range raises none: [`crate::session::target::NO_RELATIVE_MOTION_MPS`]);
 /// false while its CPA is not known (own ship's motion unknown).
 pub fn ais_dangerous(a: &crate::ais::AisTargetData, limits: &AlarmLimits) -> bool {
-    a.cpa
-        .is_some_and(|c| c.cpa_m < limits.cpa_m && c.tcpa_s >= 0.0 && c.tcpa_s < limits.tcpa_s)
-        && a.rel_speed_mps
-            .is_some_and(|v| v >= crate::session::target::NO_RELATIVE_MOTION_MPS)
+    match (a.cpa, a.rel_speed_mps) {
+        (Some(c), Some(v)) => limits.within(c, v, 1.0, 0.0),
+        _ => false,
+    }
 }
 
 /// The AIS targets that raise their own CPA/TCPA alarm: activated, dangerous, and paired

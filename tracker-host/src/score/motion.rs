@@ -16,9 +16,7 @@ use serde::Serialize;
 use tracker_core::geo;
 
 use super::ScanTruth;
-use crate::session::target::{
-    AlarmLimits, TargetData, ALARM_CLEAR_FACTOR, ALARM_PASSED_S, NO_RELATIVE_MOTION_MPS,
-};
+use crate::session::target::{AlarmLimits, TargetData, ALARM_CLEAR_FACTOR, ALARM_PASSED_S};
 
 /// A true target slower than this stands still, m/s (0.5 kn; moored boats' AIS reports in
 /// the Solent give 0.0–0.1 kn).
@@ -54,6 +52,24 @@ pub struct MotionScores {
     pub alarms_due: u64,
     /// … of those with the alarm raised on none of their tracks.
     pub alarms_missed: u64,
+}
+
+impl MotionScores {
+    /// The figures as one line of text.
+    pub fn line(&self) -> String {
+        format!(
+            "standing still shown at 1 kn or more {} of {} target-scans, under way (3 kn or more) shown under 0.5 kn {} of {}; CPA/TCPA alarms {} target-scans, {} not borne out by the truth ({} on targets standing still), {} of {} due by the truth missed",
+            self.still_shown_moving,
+            self.still_target_scans,
+            self.moving_shown_still,
+            self.moving_target_scans,
+            self.alarm_target_scans,
+            self.alarms_false,
+            self.alarms_false_still,
+            self.alarms_missed,
+            self.alarms_due,
+        )
+    }
 }
 
 /// The tally, scan by scan ([`MotionScorer::scan`]).
@@ -104,12 +120,8 @@ impl MotionScorer {
                 x.velocity_mps[0] - truth.own.velocity_mps[0],
                 x.velocity_mps[1] - truth.own.velocity_mps[1],
             ];
-            let closing = rel[0].hypot(rel[1]) >= NO_RELATIVE_MOTION_MPS;
             let within = |factor: f32, passed_s: f32| {
-                closing
-                    && c.cpa_m < limits.cpa_m * factor
-                    && c.tcpa_s >= -passed_s
-                    && c.tcpa_s < limits.tcpa_s * factor
+                limits.within(c, rel[0].hypot(rel[1]), factor, passed_s)
             };
             let dangerous = d.dangerous(limits);
             if dangerous {

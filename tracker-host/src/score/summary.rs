@@ -118,19 +118,7 @@ impl Summary {
             self.reacquire_mean_scans,
             self.reacquire_max_scans,
         );
-        let m = &self.motion;
-        s += &format!(
-            "\nmotion shown: targets standing still shown at 1 kn or more {} of {} target-scans, targets under way shown under 0.5 kn {} of {}; CPA/TCPA alarms {} target-scans, {} not borne out by the truth ({} on targets standing still), {} of {} due by the truth missed",
-            m.still_shown_moving,
-            m.still_target_scans,
-            m.moving_shown_still,
-            m.moving_target_scans,
-            m.alarm_target_scans,
-            m.alarms_false,
-            m.alarms_false_still,
-            m.alarms_missed,
-            m.alarms_due,
-        );
+        s += &format!("\nmotion shown: {}", self.motion.line());
         if let Some(p) = &self.pairing {
             s += &format!(
                 "\nradar/AIS pairs: {} pair-scans right, {} wrong, {} on tracks of no ship; {} of {} ships with a track and AIS paired ({} within {} scans), time to pair mean {:.1} s, 95 % {}, max {:.1} s; radar targets shown as AIS targets while pairing: {} scans right, {} wrong ({} ship-scans hidden), {} on tracks of no ship; {} ships associated (paired or shown as their AIS target), mean {:.1} s, 95 % {}; ships shown twice: {} ship-scans ({} after {} scans); ships without AIS shown only as the echo they share: {} ship-scans",

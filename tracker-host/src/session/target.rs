@@ -122,18 +122,14 @@ impl TargetData {
     /// and until [`ALARM_PASSED_S`] past its CPA. A target with no motion relative to own
     /// ship ([`NO_RELATIVE_MOTION_MPS`]) keeps its range and raises none.
     pub fn dangerous(&self, limits: &AlarmLimits) -> bool {
-        let within = |cpa_m: f32, tcpa_from_s: f32, tcpa_to_s: f32| {
-            self.cpa_m < cpa_m && self.tcpa_s >= tcpa_from_s && self.tcpa_s < tcpa_to_s
+        let c = geo::Cpa {
+            cpa_m: self.cpa_m,
+            tcpa_s: self.tcpa_s,
         };
+        let within =
+            |factor: f32, passed_s: f32| limits.within(c, self.rel_speed_mps, factor, passed_s);
         self.trend_known
-            && self.rel_speed_mps >= NO_RELATIVE_MOTION_MPS
-            && (within(limits.cpa_m, 0.0, limits.tcpa_s)
-                || self.alarm_held
-                    && within(
-                        limits.cpa_m * ALARM_CLEAR_FACTOR,
-                        -ALARM_PASSED_S,
-                        limits.tcpa_s * ALARM_CLEAR_FACTOR,
-                    ))
+            && (within(1.0, 0.0) || self.alarm_held && within(ALARM_CLEAR_FACTOR, ALARM_PASSED_S))
     }
 }
 
@@ -144,6 +140,20 @@ pub struct AlarmLimits {
     pub cpa_m: f32,
     /// … when TCPA is below this, s.
     pub tcpa_s: f32,
+}
+
+impl AlarmLimits {
+    /// True when a target at `c` moving at `rel_speed_mps` (m/s) relative to own ship is
+    /// within the limits scaled by `factor`: CPA under the CPA limit, TCPA from
+    /// −`passed_s` (s) to the TCPA limit. A target keeping its range (under
+    /// [`NO_RELATIVE_MOTION_MPS`]) never is. The one rule for radar targets
+    /// ([`TargetData::dangerous`]), AIS targets and the scorer's truth.
+    pub fn within(&self, c: geo::Cpa, rel_speed_mps: f32, factor: f32, passed_s: f32) -> bool {
+        rel_speed_mps >= NO_RELATIVE_MOTION_MPS
+            && c.cpa_m < self.cpa_m * factor
+            && c.tcpa_s >= -passed_s
+            && c.tcpa_s < self.tcpa_s * factor
+    }
 }
 
 impl Default for AlarmLimits {
