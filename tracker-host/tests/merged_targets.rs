@@ -12,9 +12,10 @@
 //! them (a scan merges the second ship into the first one's *measured* plot, σ 38 m in
 //! range, so that happens for a while after they leave the cell by their true positions).
 //!
-//! Not asserted, and printed: which ship each track comes out of the merge on. While the
-//! two give one plot, both tracks feed on it, and which of them the separated ships keep is
-//! a matter of the plots' noise (docs/tracking.md has the counts, ours and Stone Soup's).
+//! Printed, and bounded: which ship each track comes out of the merge on. While the two
+//! give one plot, which track takes it decides; weighed by the plot's own accuracy (the
+//! radar's bearing is far finer than its range), it goes to the track on its side of the
+//! line of sight (docs/tracking.md has the counts, ours and Stone Soup's).
 
 use std::collections::BTreeSet;
 
@@ -29,6 +30,10 @@ const TARGETS: usize = 16;
 /// Both ships of a pair are tracked again within this many scans of separating (the 5 scans
 /// a new target is confirmed within in the demo; 48 pairs took at most 3).
 const REACQUIRE_SCANS: usize = 5;
+
+/// At most this many of the 48 pairs come out of the merge with their tracks exchanged
+/// (1 measured; 6 before the association weighed a plot by its own accuracy).
+const MOST_EXCHANGED: usize = 2;
 
 /// A track follows the target nearest it, if within this distance, m.
 const FOLLOW_M: f32 = 150.0;
@@ -150,7 +155,7 @@ fn run(seed: u64) -> (Vec<Outcome>, Summary, usize) {
 
 #[test]
 fn merged_targets_are_both_tracked_again_soon_after_they_separate() {
-    let (mut worst, mut exchanged, mut pairs) = (0, 0, 0);
+    let (mut worst, mut exchanged, mut pairs) = (0, Vec::new(), 0);
     for seed in 1..=6 {
         let (outcomes, s, in_echo) = run(seed);
         assert_eq!(s.false_tracks, 0, "seed {seed}: {}", s.report());
@@ -176,12 +181,26 @@ fn merged_targets_are_both_tracked_again_soon_after_they_separate() {
                 o.b_tracks
             );
             worst = worst.max(o.reacquired);
-            exchanged += usize::from(o.exchanged);
+            if o.exchanged {
+                exchanged.push(format!(
+                    "seed {seed} pair {k} (separated at scan {})",
+                    o.separated
+                ));
+            }
             pairs += 1;
         }
     }
     eprintln!(
         "{pairs} pairs: both tracked again at most {worst} scans after separating; \
-         {exchanged} came out of the merge with their tracks exchanged"
+         {} came out of the merge with their tracks exchanged: {exchanged:?}",
+        exchanged.len()
+    );
+    // Which ship each track comes out on is the plots' noise while the two give one plot;
+    // the pair cost on the plot's own accuracy (docs/tracking.md) keeps most: 1 of the 48
+    // exchanged, 6 on the filter's round 40 m.
+    assert!(
+        exchanged.len() <= MOST_EXCHANGED,
+        "{} of {pairs} pairs exchanged their tracks: {exchanged:?}",
+        exchanged.len()
     );
 }

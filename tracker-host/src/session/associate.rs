@@ -30,7 +30,7 @@ use std::collections::BTreeSet;
 use pathfinding::kuhn_munkres::kuhn_munkres_min;
 use pathfinding::matrix::Matrix;
 use tracker_core::geo::EastNorth;
-use tracker_core::icd::{Assignment, GatedPlots, HIDDEN_PLOT};
+use tracker_core::icd::{Assignment, GatedPlots, Plot, HIDDEN_PLOT};
 
 /// Chi-square, 2 degrees of freedom, 99 %: a true plot falls outside 1 % of the time.
 pub const CHI2_2DOF_99: f64 = 9.21;
@@ -90,6 +90,67 @@ pub struct Associated {
     pub hidden_in: Vec<(u16, u16)>,
 }
 
+/// A radar's plot accuracy in its own coordinates: how far a plot lies from its target
+/// along the line of sight and across it. The simulator's sensor model knows it
+/// ([`tracker_core::sim::SensorModel`]); a real radar's extracted plots are taken as
+/// isotropic ([`crate::source::PlotSource::plot_accuracy`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PolarAccuracy {
+    /// Standard deviation of a plot's range, m.
+    pub range_sigma_m: f32,
+    /// Standard deviation of a plot's bearing, rad.
+    pub bearing_sigma_rad: f32,
+}
+
+/// One scan's plots' covariances in the local frame, for the pair cost
+/// ([`PolarAccuracy`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PlotCovariances {
+    /// Per plot, in the scan's order, its covariance `[sxx, sxy, syy]`, m² (east, north).
+    pub plot_cov_m2: Vec<[f32; 3]>,
+    /// The variance the device's filters take every plot to have on each axis, m²
+    /// ([`tracker_core::icd::TrackerConfig::plot_sigma_m`] squared): the part of a
+    /// track's innovation covariance that is replaced by the plot's own.
+    pub filter_var_m2: f32,
+}
+
+impl PlotCovariances {
+    /// The covariance of each of `plots` (range, bearing from own ship) measured to
+    /// `accuracy`: σ_r² along the line of sight, (r σ_b)² across it.
+    pub fn polar(plots: &[Plot], accuracy: PolarAccuracy, filter_var_m2: f32) -> Self {
+        let plot_cov_m2 = plots
+            .iter()
+            .map(|p| {
+                // Along the line of sight u = (sin b, cos b), across it w = (cos b, −sin b).
+                let (u_e, u_n) = (p.bearing_rad.sin(), p.bearing_rad.cos());
+                let along = accuracy.range_sigma_m * accuracy.range_sigma_m;
+                let across = (p.range_m.max(0.0) * accuracy.bearing_sigma_rad).powi(2);
+                [
+                    along * u_e * u_e + across * u_n * u_n,
+                    (along - across) * u_e * u_n,
+                    along * u_n * u_n + across * u_e * u_e,
+                ]
+            })
+            .collect();
+        PlotCovariances {
+            plot_cov_m2,
+            filter_var_m2,
+        }
+    }
+
+    /// A track's innovation covariance `s` with plot `p`'s own covariance in place of the
+    /// filter's: `None` when the plot is unknown or the result not positive definite.
+    fn innovation_cov_m2(&self, s: [f32; 3], p: u16) -> Option<[f32; 3]> {
+        let c = self.plot_cov_m2.get(usize::from(p))?;
+        let t = [
+            s[0] - self.filter_var_m2 + c[0],
+            s[1] + c[1],
+            s[2] - self.filter_var_m2 + c[2],
+        ];
+        (t[0] > 0.0 && t[0] * t[2] - t[1] * t[1] > 0.0).then_some(t)
+    }
+}
+
 /// Mahalanobis distance² of `z` from `predicted` under `s = [sxx, sxy, syy]`; `None` when S
 /// is not positive definite.
 pub fn mahalanobis2(z: EastNorth, predicted: EastNorth, s: [f32; 3]) -> Option<f64> {
@@ -112,6 +173,7 @@ pub fn associate(
     plots: &[EastNorth],
     threshold: f64,
     firm: impl Fn(u16) -> bool,
+    accuracy: Option<&PlotCovariances>,
 ) -> Associated {
     let mut out = Associated::default();
     let mut taken = BTreeSet::new();
@@ -119,7 +181,15 @@ pub fn associate(
     match mode {
         Association::Joint => {
             let all: Vec<&GatedPlots> = gates.iter().collect();
-            gnn(&all, plots, threshold, &mut taken, &mut assigned, &mut out);
+            gnn(
+                &all,
+                plots,
+                threshold,
+                accuracy,
+                &mut taken,
+                &mut assigned,
+                &mut out,
+            );
         }
         Association::TwoStage | Association::TwoStageUnresolved => {
             let (strong, weak): (Vec<&GatedPlots>, Vec<&GatedPlots>) =
@@ -128,11 +198,20 @@ pub fn associate(
                 &strong,
                 plots,
                 threshold,
+                accuracy,
                 &mut taken,
                 &mut assigned,
                 &mut out,
             );
-            gnn(&weak, plots, threshold, &mut taken, &mut assigned, &mut out);
+            gnn(
+                &weak,
+                plots,
+                threshold,
+                accuracy,
+                &mut taken,
+                &mut assigned,
+                &mut out,
+            );
         }
     }
     // Unresolved: a firm track left without a plot whose refined gate held a plot another
@@ -213,6 +292,7 @@ fn gnn(
     gates: &[&GatedPlots],
     plots: &[EastNorth],
     threshold: f64,
+    accuracy: Option<&PlotCovariances>,
     taken: &mut BTreeSet<u16>,
     assigned: &mut Vec<(u16, Option<u16>)>,
     out: &mut Associated,
@@ -234,24 +314,59 @@ fn gnn(
     // Popoli, Design and Analysis of Modern Tracking Systems, 1999, §6.3.2): the negative
     // log-likelihood up to a constant. With d² alone a coasting track's wide S makes a plot
     // 100 m off look as near as a settled track's plot 30 m off, and the coasting track
-    // takes the settled one's target. A miss costs the same for every track, no less than any
-    // pair inside a refined gate, so a track with a plot in its gate and no rival takes it,
-    // as with d² alone.
+    // takes the settled one's target. When the plots' own accuracy is known
+    // ([`PlotCovariances`]), the likelihood is taken with it in S in place of the filter's
+    // round 40 m: a radar measures bearing to 6–20 m across the line of sight at 4–7 NM,
+    // and two ships passing 50–150 m abeam in one resolution cell are then told apart by
+    // which side of the line of sight the plot lies (docs/tracking.md). The refined gate
+    // stays on the filter's S, so a track that lags a turn keeps its plots. A miss costs the
+    // same for every track, more than any pair inside a refined gate, so a track with a
+    // plot in its gate and no rival takes it.
     let ln_det: Vec<f64> = gates.iter().map(|g| ln_det(g.innovation_cov_m2)).collect();
     let widest = ln_det.iter().copied().fold(0.0, f64::max);
-    let miss_cost = ((threshold + widest) * SCALE) as i64;
-    let mut rows = Vec::with_capacity(n);
+    // d² and ln|S| on the plot's own accuracy, when known.
+    let own_accuracy = |g: &GatedPlots, p: u16| -> Option<(f64, f64)> {
+        let a = accuracy?;
+        let z = plots.get(usize::from(p))?;
+        let s = a.innovation_cov_m2(g.innovation_cov_m2, p)?;
+        Some((mahalanobis2(*z, g.predicted_m, s)?, self::ln_det(s)))
+    };
+    let mut costs: Vec<Vec<(usize, f64)>> = Vec::with_capacity(n);
     for (i, g) in gates.iter().enumerate() {
-        let mut row = vec![FORBIDDEN; m + n];
+        let mut row = Vec::new();
         for &p in &g.plots {
             let (Some(z), Ok(col)) = (plots.get(usize::from(p)), candidates.binary_search(&p))
             else {
                 continue;
             };
             match mahalanobis2(*z, g.predicted_m, g.innovation_cov_m2) {
-                Some(d2) if d2 <= threshold => row[col] = ((d2 + ln_det[i]) * SCALE) as i64,
+                Some(d2) if d2 <= threshold => {
+                    let cost = match own_accuracy(g, p) {
+                        Some((d2_own, ln_det_own)) => d2_own + ln_det_own,
+                        None => d2 + ln_det[i],
+                    };
+                    row.push((col, cost));
+                }
                 _ => out.refined_out += 1,
             }
+        }
+        costs.push(row);
+    }
+    let most = costs
+        .iter()
+        .flatten()
+        .map(|(_, c)| *c)
+        .fold(threshold + widest, f64::max);
+    let miss_cost = if most > threshold + widest {
+        (most * SCALE) as i64 + 1
+    } else {
+        ((threshold + widest) * SCALE) as i64
+    };
+    let mut rows = Vec::with_capacity(n);
+    for (i, row_costs) in costs.iter().enumerate() {
+        let mut row = vec![FORBIDDEN; m + n];
+        for &(col, c) in row_costs {
+            row[col] = (c * SCALE) as i64;
         }
         row[m + i] = miss_cost;
         rows.push(row);
@@ -304,7 +419,14 @@ mod tests {
             gate(1, [-10.0, 0.0], 10.0, &[0, 1]),
             gate(2, [12.0, 0.0], 10.0, &[0]),
         ];
-        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, |_| true);
+        let a = associate(
+            Association::Joint,
+            &gates,
+            &plots,
+            CHI2_2DOF_99,
+            |_| true,
+            None,
+        );
         assert_eq!(
             a.assignments,
             [
@@ -325,7 +447,14 @@ mod tests {
     fn plots_outside_the_refined_gate_are_not_taken() {
         let plots = [[40.0, 0.0]];
         let gates = [gate(7, [0.0, 0.0], 10.0, &[0])];
-        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, |_| true);
+        let a = associate(
+            Association::Joint,
+            &gates,
+            &plots,
+            CHI2_2DOF_99,
+            |_| true,
+            None,
+        );
         assert_eq!(
             a.assignments,
             [Assignment {
@@ -336,9 +465,14 @@ mod tests {
         assert_eq!(a.refined_out, 1);
         assert!(a.initiate.is_empty(), "it was in a rough gate");
         // Two-stage: no track took it, so it starts one.
-        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
-            true
-        });
+        let a = associate(
+            Association::TwoStage,
+            &gates,
+            &plots,
+            CHI2_2DOF_99,
+            |_| true,
+            None,
+        );
         assert_eq!(a.initiate, [0]);
         assert_eq!(a.withheld, 0);
     }
@@ -351,14 +485,26 @@ mod tests {
         let plots = [[5.0, 0.0], [-20.0, 0.0], [130.0, 0.0]];
         let gates = [gate(1, [0.0, 0.0], 20.0, &[0, 1, 2])];
         for firm in [true, false] {
-            let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
-                firm
-            });
+            let a = associate(
+                Association::TwoStage,
+                &gates,
+                &plots,
+                CHI2_2DOF_99,
+                |_| firm,
+                None,
+            );
             assert_eq!(a.assignments[0].plot, Some(0));
             assert_eq!(a.initiate, [1, 2]);
             assert_eq!(a.withheld, 0);
         }
-        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, |_| true);
+        let a = associate(
+            Association::Joint,
+            &gates,
+            &plots,
+            CHI2_2DOF_99,
+            |_| true,
+            None,
+        );
         assert!(a.initiate.is_empty());
         assert_eq!(a.withheld, 2);
     }
@@ -374,10 +520,17 @@ mod tests {
             gate(2, [25.0, 0.0], 10.0, &[0]),
         ];
         let firm = |t: u16| t == 1;
-        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, firm);
+        let a = associate(
+            Association::TwoStage,
+            &gates,
+            &plots,
+            CHI2_2DOF_99,
+            firm,
+            None,
+        );
         assert_eq!(a.assignments[0].plot, Some(0));
         assert_eq!(a.assignments[1].plot, None);
-        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, firm);
+        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, firm, None);
         assert_eq!(
             a.assignments[0].plot, None,
             "jointly the tentative track wins"
@@ -409,11 +562,19 @@ mod tests {
             &plots,
             CHI2_2DOF_99,
             firm,
+            None,
         );
         assert_eq!(plot_of(&a), [Some(0), Some(HIDDEN_PLOT), None, None, None]);
         assert_eq!(a.hidden, 1);
         assert_eq!(a.hidden_in, [(2, 1)]);
-        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, firm);
+        let a = associate(
+            Association::TwoStage,
+            &gates,
+            &plots,
+            CHI2_2DOF_99,
+            firm,
+            None,
+        );
         assert_eq!(plot_of(&a), [Some(0), None, None, None, None]);
         assert_eq!(a.hidden, 0);
     }
@@ -428,10 +589,84 @@ mod tests {
             gate(1, [0.0, 0.0], 20.0, &[0]),
             gate(2, [90.0, 0.0], 60.0, &[0]),
         ];
-        let a = associate(Association::TwoStage, &gates, &plots, CHI2_2DOF_99, |_| {
-            true
-        });
+        let a = associate(
+            Association::TwoStage,
+            &gates,
+            &plots,
+            CHI2_2DOF_99,
+            |_| true,
+            None,
+        );
         assert_eq!(a.assignments[0].plot, Some(0));
         assert_eq!(a.assignments[1].plot, None);
+    }
+
+    /// Two ships 9 km north, the plot (one, merged) 70 m beyond the first along the line of
+    /// sight and 45 m across from the second: nearer the second on the round 40 m of the
+    /// filter, the first's by a radar that measures bearing to 0.087° (14 m across there)
+    /// and range to 37.6 m.
+    #[test]
+    fn the_plots_own_accuracy_tells_which_side_of_the_line_of_sight_it_lies() {
+        let z = [10.0f32, 9070.0];
+        let plots = [z];
+        let polar = [Plot {
+            range_m: z[0].hypot(z[1]),
+            bearing_rad: z[0].atan2(z[1]),
+        }];
+        // S = H P Hᵀ (20 m a side) + the filter's 40 m.
+        let gates = [
+            gate(1, [0.0, 9000.0], 2000f32.sqrt(), &[0]),
+            gate(2, [55.0, 9065.0], 2000f32.sqrt(), &[0]),
+        ];
+        let accuracy = PolarAccuracy {
+            range_sigma_m: 37.6,
+            bearing_sigma_rad: 0.087f32.to_radians(),
+        };
+        let covariances = PlotCovariances::polar(&polar, accuracy, 1600.0);
+        // Along the line of sight (north) the range's variance, across it the bearing's.
+        let c = covariances.plot_cov_m2[0];
+        assert!(
+            (c[2] - 37.6 * 37.6).abs() < 2.0 && (c[0] - 13.8 * 13.8).abs() < 3.0,
+            "{c:?}"
+        );
+        let took = |a: &Associated| {
+            a.assignments
+                .iter()
+                .find(|x| x.plot == Some(0))
+                .map(|x| x.track)
+        };
+        for mode in [Association::TwoStage, Association::TwoStageUnresolved] {
+            let round = associate(mode, &gates, &plots, CHI2_2DOF_99, |_| true, None);
+            assert_eq!(took(&round), Some(2), "{mode:?}");
+            let own = associate(
+                mode,
+                &gates,
+                &plots,
+                CHI2_2DOF_99,
+                |_| true,
+                Some(&covariances),
+            );
+            assert_eq!(took(&own), Some(1), "{mode:?}");
+        }
+        // The refined gate stays on the filter's S: a plot in it (d² 7.2) is taken however
+        // far out on the plot's own accuracy (d² 24: a track lagging a turn keeps its
+        // plots, and they start no second track).
+        let wide = [[120.0f32, 9000.0]];
+        let wide_polar = [Plot {
+            range_m: wide[0][0].hypot(wide[0][1]),
+            bearing_rad: wide[0][0].atan2(wide[0][1]),
+        }];
+        let covariances = PlotCovariances::polar(&wide_polar, accuracy, 1600.0);
+        let one = [gate(1, [0.0, 9000.0], 2000f32.sqrt(), &[0])];
+        let a = associate(
+            Association::TwoStage,
+            &one,
+            &wide,
+            CHI2_2DOF_99,
+            |_| true,
+            Some(&covariances),
+        );
+        assert_eq!(a.assignments[0].plot, Some(0));
+        assert!(a.initiate.is_empty());
     }
 }

@@ -70,6 +70,10 @@ pub struct SessionConfig {
     /// that a new plot accuracy can remake it ([`Session::set_plot_sigma_m`]); `None` for a
     /// configuration made by hand, which is kept as it is.
     pub filter_kind: Option<FilterKind>,
+    /// The plots' accuracy in range and bearing when known (a simulated radar), for the
+    /// association's pair cost ([`associate::PlotCovariances`]); `None`: plots as the
+    /// filters take them.
+    pub plot_accuracy: Option<associate::PolarAccuracy>,
 }
 
 impl SessionConfig {
@@ -97,6 +101,7 @@ impl SessionConfig {
             association: Association::default(),
             alarms: AlarmLimits::default(),
             filter_kind: Some(filter),
+            plot_accuracy: None,
         }
     }
 }
@@ -515,6 +520,10 @@ impl Session {
         let gate = self.config.refined_gate_d2;
         let mode = self.config.association;
         let (firm, lost) = (&self.firm, &self.lost);
+        let accuracy = self.config.plot_accuracy.map(|a| {
+            let filter_var_m2 = self.config.tracker.plot_sigma_m.powi(2);
+            associate::PlotCovariances::polar(&radar.plots, a, filter_var_m2)
+        });
         let done = self.device.scan(radar.scan, time_ms, &plots_m, |gates| {
             let live: Vec<GatedPlots> = gates
                 .iter()
@@ -522,7 +531,14 @@ impl Session {
                 .cloned()
                 .collect();
             let gates = &live;
-            associate::associate(mode, gates, &plots_m, gate, |t| firm.contains(&t))
+            associate::associate(
+                mode,
+                gates,
+                &plots_m,
+                gate,
+                |t| firm.contains(&t),
+                accuracy.as_ref(),
+            )
         });
         self.last_time_ms = Some(time_ms);
         let stats = self.device.client().stats();

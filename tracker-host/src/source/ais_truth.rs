@@ -487,6 +487,15 @@ impl PlotSource for AisTruthSource {
         Some(self.scan_s)
     }
 
+    /// The sensor model's the plots are made with.
+    fn plot_accuracy(&self) -> Option<crate::session::associate::PolarAccuracy> {
+        let sensor = self.model.sensor();
+        Some(crate::session::associate::PolarAccuracy {
+            range_sigma_m: sensor.range_sigma_m(),
+            bearing_sigma_rad: sensor.bearing_sigma_rad(),
+        })
+    }
+
     fn scans_left(&self) -> Option<u64> {
         Some(((self.end_s - self.time_s) / self.scan_s).max(0.0) as u64 + 1)
     }

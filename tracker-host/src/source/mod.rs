@@ -116,4 +116,12 @@ pub trait PlotSource {
     fn plot_sigma_m(&self) -> Option<f32> {
         None
     }
+
+    /// The plots' accuracy in range and bearing, when the source knows it (a simulator's
+    /// sensor model), for the association's pair cost
+    /// ([`crate::session::associate::PlotCovariances`]); `None` for plots taken as the
+    /// filters take them, as accurate on every axis (plots extracted from spokes).
+    fn plot_accuracy(&self) -> Option<crate::session::associate::PolarAccuracy> {
+        None
+    }
 }
