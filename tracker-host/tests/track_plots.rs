@@ -39,6 +39,10 @@ fn a_recorded_demo_tracks_the_same_through_track() {
         "inproc",
         "demo",
         "--plain",
+        // Ships passing inside one resolution cell: their plots' own accuracy decides which
+        // track takes the one plot (recorded with the plots, so `track` weighs them alike).
+        "--scenario",
+        "merging",
         "--targets",
         "20",
         "--seed",
@@ -175,6 +179,8 @@ fn track_runs_on_a_plots_file_written_by_other_code() {
 fn bad_plots_files_are_refused_with_their_line_and_column() {
     let dir = tempfile::tempdir().unwrap();
     let good = "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m\n0,0,1000,10,0,0\n";
+    let sigma =
+        "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m,range_sigma_m,bearing_sigma_deg\n";
     let cases = [
         (
             "scan,t_s,range_m,bearing_deg,own_east_m\n0,0,1,1,0\n",
@@ -212,6 +218,19 @@ fn bad_plots_files_are_refused_with_their_line_and_column() {
         (
             &format!("{good}1,2.5,1000,10,NaN,0\n"),
             "line 3, column 5 (own_east_m)",
+        ),
+        // The plots' accuracy: both columns or neither, positive, one for a scan's plots.
+        (
+            &format!("{sigma}0,0,1000,10,0,0,37.6,\n"),
+            "line 2, column 8 (bearing_sigma_deg): empty beside a range_sigma_m",
+        ),
+        (
+            &format!("{sigma}0,0,1000,10,0,0,-1,0.1\n"),
+            "line 2, column 7 (range_sigma_m): -1",
+        ),
+        (
+            &format!("{sigma}0,0,1000,10,0,0,37.6,0.1\n0,0,2000,10,0,0,37.6,0.2\n"),
+            "line 3, column 7 (range_sigma_m): every plot of scan 0 must have the same accuracy",
         ),
     ];
     for (i, (text, expected)) in cases.iter().enumerate() {

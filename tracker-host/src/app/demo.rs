@@ -124,7 +124,6 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
     let config = SessionConfig {
         association: o.association,
         alarms: o.alarms,
-        plot_accuracy: source.plot_accuracy(),
         ..SessionConfig::tracking(o.filter)
     };
     let session = Session::start(client, config)?;

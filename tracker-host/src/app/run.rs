@@ -164,6 +164,9 @@ impl Run {
         if let Some(sigma_m) = self.plots.plot_sigma_m() {
             self.session.set_plot_sigma_m(sigma_m)?;
         }
+        // The plots' range and bearing accuracy, when the source knows it, weighs them in
+        // the association.
+        self.session.set_plot_accuracy(self.plots.plot_accuracy());
         let mut report = self.session.scan(&scan.radar, &own)?;
         report.echoes = scan.echoes.clone();
         report.time_is_utc = self.plots.time_is_utc();

@@ -96,7 +96,12 @@ impl PlotsRecorder {
     /// # Errors
     /// The file cannot be created.
     pub fn create(path: &Path) -> anyhow::Result<Self> {
-        let header = [&plots_file::REQUIRED[..], &plots_file::OPTIONAL[..2]].concat();
+        let header = [
+            &plots_file::REQUIRED[..],
+            &plots_file::OPTIONAL[..2],
+            &plots_file::OPTIONAL[3..],
+        ]
+        .concat();
         Ok(PlotsRecorder(CsvOut::create(path, &header.join(","))?))
     }
 }
@@ -107,13 +112,21 @@ impl ScanSink for PlotsRecorder {
             "{},{},{},{}",
             r.own.position_m[0], r.own.position_m[1], r.own.velocity_mps[0], r.own.velocity_mps[1]
         );
+        // The accuracy the plots were associated with, so that `track` weighs them alike.
+        let accuracy = r.plot_accuracy.map_or(",".to_string(), |a| {
+            format!(
+                "{},{}",
+                a.range_sigma_m,
+                f64::from(a.bearing_sigma_rad).to_degrees()
+            )
+        });
         if r.plots.is_empty() {
-            return self.0.line(&format!("{},{},,,{own}", r.scan, r.time_s));
+            return self.0.line(&format!("{},{},,,{own},,", r.scan, r.time_s));
         }
         for p in &r.plots {
             let bearing_deg = f64::from(p.bearing_rad).to_degrees().rem_euclid(360.0);
             self.0.line(&format!(
-                "{},{},{},{bearing_deg},{own}",
+                "{},{},{},{bearing_deg},{own},{accuracy}",
                 r.scan, r.time_s, p.range_m
             ))?;
         }

@@ -765,6 +765,7 @@ mod tests {
             ended: Vec::new(),
             association: Default::default(),
             in_echo: Vec::new(),
+            plot_accuracy: None,
             host_time: Default::default(),
             skipped: None,
             ais: Vec::new(),

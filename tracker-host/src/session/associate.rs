@@ -6,9 +6,11 @@
 //! tested against the **refined gate**: the Mahalanobis distance d² = νᵀS⁻¹ν of the
 //! innovation ν with the track's innovation covariance S, kept when d² is below the
 //! chi-square threshold (2 degrees of freedom). **Global nearest neighbour** then picks
-//! the one-to-one assignment of plots to tracks that minimises the summed d², with "no
-//! plot" allowed for every track at the cost of the threshold, solved exactly by the
-//! Kuhn–Munkres (Hungarian) algorithm from `pathfinding`.
+//! the one-to-one assignment of plots to tracks that minimises the summed pair costs
+//! d² + ln|S| (the Gaussian likelihood's; S with the plot's own range and bearing accuracy
+//! when the source knows it, [`PlotCovariances`]), with "no plot" allowed for every track
+//! at a cost above any pair in a refined gate, solved exactly by the Kuhn–Munkres
+//! (Hungarian) algorithm from `pathfinding`.
 //!
 //! [`Association::TwoStage`] does this twice: the **firm** tracks (confirmed
 //! and coasting) take their plots first, the tentative tracks then share what is left, so a
@@ -39,6 +41,9 @@ pub const CHI2_2DOF_99: f64 = 9.21;
 const SCALE: f64 = 1e6;
 /// A pairing that is not allowed.
 const FORBIDDEN: i64 = i64::MAX / 1024;
+/// Largest d² on a plot's own accuracy a pair cost takes: far beyond any gate, and far
+/// below [`FORBIDDEN`] once scaled.
+const MAX_OWN_D2: f64 = 1e6;
 
 /// How plots are associated and tracks started.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -109,8 +114,11 @@ pub struct PlotCovariances {
     /// Per plot, in the scan's order, its covariance `[sxx, sxy, syy]`, m² (east, north).
     pub plot_cov_m2: Vec<[f32; 3]>,
     /// The variance the device's filters take every plot to have on each axis, m²
-    /// ([`tracker_core::icd::TrackerConfig::plot_sigma_m`] squared): the part of a
-    /// track's innovation covariance that is replaced by the plot's own.
+    /// ([`tracker_core::icd::TrackerConfig::plot_sigma_m`] squared, as
+    /// [`tracker_core::filter::FilterConfig::tracking`] makes the filters): the part of a
+    /// track's innovation covariance that is replaced by the plot's own. (Tracks started
+    /// before a change of plot σ keep their filters' old one; a radar, whose σ changes with
+    /// its range scale, gives no [`PolarAccuracy`].)
     pub filter_var_m2: f32,
 }
 
@@ -316,7 +324,7 @@ fn gnn(
     // 100 m off look as near as a settled track's plot 30 m off, and the coasting track
     // takes the settled one's target. When the plots' own accuracy is known
     // ([`PlotCovariances`]), the likelihood is taken with it in S in place of the filter's
-    // round 40 m: a radar measures bearing to 6–20 m across the line of sight at 4–7 NM,
+    // round 40 m: a radar measures bearing to 11–20 m across the line of sight at 4–7 NM,
     // and two ships passing 50–150 m abeam in one resolution cell are then told apart by
     // which side of the line of sight the plot lies (docs/tracking.md). The refined gate
     // stays on the filter's S, so a track that lags a turn keeps its plots. A miss costs the
@@ -342,7 +350,8 @@ fn gnn(
             match mahalanobis2(*z, g.predicted_m, g.innovation_cov_m2) {
                 Some(d2) if d2 <= threshold => {
                     let cost = match own_accuracy(g, p) {
-                        Some((d2_own, ln_det_own)) => d2_own + ln_det_own,
+                        // Bounded, so that a miss stays below a forbidden pair's cost.
+                        Some((d2_own, ln_det_own)) => d2_own.min(MAX_OWN_D2) + ln_det_own,
                         None => d2 + ln_det[i],
                     };
                     row.push((col, cost));
@@ -376,8 +385,9 @@ fn gnn(
         return;
     };
     let (_, columns) = kuhn_munkres_min(&matrix);
-    for (g, col) in gates.iter().zip(columns) {
-        let plot = (col < m).then(|| candidates[col]);
+    for (i, (g, col)) in gates.iter().zip(columns).enumerate() {
+        // Never a pair the gate refused, whatever the costs came to.
+        let plot = (col < m && matrix[(i, col)] < FORBIDDEN).then(|| candidates[col]);
         if let Some(p) = plot {
             taken.insert(p);
         }
@@ -629,6 +639,24 @@ mod tests {
             (c[2] - 37.6 * 37.6).abs() < 2.0 && (c[0] - 13.8 * 13.8).abs() < 3.0,
             "{c:?}"
         );
+        // On a bearing of 45° the two mix, the range's along north-east.
+        let diagonal = Plot {
+            range_m: 9070.0,
+            bearing_rad: std::f32::consts::FRAC_PI_4,
+        };
+        let d = PlotCovariances::polar(&[diagonal], accuracy, 1600.0);
+        let (along, across) = (37.6f32 * 37.6, (9070.0 * 0.087f32.to_radians()).powi(2));
+        let c = d.plot_cov_m2[0];
+        for (got, want) in c.iter().zip([
+            (along + across) / 2.0,
+            (along - across) / 2.0,
+            (along + across) / 2.0,
+        ]) {
+            assert!((got - want).abs() < 1e-2 * want.abs(), "{c:?}");
+        }
+        // S' = S − the filter's 1600 + the plot's: the track's own H P Hᵀ (400) kept.
+        let s = d.innovation_cov_m2([2000.0, 0.0, 2000.0], 0).unwrap();
+        assert!((s[0] - (400.0 + c[0])).abs() < 1e-2 && (s[1] - c[1]).abs() < 1e-2);
         let took = |a: &Associated| {
             a.assignments
                 .iter()

@@ -147,6 +147,9 @@ pub struct ScanReport {
     /// target whose CPA/TCPA alarm is raised is not among them (it is drawn with its
     /// alarm) unless the target drawn nearest it alarms too.
     pub in_echo: Vec<TargetData>,
+    /// The plots' range and bearing accuracy they were associated with, when the source
+    /// knew it ([`Session::set_plot_accuracy`]).
+    pub plot_accuracy: Option<associate::PolarAccuracy>,
     /// Host wall time for the scan, link included.
     pub host_time: Duration,
     /// Why the scan was not tracked, when it was not: the device refused it or reported
@@ -372,6 +375,12 @@ impl Session {
     /// The configuration.
     pub fn config(&self) -> &SessionConfig {
         &self.config
+    }
+
+    /// Weighs the plots by `accuracy` in the association from the next scan on
+    /// ([`SessionConfig::plot_accuracy`]); `None`: as the device's filters take them.
+    pub fn set_plot_accuracy(&mut self, accuracy: Option<associate::PolarAccuracy>) {
+        self.config.plot_accuracy = accuracy;
     }
 
     /// Tracks plots of `plot_sigma_m` (m, one axis) from now on: the device's filter and
@@ -650,6 +659,7 @@ impl Session {
             association,
             in_echo,
             silence,
+            plot_accuracy: self.config.plot_accuracy,
             ..Self::report_of(radar, own, plots_m, host_time)
         })
     }
@@ -667,6 +677,7 @@ impl Session {
         self.skipped += 1;
         ScanReport {
             skipped: Some(why),
+            plot_accuracy: self.config.plot_accuracy,
             ..Self::report_of(radar, own, plots_m, started.elapsed())
         }
     }
@@ -693,6 +704,7 @@ impl Session {
             ended: Vec::new(),
             association: Associated::default(),
             in_echo: Vec::new(),
+            plot_accuracy: None,
             host_time,
             skipped: None,
             ais: Vec::new(),

@@ -11,6 +11,7 @@
 //! | `own_east_m`, `own_north_m` | m | own ship in the local frame of `--origin` |
 //! | `own_vx_mps`, `own_vy_mps` | m/s | optional, both or neither: own ship's velocity over ground (without them: from successive positions) |
 //! | `heading_deg` | degrees true | optional: own ship's heading |
+//! | `range_sigma_m`, `bearing_sigma_deg` | m, degrees | optional, both or neither: the plot's accuracy (standard deviations) in range and bearing, the same on every row of a scan; empty on a row without it (`demo --record-plots` writes the simulator's) |
 //!
 //! The file is read twice: once whole to check it (a bad file is refused before anything
 //! is tracked or written, with its line and column), then scan by scan, so memory does not
@@ -24,6 +25,7 @@ use tracker_core::icd::Plot;
 use super::{PlotSource, RadarScan, SourceScan};
 use crate::csv_input::{self, Header};
 use crate::own_ship::OwnShip;
+use crate::session::associate::PolarAccuracy;
 use crate::source::truth_file::TruthFile;
 
 /// Columns every plots file has.
@@ -37,7 +39,13 @@ pub const REQUIRED: [&str; 6] = [
 ];
 
 /// Columns a plots file may have.
-pub const OPTIONAL: [&str; 3] = ["own_vx_mps", "own_vy_mps", "heading_deg"];
+pub const OPTIONAL: [&str; 5] = [
+    "own_vx_mps",
+    "own_vy_mps",
+    "heading_deg",
+    "range_sigma_m",
+    "bearing_sigma_deg",
+];
 
 /// Longest plot range accepted, m (200 km: beyond any marine radar).
 pub const MAX_RANGE_M: f64 = 200_000.0;
@@ -56,6 +64,8 @@ pub struct FileScan {
     pub own_velocity_mps: Option<[f32; 2]>,
     /// Own ship's heading, degrees true.
     pub heading_deg: Option<f64>,
+    /// The plots' accuracy, when the file gives it.
+    pub accuracy: Option<PolarAccuracy>,
 }
 
 /// Reads scans one at a time.
@@ -142,6 +152,7 @@ impl ScanReader {
             }
         }
         let mut plots = Vec::new();
+        let mut accuracy = None;
         let mut record = Some(first);
         while let Some(r) = record.take() {
             let row = self.header.row(&r);
@@ -174,6 +185,14 @@ impl ScanReader {
                             &format!("scan {scan} has more than {MAX_PLOTS_PER_SCAN} plots, the device's limit"),
                         ));
                     }
+                    let a = plot_accuracy(&row)?;
+                    if !plots.is_empty() && a != accuracy {
+                        return Err(row.error(
+                            "range_sigma_m",
+                            &format!("every plot of scan {scan} must have the same accuracy"),
+                        ));
+                    }
+                    accuracy = a;
                     plots.push(Plot {
                         range_m: range,
                         bearing_rad: bearing.to_radians() as f32,
@@ -194,7 +213,36 @@ impl ScanReader {
             own_position_m: own,
             own_velocity_mps: velocity,
             heading_deg,
+            accuracy,
         }))
+    }
+}
+
+/// A row's `range_sigma_m` and `bearing_sigma_deg`: both or neither, each positive (the
+/// bearing's under 10°).
+fn plot_accuracy(row: &csv_input::Row<'_>) -> anyhow::Result<Option<PolarAccuracy>> {
+    match (
+        row.number_f32("range_sigma_m")?,
+        row.number("bearing_sigma_deg")?,
+    ) {
+        (None, None) => Ok(None),
+        (Some(r), Some(b)) => {
+            if !(r > 0.0 && f64::from(r) <= MAX_RANGE_M) {
+                return Err(row.error("range_sigma_m", &format!("{r}: must be over 0 m")));
+            }
+            if !(b > 0.0 && b < 10.0) {
+                return Err(row.error(
+                    "bearing_sigma_deg",
+                    &format!("{b}: must be over 0 and under 10 degrees"),
+                ));
+            }
+            Ok(Some(PolarAccuracy {
+                range_sigma_m: r,
+                bearing_sigma_rad: b.to_radians() as f32,
+            }))
+        }
+        (None, Some(_)) => Err(row.error("range_sigma_m", "empty beside a bearing_sigma_deg")),
+        (Some(_), None) => Err(row.error("bearing_sigma_deg", "empty beside a range_sigma_m")),
     }
 }
 
@@ -208,6 +256,8 @@ pub struct PlotsFileSource {
     /// first scan).
     ahead: Option<FileScan>,
     previous: Option<FileScan>,
+    /// The accuracy of the plots of the scan last given.
+    accuracy: Option<PolarAccuracy>,
     truth: Option<TruthFile>,
     period_s: Option<f64>,
     /// Whether the times are UTC ([`UTC_FROM_S`] on).
@@ -247,6 +297,7 @@ impl PlotsFileSource {
             read: 0,
             ahead: None,
             previous: None,
+            accuracy: None,
             truth: None,
             period_s,
             time_is_utc: first_t.is_some_and(|t| t >= UTC_FROM_S),
@@ -304,6 +355,7 @@ impl PlotSource for PlotsFileSource {
             Some(t) => Some(t.at(scan.radar.time_s, own, &self.path)?),
             None => None,
         };
+        self.accuracy = scan.accuracy;
         let out = SourceScan {
             radar: scan.radar.clone(),
             own_ship: Some(own),
@@ -321,6 +373,11 @@ impl PlotSource for PlotsFileSource {
 
     fn scans_left(&self) -> Option<u64> {
         Some(self.scans - self.read)
+    }
+
+    /// The file's `range_sigma_m` and `bearing_sigma_deg` for the scan just given.
+    fn plot_accuracy(&self) -> Option<PolarAccuracy> {
+        self.accuracy
     }
 }
 
