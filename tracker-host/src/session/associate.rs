@@ -186,41 +186,24 @@ pub fn associate(
     let mut out = Associated::default();
     let mut taken = BTreeSet::new();
     let mut assigned = Vec::with_capacity(gates.len());
-    match mode {
-        Association::Joint => {
-            let all: Vec<&GatedPlots> = gates.iter().collect();
-            gnn(
-                &all,
-                plots,
-                threshold,
-                accuracy,
-                &mut taken,
-                &mut assigned,
-                &mut out,
-            );
-        }
+    // Joint: one stage over every track; two-stage: firm tracks first, then the others.
+    let stages: Vec<Vec<&GatedPlots>> = match mode {
+        Association::Joint => vec![gates.iter().collect()],
         Association::TwoStage | Association::TwoStageUnresolved => {
-            let (strong, weak): (Vec<&GatedPlots>, Vec<&GatedPlots>) =
-                gates.iter().partition(|g| firm(g.track));
-            gnn(
-                &strong,
-                plots,
-                threshold,
-                accuracy,
-                &mut taken,
-                &mut assigned,
-                &mut out,
-            );
-            gnn(
-                &weak,
-                plots,
-                threshold,
-                accuracy,
-                &mut taken,
-                &mut assigned,
-                &mut out,
-            );
+            let (strong, weak) = gates.iter().partition(|g| firm(g.track));
+            vec![strong, weak]
         }
+    };
+    for stage in &stages {
+        gnn(
+            stage,
+            plots,
+            threshold,
+            accuracy,
+            &mut taken,
+            &mut assigned,
+            &mut out,
+        );
     }
     // Unresolved: a firm track left without a plot whose refined gate held a plot another
     // firm track took has its target taken as hidden in that plot (two ships in one
@@ -399,6 +382,16 @@ fn gnn(
 mod tests {
     use super::*;
 
+    /// The association with plots taken as the filters take them.
+    fn associate_on_filter(
+        mode: Association,
+        gates: &[GatedPlots],
+        plots: &[EastNorth],
+        firm: impl Fn(u16) -> bool,
+    ) -> Associated {
+        associate(mode, gates, plots, CHI2_2DOF_99, firm, None)
+    }
+
     fn gate(track: u16, predicted: EastNorth, sigma: f32, plots: &[u16]) -> GatedPlots {
         GatedPlots {
             track,
@@ -429,14 +422,7 @@ mod tests {
             gate(1, [-10.0, 0.0], 10.0, &[0, 1]),
             gate(2, [12.0, 0.0], 10.0, &[0]),
         ];
-        let a = associate(
-            Association::Joint,
-            &gates,
-            &plots,
-            CHI2_2DOF_99,
-            |_| true,
-            None,
-        );
+        let a = associate_on_filter(Association::Joint, &gates, &plots, |_| true);
         assert_eq!(
             a.assignments,
             [
@@ -457,14 +443,7 @@ mod tests {
     fn plots_outside_the_refined_gate_are_not_taken() {
         let plots = [[40.0, 0.0]];
         let gates = [gate(7, [0.0, 0.0], 10.0, &[0])];
-        let a = associate(
-            Association::Joint,
-            &gates,
-            &plots,
-            CHI2_2DOF_99,
-            |_| true,
-            None,
-        );
+        let a = associate_on_filter(Association::Joint, &gates, &plots, |_| true);
         assert_eq!(
             a.assignments,
             [Assignment {
@@ -475,14 +454,7 @@ mod tests {
         assert_eq!(a.refined_out, 1);
         assert!(a.initiate.is_empty(), "it was in a rough gate");
         // Two-stage: no track took it, so it starts one.
-        let a = associate(
-            Association::TwoStage,
-            &gates,
-            &plots,
-            CHI2_2DOF_99,
-            |_| true,
-            None,
-        );
+        let a = associate_on_filter(Association::TwoStage, &gates, &plots, |_| true);
         assert_eq!(a.initiate, [0]);
         assert_eq!(a.withheld, 0);
     }
@@ -495,26 +467,12 @@ mod tests {
         let plots = [[5.0, 0.0], [-20.0, 0.0], [130.0, 0.0]];
         let gates = [gate(1, [0.0, 0.0], 20.0, &[0, 1, 2])];
         for firm in [true, false] {
-            let a = associate(
-                Association::TwoStage,
-                &gates,
-                &plots,
-                CHI2_2DOF_99,
-                |_| firm,
-                None,
-            );
+            let a = associate_on_filter(Association::TwoStage, &gates, &plots, |_| firm);
             assert_eq!(a.assignments[0].plot, Some(0));
             assert_eq!(a.initiate, [1, 2]);
             assert_eq!(a.withheld, 0);
         }
-        let a = associate(
-            Association::Joint,
-            &gates,
-            &plots,
-            CHI2_2DOF_99,
-            |_| true,
-            None,
-        );
+        let a = associate_on_filter(Association::Joint, &gates, &plots, |_| true);
         assert!(a.initiate.is_empty());
         assert_eq!(a.withheld, 2);
     }
@@ -530,17 +488,10 @@ mod tests {
             gate(2, [25.0, 0.0], 10.0, &[0]),
         ];
         let firm = |t: u16| t == 1;
-        let a = associate(
-            Association::TwoStage,
-            &gates,
-            &plots,
-            CHI2_2DOF_99,
-            firm,
-            None,
-        );
+        let a = associate_on_filter(Association::TwoStage, &gates, &plots, firm);
         assert_eq!(a.assignments[0].plot, Some(0));
         assert_eq!(a.assignments[1].plot, None);
-        let a = associate(Association::Joint, &gates, &plots, CHI2_2DOF_99, firm, None);
+        let a = associate_on_filter(Association::Joint, &gates, &plots, firm);
         assert_eq!(
             a.assignments[0].plot, None,
             "jointly the tentative track wins"
@@ -566,25 +517,11 @@ mod tests {
         ];
         let firm = |t: u16| t != 4;
         let plot_of = |a: &Associated| a.assignments.iter().map(|x| x.plot).collect::<Vec<_>>();
-        let a = associate(
-            Association::TwoStageUnresolved,
-            &gates,
-            &plots,
-            CHI2_2DOF_99,
-            firm,
-            None,
-        );
+        let a = associate_on_filter(Association::TwoStageUnresolved, &gates, &plots, firm);
         assert_eq!(plot_of(&a), [Some(0), Some(HIDDEN_PLOT), None, None, None]);
         assert_eq!(a.hidden, 1);
         assert_eq!(a.hidden_in, [(2, 1)]);
-        let a = associate(
-            Association::TwoStage,
-            &gates,
-            &plots,
-            CHI2_2DOF_99,
-            firm,
-            None,
-        );
+        let a = associate_on_filter(Association::TwoStage, &gates, &plots, firm);
         assert_eq!(plot_of(&a), [Some(0), None, None, None, None]);
         assert_eq!(a.hidden, 0);
     }
@@ -599,14 +536,7 @@ mod tests {
             gate(1, [0.0, 0.0], 20.0, &[0]),
             gate(2, [90.0, 0.0], 60.0, &[0]),
         ];
-        let a = associate(
-            Association::TwoStage,
-            &gates,
-            &plots,
-            CHI2_2DOF_99,
-            |_| true,
-            None,
-        );
+        let a = associate_on_filter(Association::TwoStage, &gates, &plots, |_| true);
         assert_eq!(a.assignments[0].plot, Some(0));
         assert_eq!(a.assignments[1].plot, None);
     }
@@ -664,7 +594,7 @@ mod tests {
                 .map(|x| x.track)
         };
         for mode in [Association::TwoStage, Association::TwoStageUnresolved] {
-            let round = associate(mode, &gates, &plots, CHI2_2DOF_99, |_| true, None);
+            let round = associate_on_filter(mode, &gates, &plots, |_| true);
             assert_eq!(took(&round), Some(2), "{mode:?}");
             let own = associate(
                 mode,
