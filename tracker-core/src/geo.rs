@@ -77,12 +77,17 @@ pub struct Cpa {
     pub tcpa_s: f32,
 }
 
+/// A target's velocity relative to own ship: `target_v − own_v`, m/s (east, north).
+pub fn relative_velocity(own_v: EastNorth, target_v: EastNorth) -> EastNorth {
+    [target_v[0] - own_v[0], target_v[1] - own_v[1]]
+}
+
 /// CPA and TCPA of a target at `target` moving at `target_v`, seen from own ship at `own`
 /// moving at `own_v`. With no relative motion the range never changes: TCPA is 0 and CPA
 /// is the present range.
 pub fn cpa(own: EastNorth, own_v: EastNorth, target: EastNorth, target_v: EastNorth) -> Cpa {
     let rel = [target[0] - own[0], target[1] - own[1]];
-    let rv = [target_v[0] - own_v[0], target_v[1] - own_v[1]];
+    let rv = relative_velocity(own_v, target_v);
     let v2 = rv[0] * rv[0] + rv[1] * rv[1];
     // Below (1 mm/s)² the relative motion carries no useful time to closest approach.
     if v2 < 1e-6 {

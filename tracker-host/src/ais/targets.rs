@@ -397,7 +397,7 @@ impl AisTargets {
                     .quality
                     .motion_known
                     .then(|| geo::cpa(own.position_m, own.velocity_mps, p, vel));
-                let rel = [vel[0] - own.velocity_mps[0], vel[1] - own.velocity_mps[1]];
+                let rel = geo::relative_velocity(own.velocity_mps, vel);
                 let rel_speed_mps = cpa.map(|_| rel[0].hypot(rel[1]));
                 let (hull_centre_m, hull_centre_unknown_m) = t.hull_centre(p);
                 Some(AisTargetData {

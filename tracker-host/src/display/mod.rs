@@ -23,7 +23,7 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::canvas::{Canvas, Circle, Line as CanvasLine, Points};
 use ratatui::widgets::{Block, Borders, Cell, Paragraph, Row, Table};
 use ratatui::Frame;
-use tracker_core::geo::{EastNorth, METRES_PER_NM, MPS_PER_KNOT};
+use tracker_core::geo::{self, EastNorth, METRES_PER_NM, MPS_PER_KNOT};
 use tracker_core::icd::TrackStatus;
 use tracker_core::track::MAX_TRACKS;
 
@@ -568,10 +568,9 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
             for t in view.targets_drawn(state.associated) {
                 let (x, y) = rel(t.position_m);
                 let v = match state.vectors {
-                    VectorMode::Relative => [
-                        t.velocity_mps[0] - view.own.velocity_mps[0],
-                        t.velocity_mps[1] - view.own.velocity_mps[1],
-                    ],
+                    VectorMode::Relative => {
+                        geo::relative_velocity(view.own.velocity_mps, t.velocity_mps)
+                    }
                     VectorMode::True => t.velocity_mps,
                 };
                 let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
@@ -629,10 +628,9 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
                 if a.active || radar.is_some() {
                     let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
                     let v = match state.vectors {
-                        VectorMode::Relative => [
-                            a.velocity_mps[0] - view.own.velocity_mps[0],
-                            a.velocity_mps[1] - view.own.velocity_mps[1],
-                        ],
+                        VectorMode::Relative => {
+                            geo::relative_velocity(view.own.velocity_mps, a.velocity_mps)
+                        }
                         VectorMode::True => a.velocity_mps,
                     };
                     ctx.draw(&CanvasLine::new(x, y, x + to(v[0]), y + to(v[1]), colour));

@@ -96,12 +96,12 @@ impl PlotsRecorder {
     /// # Errors
     /// The file cannot be created.
     pub fn create(path: &Path) -> anyhow::Result<Self> {
-        let header = [
-            &plots_file::REQUIRED[..],
-            &plots_file::OPTIONAL[..2],
-            &plots_file::OPTIONAL[3..],
-        ]
-        .concat();
+        // Every column but own ship's heading, which the session's own ship may not have.
+        let header: Vec<&str> = plots_file::REQUIRED
+            .iter()
+            .chain(plots_file::OPTIONAL.iter().filter(|c| **c != "heading_deg"))
+            .copied()
+            .collect();
         Ok(PlotsRecorder(CsvOut::create(path, &header.join(","))?))
     }
 }

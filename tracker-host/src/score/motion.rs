@@ -116,10 +116,7 @@ impl MotionScorer {
                 x.position_m,
                 x.velocity_mps,
             );
-            let rel = [
-                x.velocity_mps[0] - truth.own.velocity_mps[0],
-                x.velocity_mps[1] - truth.own.velocity_mps[1],
-            ];
+            let rel = geo::relative_velocity(truth.own.velocity_mps, x.velocity_mps);
             let within = |factor: f32, passed_s: f32| {
                 limits.within(c, rel[0].hypot(rel[1]), factor, passed_s)
             };
@@ -190,36 +187,20 @@ mod tests {
         let mut s = MotionScorer::default();
         // A moored boat shown at 1.2 kn, then at 0; a ship at 10 kn shown at 0.2 kn, then
         // at 9 kn; a boat at 1 kn (neither) is not counted.
-        s.scan(
-            &truth([0.0; 2], 5000.0),
-            &matched,
-            &[shown([0.6, 0.0], 5000.0)],
-            &limits,
-        );
-        s.scan(
-            &truth([0.0; 2], 5000.0),
-            &matched,
-            &[shown([0.0; 2], 5000.0)],
-            &limits,
-        );
-        s.scan(
-            &truth([5.1, 0.0], 5000.0),
-            &matched,
-            &[shown([0.2, 0.0], 5000.0)],
-            &limits,
-        );
-        s.scan(
-            &truth([5.1, 0.0], 5000.0),
-            &matched,
-            &[shown([4.6, 0.0], 5000.0)],
-            &limits,
-        );
-        s.scan(
-            &truth([0.5, 0.0], 5000.0),
-            &matched,
-            &[shown([0.0; 2], 5000.0)],
-            &limits,
-        );
+        for (true_v, shown_v) in [
+            ([0.0; 2], [0.6, 0.0]),
+            ([0.0; 2], [0.0; 2]),
+            ([5.1, 0.0], [0.2, 0.0]),
+            ([5.1, 0.0], [4.6, 0.0]),
+            ([0.5, 0.0], [0.0; 2]),
+        ] {
+            s.scan(
+                &truth(true_v, 5000.0),
+                &matched,
+                &[shown(shown_v, 5000.0)],
+                &limits,
+            );
+        }
         // A track the scorer did not match is not counted.
         s.scan(
             &truth([0.0; 2], 5000.0),

@@ -73,10 +73,7 @@ impl TargetData {
     pub fn new(own: &OwnShip, t: &TrackState) -> Self {
         let (range_m, bearing_rad) = geo::range_bearing(own.position_m, t.position_m);
         let (course_rad, speed_mps) = geo::course_speed(t.velocity_mps);
-        let rel = [
-            t.velocity_mps[0] - own.velocity_mps[0],
-            t.velocity_mps[1] - own.velocity_mps[1],
-        ];
+        let rel = geo::relative_velocity(own.velocity_mps, t.velocity_mps);
         let (rel_course_rad, rel_speed_mps) = geo::course_speed(rel);
         let c = geo::cpa(
             own.position_m,
@@ -310,6 +307,18 @@ pub(crate) fn example_track() -> TrackState {
 mod tests {
     use super::*;
 
+    /// Track 3, confirmed for 40 scans, at `position_m` moving at `velocity_mps`.
+    fn settled(position_m: EastNorth, velocity_mps: EastNorth) -> TrackState {
+        TrackState {
+            track: 3,
+            status: TrackStatus::Confirmed,
+            position_m,
+            velocity_mps,
+            age_scans: 40,
+            hit_history: 0x3ff,
+        }
+    }
+
     #[test]
     fn a_target_is_shown_acquiring_until_its_trend_is_known() {
         let mut t = example();
@@ -329,14 +338,7 @@ mod tests {
         // Both stopped, the target's track drifting 0.07 kn away 1 NM off: its TCPA is
         // −900 min, shown as beyond the field; one minute off is shown as it is.
         let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
-        let t = TrackState {
-            track: 3,
-            status: TrackStatus::Confirmed,
-            position_m: [0.0, 1852.0],
-            velocity_mps: [0.0, 0.0343],
-            age_scans: 40,
-            hit_history: 0x3ff,
-        };
+        let t = settled([0.0, 1852.0], [0.0, 0.0343]);
         let d = TargetData::new(&own, &t);
         assert!((tcpa_minutes(d.tcpa_s) + 900.0).abs() < 1.0, "{}", d.tcpa_s);
         let row = |d: TargetData| table(&[d], &AlarmLimits::default());
@@ -358,14 +360,7 @@ mod tests {
         // motion, TCPA 0 and CPA the range, inside the limits, but not approaching. The
         // same boat drifting 1 kn towards own ship does alarm.
         let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
-        let t = TrackState {
-            track: 3,
-            status: TrackStatus::Confirmed,
-            position_m: [0.0, 200.0],
-            velocity_mps: [0.0, 0.0],
-            age_scans: 40,
-            hit_history: 0x3ff,
-        };
+        let t = settled([0.0, 200.0], [0.0, 0.0]);
         let d = TargetData::new(&own, &t);
         assert_eq!((d.cpa_m, d.tcpa_s), (200.0, 0.0));
         assert!(!d.dangerous(&AlarmLimits::default()));
@@ -386,14 +381,7 @@ mod tests {
     #[test]
     fn a_head_on_target_alarms() {
         let own = OwnShip::at([0.0, 0.0], [0.0, 5.0]);
-        let t = TrackState {
-            track: 3,
-            status: TrackStatus::Confirmed,
-            position_m: [0.0, 4000.0],
-            velocity_mps: [0.0, -5.0],
-            age_scans: 40,
-            hit_history: 0x3ff,
-        };
+        let t = settled([0.0, 4000.0], [0.0, -5.0]);
         let d = TargetData::new(&own, &t);
         assert!((d.range_m - 4000.0).abs() < 1e-3);
         assert!(d.bearing_rad.abs() < 1e-6);
