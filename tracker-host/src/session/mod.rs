@@ -18,7 +18,7 @@
 //! | [`target`] | range, bearing, course, speed, CPA, TCPA, alarms |
 //! | [`numbers`] | the target numbers (01–99) the navigator and plotters know targets by |
 //! | [`trend`] | when a target's motion is known well enough to show and to alarm on |
-//! | [`stationary`] | whether a target stands still, shown then with no motion |
+//! | [`stationary`] | whether a target stands still, shown then with no motion and associated where it stands |
 
 pub mod ais;
 pub mod associate;
@@ -533,11 +533,13 @@ impl Session {
             let filter_var_m2 = self.config.tracker.plot_sigma_m.powi(2);
             associate::PlotCovariances::polar(&radar.plots, a, filter_var_m2)
         });
+        let stationary = &self.stationary;
         let done = self.device.scan(radar.scan, time_ms, &plots_m, |gates| {
+            // A target found standing still is associated at where it stands.
             let live: Vec<GatedPlots> = gates
                 .iter()
                 .filter(|g| !lost.contains(&g.track))
-                .cloned()
+                .map(|g| stationary.where_standing(g.clone()))
                 .collect();
             let gates = &live;
             associate::associate(
@@ -573,7 +575,7 @@ impl Session {
         // A silence is no antenna period: it would make the next one look like one.
         self.update_trend(gap_s.filter(|_| silence.is_none()));
         // A target found standing still is shown with no motion (the device's filter keeps
-        // its velocity, which gates its next plots).
+        // its velocity, which gates its next plots in the device's rough gate).
         self.stationary
             .observe(radar.time_s, &tracks, &association.assignments, &plots_m);
         let shown = self.stationary.shown(&tracks);

@@ -42,11 +42,20 @@
 //! below; on the Solent, docs/ais.md). A target shown still keeps its range from own ship
 //! moored, and then raises no CPA/TCPA alarm ([`super::target::NO_RELATIVE_MOTION_MPS`]):
 //! one closing on own ship at about a knot can be among them (measured, docs/ais.md).
+//!
+//! **Where it stands.** A target found still is also *associated* at where it stands
+//! ([`StationaryTest::where_standing`]): its refined gate and pair cost are centred on the
+//! mean of its window's plots, not on the device's prediction, which carries the filter's
+//! noisy velocity forward (a still track drifting a few tens of metres a minute onto a
+//! neighbour's echo in a moored cluster, its neighbour's track then coasting off: issues
+//! #16 and #17). The mean of n plots is known to σ/√n, better than the prediction; the gate
+//! keeps the device's innovation covariance, so it is, if anything, wide. Measured on the
+//! Solent in docs/ais.md.
 
 use std::collections::{BTreeMap, VecDeque};
 
 use tracker_core::geo::EastNorth;
-use tracker_core::icd::{Assignment, TrackState, HIDDEN_PLOT};
+use tracker_core::icd::{Assignment, GatedPlots, TrackState, HIDDEN_PLOT};
 
 /// The plots a track took over this long are tested, s.
 pub const WINDOW_S: f64 = 60.0;
@@ -283,6 +292,33 @@ impl StationaryTest {
     /// True when `track`'s target is found standing still.
     pub fn still(&self, track: u16) -> bool {
         self.windows.get(&track).is_some_and(|w| w.still)
+    }
+
+    /// Where `track`'s target stands when it is found standing still: the mean of the
+    /// plots in its window, m (east, north, local frame); `None` for a target not found
+    /// still.
+    pub fn standing_at_m(&self, track: u16) -> Option<[f64; 2]> {
+        let w = self.windows.get(&track).filter(|w| w.still)?;
+        // Found still only on MIN_PLOTS or more, so never a division by zero.
+        let n = w.plots.len() as f64;
+        let sum = w
+            .plots
+            .iter()
+            .fold([0.0, 0.0], |a, (_, p)| [a[0] + p[0], a[1] + p[1]]);
+        Some([sum[0] / n, sum[1] / n])
+    }
+
+    /// `gate` as the host associates it: centred on where its target stands
+    /// ([`Self::standing_at_m`]) when it is found still, else as the device predicted it.
+    /// The innovation covariance and the plots in the rough gate are the device's.
+    pub fn where_standing(&self, gate: GatedPlots) -> GatedPlots {
+        match self.standing_at_m(gate.track) {
+            Some(at) => GatedPlots {
+                predicted_m: at.map(|v| v as f32),
+                ..gate
+            },
+            None => gate,
+        }
     }
 
     /// `tracks` as shown: those found still with no velocity.
@@ -654,6 +690,40 @@ mod tests {
             found * 100 >= 1600 * 90,
             "found still on {found} of 1600 scans"
         );
+    }
+
+    #[test]
+    fn a_still_target_is_associated_where_it_stands() {
+        let mut test = StationaryTest::default();
+        let track = TrackState {
+            age_scans: 1,
+            ..state(1)
+        };
+        // Not yet found still: the device's prediction stands.
+        moored(&mut test, track, 0.0, 3);
+        let gate = |track: u16| GatedPlots {
+            track,
+            // The filter's velocity noise has carried the prediction 72 m off.
+            predicted_m: [1560.0, -760.0],
+            innovation_cov_m2: [900.0, 50.0, 800.0],
+            plots: heapless::Vec::from_slice(&[0, 3]).unwrap(),
+        };
+        assert_eq!(test.standing_at_m(1), None);
+        assert_eq!(test.where_standing(gate(1)), gate(1));
+        moored(&mut test, track, 0.0, 60);
+        assert!(test.still(1));
+        // The mean of the window's 24 plots of ±10 m: within 3σ/√24 ≈ 6 m of the mooring.
+        let at = test.standing_at_m(1).expect("found still");
+        assert!((at[0] - 1500.0).hypot(at[1] + 800.0) < 6.0, "{at:?}");
+        let moved = test.where_standing(gate(1));
+        assert_eq!(moved.predicted_m, at.map(|v| v as f32));
+        assert_eq!(
+            (moved.innovation_cov_m2, &moved.plots),
+            (gate(1).innovation_cov_m2, &gate(1).plots)
+        );
+        // Another track's gate is the device's.
+        assert_eq!(test.standing_at_m(2), None);
+        assert_eq!(test.where_standing(gate(2)), gate(2));
     }
 
     #[test]
