@@ -26,6 +26,10 @@
 //! tracks, and only plots in no rough gate start tracks. [`Association::TwoStageUnresolved`]
 //! (the default) is two-stage with one more rule, for two ships in one resolution cell:
 //! the track left without a plot is held as hidden in its neighbour's, not dropped.
+//!
+//! A track whose target is found standing still is tested from where it stands (the mean of
+//! its last minute's plots, [`super::stationary`]) for the plots in the refined gate about
+//! that place, from the device's prediction for the others ([`StandingAt`]).
 
 use std::collections::BTreeSet;
 
@@ -172,9 +176,15 @@ pub fn mahalanobis2(z: EastNorth, predicted: EastNorth, s: [f32; 3]) -> Option<f
     Some((syy * dx * dx - 2.0 * sxy * dx * dy + sxx * dy * dy) / det)
 }
 
+/// Where targets found standing still stand, by track number, m (east, north, local
+/// frame): a plot within the refined gate about that place is tested from there, others
+/// from the device's prediction ([`super::stationary`]).
+pub type StandingAt = std::collections::BTreeMap<u16, EastNorth>;
+
 /// Associates one scan. `plots` are the scan's plots in the local frame, in the order the
 /// device received them; `threshold` is the refined gate (d²); `firm` tells whether a
-/// track number is confirmed or coasting (as the device reported it at the scan before).
+/// track number is confirmed or coasting (as the device reported it at the scan before);
+/// `standing` where the targets found standing still stand.
 pub fn associate(
     mode: Association,
     gates: &[GatedPlots],
@@ -182,6 +192,7 @@ pub fn associate(
     threshold: f64,
     firm: impl Fn(u16) -> bool,
     accuracy: Option<&PlotCovariances>,
+    standing: &StandingAt,
 ) -> Associated {
     let mut out = Associated::default();
     let mut taken = BTreeSet::new();
@@ -199,7 +210,7 @@ pub fn associate(
             stage,
             plots,
             threshold,
-            accuracy,
+            (accuracy, standing),
             &mut taken,
             &mut assigned,
             &mut out,
@@ -226,7 +237,11 @@ pub fn associate(
         let in_gate = |p: u16| {
             plots
                 .get(usize::from(p))
-                .and_then(|z| mahalanobis2(*z, g.predicted_m, g.innovation_cov_m2))
+                .and_then(|z| {
+                    // A still target is hidden only in an echo where it stands.
+                    let c = standing.get(&g.track).copied().unwrap_or(g.predicted_m);
+                    mahalanobis2(*z, c, g.innovation_cov_m2)
+                })
                 .is_some_and(|d2| d2 <= threshold)
         };
         if let Some(taker) = g
@@ -266,6 +281,28 @@ pub fn associate(
     out
 }
 
+/// Where a plot `z` is tested from for `g`'s track, and whether that is away from where
+/// its target stands: where it stands, when it is found standing still and `z` lies in the
+/// refined gate (`threshold`, d²) about that place; else the device's prediction (`true`
+/// for a target found still: a ship casting off, whose plots leave that gate before the
+/// stationary test finds it moving). A neighbour's echo tens of metres off is weighed from
+/// where the target stands, not from where its filter's noisy velocity has carried the
+/// prediction.
+fn gate_centre(
+    z: EastNorth,
+    g: &GatedPlots,
+    standing: &StandingAt,
+    threshold: f64,
+) -> (EastNorth, bool) {
+    match standing.get(&g.track) {
+        Some(&at) if mahalanobis2(z, at, g.innovation_cov_m2).is_some_and(|d2| d2 <= threshold) => {
+            (at, false)
+        }
+        Some(_) => (g.predicted_m, true),
+        None => (g.predicted_m, false),
+    }
+}
+
 /// ln|S| of `s = [sxx, sxy, syy]` (m²), 0 when S is not positive definite (such a track
 /// takes no plot anyway: [`mahalanobis2`] refuses it).
 fn ln_det(s: [f32; 3]) -> f64 {
@@ -283,7 +320,7 @@ fn gnn(
     gates: &[&GatedPlots],
     plots: &[EastNorth],
     threshold: f64,
-    accuracy: Option<&PlotCovariances>,
+    (accuracy, standing): (Option<&PlotCovariances>, &StandingAt),
     taken: &mut BTreeSet<u16>,
     assigned: &mut Vec<(u16, Option<u16>)>,
     out: &mut Associated,
@@ -316,11 +353,11 @@ fn gnn(
     let ln_det: Vec<f64> = gates.iter().map(|g| ln_det(g.innovation_cov_m2)).collect();
     let widest = ln_det.iter().copied().fold(0.0, f64::max);
     // d² and ln|S| on the plot's own accuracy, when known.
-    let own_accuracy = |g: &GatedPlots, p: u16| -> Option<(f64, f64)> {
+    let own_accuracy = |g: &GatedPlots, p: u16, c: EastNorth| -> Option<(f64, f64)> {
         let a = accuracy?;
         let z = plots.get(usize::from(p))?;
         let s = a.innovation_cov_m2(g.innovation_cov_m2, p)?;
-        Some((mahalanobis2(*z, g.predicted_m, s)?, self::ln_det(s)))
+        Some((mahalanobis2(*z, c, s)?, self::ln_det(s)))
     };
     let mut costs: Vec<Vec<(usize, f64)>> = Vec::with_capacity(n);
     for (i, g) in gates.iter().enumerate() {
@@ -330,13 +367,18 @@ fn gnn(
             else {
                 continue;
             };
-            match mahalanobis2(*z, g.predicted_m, g.innovation_cov_m2) {
+            let (c, away) = gate_centre(*z, g, standing, threshold);
+            match mahalanobis2(*z, c, g.innovation_cov_m2) {
                 Some(d2) if d2 <= threshold => {
-                    let cost = match own_accuracy(g, p) {
+                    let cost = match own_accuracy(g, p, c) {
                         // Bounded, so that a miss stays below a forbidden pair's cost.
                         Some((d2_own, ln_det_own)) => d2_own.min(MAX_OWN_D2) + ln_det_own,
                         None => d2 + ln_det[i],
                     };
+                    // Away from where a still target stands, a plot costs as if it were
+                    // at the edge of the gate there at least: one inside is taken first,
+                    // and the cost does not fall at the gate's edge.
+                    let cost = if away { cost + threshold } else { cost };
                     row.push((col, cost));
                 }
                 _ => out.refined_out += 1,
@@ -389,7 +431,15 @@ mod tests {
         plots: &[EastNorth],
         firm: impl Fn(u16) -> bool,
     ) -> Associated {
-        associate(mode, gates, plots, CHI2_2DOF_99, firm, None)
+        associate(
+            mode,
+            gates,
+            plots,
+            CHI2_2DOF_99,
+            firm,
+            None,
+            &StandingAt::new(),
+        )
     }
 
     fn gate(track: u16, predicted: EastNorth, sigma: f32, plots: &[u16]) -> GatedPlots {
@@ -603,6 +653,7 @@ mod tests {
                 CHI2_2DOF_99,
                 |_| true,
                 Some(&covariances),
+                &StandingAt::new(),
             );
             assert_eq!(took(&own), Some(1), "{mode:?}");
         }
@@ -623,6 +674,70 @@ mod tests {
             CHI2_2DOF_99,
             |_| true,
             Some(&covariances),
+            &StandingAt::new(),
+        );
+        assert_eq!(a.assignments[0].plot, Some(0));
+        assert!(a.initiate.is_empty());
+    }
+
+    #[test]
+    fn a_still_target_is_associated_where_it_stands_and_where_it_is_predicted() {
+        // Two boats moored 40 m apart, A at (0, 0) and B at (40, 0). A's track, firm and
+        // found still, stands at (1, 0), but its filter's velocity noise has carried its
+        // prediction to (30, 0); B's track, tentative, is predicted at (40, 0). σ 20 m.
+        let plots = [[1.0f32, 0.0], [41.0, 0.0]];
+        let gates = [
+            gate(1, [30.0, 0.0], 20.0, &[0, 1]),
+            gate(2, [40.0, 0.0], 20.0, &[0, 1]),
+        ];
+        let run = |standing: &StandingAt| {
+            let a = associate(
+                Association::TwoStage,
+                &gates,
+                &plots,
+                CHI2_2DOF_99,
+                |t| t == 1,
+                None,
+                standing,
+            );
+            a.assignments.iter().map(|x| x.plot).collect::<Vec<_>>()
+        };
+        // From the predictions alone, A's track, choosing first, takes B's plot (d² 0.3
+        // against 2.1 for its own), and B's track its neighbour's.
+        assert_eq!(run(&StandingAt::new()), [Some(1), Some(0)]);
+        // Where A stands, each its own.
+        let standing = StandingAt::from([(1, [1.0, 0.0])]);
+        assert_eq!(run(&standing), [Some(0), Some(1)]);
+        // A's prediction drifted to (50, 0); its own plot at (25, 0) is in the gate about
+        // where it stands (d² 1.6), B's echo at (70, 0) is not (d² 12.25) and is nearer the
+        // prediction (d² 1.0): it costs the gate's 9.21 more, and A takes its own.
+        let gates = [
+            gate(1, [50.0, 0.0], 20.0, &[0, 1]),
+            gate(2, [70.0, 0.0], 20.0, &[0, 1]),
+        ];
+        let a = associate(
+            Association::TwoStage,
+            &gates,
+            &[[25.0, 0.0], [70.0, 0.0]],
+            CHI2_2DOF_99,
+            |t| t == 1,
+            None,
+            &StandingAt::from([(1, [0.0, 0.0])]),
+        );
+        let took: Vec<_> = a.assignments.iter().map(|x| x.plot).collect();
+        assert_eq!(took, [Some(0), Some(1)]);
+        // A casts off: its plot 229 m from where it stood, out of that gate (d² 131), but
+        // on its prediction, which followed it (d² 0.06). Still taken.
+        let off = [[230.0f32, 0.0]];
+        let gates = [gate(1, [225.0, 0.0], 20.0, &[0])];
+        let a = associate(
+            Association::TwoStage,
+            &gates,
+            &off,
+            CHI2_2DOF_99,
+            |_| true,
+            None,
+            &standing,
         );
         assert_eq!(a.assignments[0].plot, Some(0));
         assert!(a.initiate.is_empty());

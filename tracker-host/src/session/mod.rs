@@ -533,13 +533,13 @@ impl Session {
             let filter_var_m2 = self.config.tracker.plot_sigma_m.powi(2);
             associate::PlotCovariances::polar(&radar.plots, a, filter_var_m2)
         });
-        let stationary = &self.stationary;
+        // A target found standing still is associated at where it stands too.
+        let standing = self.stationary.standing_m();
         let done = self.device.scan(radar.scan, time_ms, &plots_m, |gates| {
-            // A target found standing still is associated at where it stands.
             let live: Vec<GatedPlots> = gates
                 .iter()
                 .filter(|g| !lost.contains(&g.track))
-                .map(|g| stationary.where_standing(g.clone()))
+                .cloned()
                 .collect();
             let gates = &live;
             associate::associate(
@@ -549,6 +549,7 @@ impl Session {
                 gate,
                 |t| firm.contains(&t),
                 accuracy.as_ref(),
+                &standing,
             )
         });
         self.last_time_ms = Some(time_ms);
