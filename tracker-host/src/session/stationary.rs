@@ -312,8 +312,9 @@ impl StationaryTest {
     }
 
     /// Where every target found standing still stands ([`Self::standing_at_m`]), by track
-    /// number, m (east, north, local frame; f32 as the wire's positions).
-    pub fn standing_m(&self) -> BTreeMap<u16, EastNorth> {
+    /// number, m (east, north, local frame; f32 as the wire's positions), as the
+    /// association takes it.
+    pub fn standing_m(&self) -> super::associate::StandingAt {
         self.windows
             .keys()
             .filter_map(|&t| Some((t, self.standing_at_m(t)?.map(|v| v as f32))))
