@@ -6,7 +6,9 @@
 //! alone, followed it on 13 of the 129 scans after casting off with plots of 3 m, seed 0).
 
 use tracker_core::filter::FilterKind;
+use tracker_core::geo;
 use tracker_core::icd::Plot;
+use tracker_host::lab::noise::normal;
 use tracker_host::link::{Client, InprocTransport};
 use tracker_host::own_ship::OwnShip;
 use tracker_host::session::{Session, SessionConfig};
@@ -22,17 +24,13 @@ const MOORING_M: [f64; 2] = [1500.0, 1500.0];
 const NEIGHBOUR_M: [f64; 2] = [1500.0, 1560.0];
 const P_DETECTION: f64 = 0.9;
 
-fn plot([e, n]: [f64; 2]) -> Plot {
+/// The plot of an echo at `at`, m (east, north), from own ship at the origin.
+fn plot(at: [f64; 2]) -> Plot {
+    let (range_m, bearing_rad) = geo::range_bearing([0.0; 2], at.map(|v| v as f32));
     Plot {
-        range_m: e.hypot(n) as f32,
-        bearing_rad: e.atan2(n).rem_euclid(std::f64::consts::TAU) as f32,
+        range_m,
+        bearing_rad,
     }
-}
-
-fn gauss(rng: &mut fastrand::Rng, sigma: f64) -> f64 {
-    let u = rng.f64().max(1e-12);
-    let v = rng.f64();
-    sigma * (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos()
 }
 
 /// The boat at `time_s`: moored, then east at 0.1 m/s² up to 5 m/s.
@@ -69,7 +67,7 @@ fn run(sigma_m: f64, seed: u64) -> (u32, u32, usize, bool) {
         let mut plots = Vec::new();
         for x in [at, NEIGHBOUR_M] {
             if rng.f64() < P_DETECTION {
-                let (e, n) = (gauss(&mut rng, sigma_m), gauss(&mut rng, sigma_m));
+                let (e, n) = (sigma_m * normal(&mut rng), sigma_m * normal(&mut rng));
                 plots.push(plot([x[0] + e, x[1] + n]));
             }
         }

@@ -111,6 +111,16 @@ pub struct PolarAccuracy {
     pub bearing_sigma_rad: f32,
 }
 
+impl PolarAccuracy {
+    /// The accuracy of the plots `sensor` makes (the simulator's IMO sensor model).
+    pub fn of_sensor(sensor: &tracker_core::sim::SensorModel) -> Self {
+        PolarAccuracy {
+            range_sigma_m: sensor.range_sigma_m(),
+            bearing_sigma_rad: sensor.bearing_sigma_rad(),
+        }
+    }
+}
+
 /// One scan's plots' covariances in the local frame, for the pair cost
 /// ([`PolarAccuracy`]).
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -489,11 +489,9 @@ impl PlotSource for AisTruthSource {
 
     /// The sensor model's the plots are made with.
     fn plot_accuracy(&self) -> Option<crate::session::associate::PolarAccuracy> {
-        let sensor = self.model.sensor();
-        Some(crate::session::associate::PolarAccuracy {
-            range_sigma_m: sensor.range_sigma_m(),
-            bearing_sigma_rad: sensor.bearing_sigma_rad(),
-        })
+        Some(crate::session::associate::PolarAccuracy::of_sensor(
+            self.model.sensor(),
+        ))
     }
 
     fn scans_left(&self) -> Option<u64> {

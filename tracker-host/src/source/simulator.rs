@@ -198,13 +198,9 @@ impl PlotSource for SimulatorSource {
     /// The sensor model's, for its plots; `None` for plots extracted from synthetic spokes
     /// (`demo --video`), whose accuracy the extractor sets, not the model.
     fn plot_accuracy(&self) -> Option<crate::session::associate::PolarAccuracy> {
-        let sensor = self.scenario.config().sensor;
-        self.video
-            .is_none()
-            .then(|| crate::session::associate::PolarAccuracy {
-                range_sigma_m: sensor.range_sigma_m(),
-                bearing_sigma_rad: sensor.bearing_sigma_rad(),
-            })
+        self.video.is_none().then(|| {
+            crate::session::associate::PolarAccuracy::of_sensor(&self.scenario.config().sensor)
+        })
     }
 
     fn scan_period_s(&self) -> Option<f64> {
