@@ -985,3 +985,47 @@ fn live_spokes_on_a_joined_socket() {
     assert_eq!(s.garmin.faults.get(Fault::Truncated), 1);
     assert!(!source.is_finished());
 }
+
+/// A capture of the wrong thing (a valid pcap of other UDP traffic: NMEA on 10110 and a
+/// datagram to an unknown port) is refused when the run starts, in words: a new user's
+/// trial was told "0 scans" and the run ended with success.
+#[test]
+fn a_capture_without_spokes_is_refused_in_words() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut frames = Vec::new();
+    for (i, payload) in [
+        b"$GPRMC,142007.00,A,5310.81238,N,00525.70658,E,0.010,,181015,,,D*71\r\n".to_vec(),
+        b"hello".to_vec(),
+    ]
+    .iter()
+    .enumerate()
+    {
+        for f in udp_frames(
+            payload,
+            i as u16,
+            [192, 168, 1, 255],
+            10110 + i as u16,
+            1480,
+        ) {
+            frames.push((i as f64, f));
+        }
+    }
+    let path = write_temp(dir.path(), "other.pcap", &pcap(&frames));
+    let options = tracker_host::app::track::TrackOptions {
+        input: tracker_host::app::track::TrackInput::Radar(
+            tracker_host::source::radar::RadarOptions::new(RadarSpec::Capture(path)),
+        ),
+        filter: tracker_core::filter::FilterKind::KalmanCv,
+        association: Default::default(),
+        alarms: Default::default(),
+        own_ship: Default::default(),
+        outputs: Default::default(),
+    };
+    let client =
+        tracker_host::link::Client::new(Box::new(tracker_host::link::InprocTransport::new()));
+    let e = match tracker_host::app::track::start(client, &options) {
+        Ok(_) => panic!("a capture without spokes was taken"),
+        Err(e) => format!("{e:#}"),
+    };
+    assert!(e.contains("no radar spokes in the capture"), "{e}");
+}

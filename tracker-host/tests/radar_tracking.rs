@@ -48,6 +48,11 @@ struct Tracked {
 }
 
 fn track(name: &str, heading_deg: Option<f32>) -> Tracked {
+    track_with(name, heading_deg, OwnShipOptions::default())
+}
+
+/// … with own ship from `own_ship` (`--nmea-in`).
+fn track_with(name: &str, heading_deg: Option<f32>, own_ship: OwnShipOptions) -> Tracked {
     let mut radar = RadarOptions::new(RadarSpec::Capture(capture(name)));
     radar.fixed_heading_rad = heading_deg.map(f32::to_radians);
     let options = TrackOptions {
@@ -55,7 +60,7 @@ fn track(name: &str, heading_deg: Option<f32>) -> Tracked {
         filter: FilterKind::KalmanCv,
         association: Default::default(),
         alarms: AlarmLimits::default(),
-        own_ship: OwnShipOptions::default(),
+        own_ship,
         outputs: Outputs::default(),
     };
     let mut run = track::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
@@ -789,5 +794,42 @@ fn the_cut_last_rotation_is_counted_not_tracked() {
         plot_sectors(last) >= 6,
         "plots in {} of 8",
         plot_sectors(last)
+    );
+}
+
+/// Own ship from `--nmea-in` without a heading (the 4G capture's TCP NMEA, positions only)
+/// and a heading sensor whose `HDG` the capture holds beside the spokes: the plots are placed
+/// with that heading, and own ship shows it too, as without `--nmea-in` (a new user's trial
+/// read `HDG ---` and no `HDT` to the plotter while the plots were placed with 183.8°).
+#[test]
+fn a_heading_in_the_capture_is_own_ships_with_nmea_in_too() {
+    let name = "radar_pi-4g-noheading-merrimac.pcap.gz";
+    let alone = track(name, None);
+    let nmea_in = OwnShipOptions {
+        nmea_in: Some(tracker_host::nmea::input::InSpec::File(realdata::file(
+            "nmea/radar_pi-4g-noheading-merrimac-tcp2000.log",
+        ))),
+        ..OwnShipOptions::default()
+    };
+    let with = track_with(name, None, nmea_in);
+    assert_eq!(alone.reports.len(), with.reports.len());
+    let mut both = 0;
+    for (a, w) in alone.reports.iter().zip(&with.reports) {
+        assert_eq!(
+            a.own.heading_rad.is_some(),
+            w.own.heading_rad.is_some(),
+            "scan {}",
+            a.scan
+        );
+        if let (Some(x), Some(y)) = (a.own.heading_rad, w.own.heading_rad) {
+            both += 1;
+            assert!((x - y).abs() < 1e-4, "scan {}: {x} against {y}", a.scan);
+            assert!(!w.own.quality.heading_needed, "scan {}", a.scan);
+        }
+    }
+    assert!(
+        both + 2 >= with.reports.len(),
+        "a heading on {both} of {} scans",
+        with.reports.len()
     );
 }

@@ -233,3 +233,44 @@ fn every_real_recording_drives_own_ship_and_the_picture() {
     }
     eprintln!("{table}");
 }
+
+/// A recording with no time in it (the HALO network's `GLL`s without one) drives a demo
+/// whose clock is not UTC: shown without the `Z`, and sent to plotters on this computer's
+/// clock rather than as midnight of a day it never said (a new user's trial saw
+/// `00:00:00Z` and an `RMC` of today's date). A timed one is UTC.
+#[test]
+fn a_recording_without_a_time_gives_no_utc() {
+    for (name, timed) in [
+        ("mayara-halo_and_0183-nmea.log", false),
+        ("gpsd-hemi.log", true),
+    ] {
+        let path = nmea_dir().join(name);
+        assert_eq!(
+            RecordedTrack::read(&path, &NmeaOptions::default())
+                .unwrap()
+                .timed,
+            timed,
+            "{name}"
+        );
+        let mut options = tracker_host::app::demo::DemoOptions::new(
+            tracker_core::sim::ScenarioKind::OpenSea,
+            4,
+            1,
+            10.0,
+            tracker_core::filter::FilterKind::KalmanCv,
+        );
+        options.own_ship.nmea_in = Some(tracker_host::nmea::input::InSpec::File(path));
+        let client =
+            tracker_host::link::Client::new(Box::new(tracker_host::link::InprocTransport::new()));
+        let mut run = tracker_host::app::demo::start(client, &options).unwrap();
+        let report = run.step().unwrap().expect("a scan");
+        assert_eq!(report.time_is_utc, timed, "{name}");
+        assert_eq!(
+            report.time_label().ends_with('Z'),
+            timed,
+            "{name}: {}",
+            report.time_label()
+        );
+        assert_eq!(report.utc_s().is_some(), timed, "{name}");
+    }
+}

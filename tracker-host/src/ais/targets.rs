@@ -659,5 +659,35 @@ mod tests {
         assert_eq!(seen[0].cpa.map(|c| c.tcpa_s), Some(0.0));
         assert!(seen[0].rel_speed_mps.is_some_and(|v| v < 1e-6));
         assert!(!crate::display::ais_dangerous(&seen[0], &limits));
+        // Own ship's GNSS moored reads 0.1 kn (the Merrimac's did, and its moored
+        // neighbours alarmed with TCPAs jumping from 10.5 to 2.5 min: a new user's trial),
+        // towards the target or across its line of sight: still no alarm.
+        let v = 0.1 * tracker_core::geo::MPS_PER_KNOT;
+        for velocity in [[0.0, v], [v, 0.0], [-v, 0.0]] {
+            let jitter = OwnShip::at([0.0, 0.0], velocity);
+            let seen = t.picture(&jitter, 1.0);
+            assert!(
+                !crate::display::ais_dangerous(&seen[0], &limits),
+                "{seen:?}"
+            );
+        }
+        // The boat's own SOG 0.1 kn (a step of AIS's), against own ship's 0.1 kn the other
+        // way: 0.2 kn apart, neither under way.
+        let mut drifting = report(1, 50.01, 0.1, StationClass::ClassA);
+        drifting.cog_deg = Some(90.0);
+        t.report(1.5, &drifting);
+        let west = OwnShip::at([0.0, 0.0], [-v, 0.0]);
+        let seen = t.picture(&west, 1.5);
+        assert!(
+            !crate::display::ais_dangerous(&seen[0], &limits),
+            "{seen:?}"
+        );
+        // A boat coming at 1 kn from 300 m does alarm (TCPA 9.7 min).
+        let mut coming = report(2, 50.0027, 1.0, StationClass::ClassA);
+        coming.cog_deg = Some(180.0);
+        t.report(2.0, &coming);
+        let seen = t.picture(&moored, 2.0);
+        let coming = seen.iter().find(|a| a.mmsi == 2).expect("the second boat");
+        assert!(crate::display::ais_dangerous(coming, &limits), "{coming:?}");
     }
 }

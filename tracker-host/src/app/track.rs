@@ -81,7 +81,18 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             // A capture's own frame is around its first fix, wherever on earth it was made;
             // its plots are as accurate as its range scale allows.
             let survey = match &radar.spec {
-                RadarSpec::Capture(path) => CaptureSurvey::of(path)?,
+                RadarSpec::Capture(path) => {
+                    let survey = CaptureSurvey::of(path)?;
+                    // Read to its end without a spoke: the wrong capture (a new user's trial
+                    // was told "0 scans" and exit 0).
+                    if survey.first_range_m.is_none() {
+                        anyhow::bail!(
+                            "{}: no radar spokes in the capture (none of a Navico BR24, 3G, 4G or HALO, nor of a Garmin xHD): capture the radar's spoke multicast on its network (README, \"A radar\")",
+                            path.display()
+                        );
+                    }
+                    survey
+                }
                 RadarSpec::Live { .. } => CaptureSurvey::default(),
             };
             origin_known |= survey.first_fix.is_some();

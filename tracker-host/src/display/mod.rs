@@ -5,12 +5,14 @@
 //! Keys: `+`/`-` range scale, `v` relative/true vectors, `[`/`]` vector length, `↑`/`↓`
 //! select a target, `a` acquire the nearest untracked plot, `c` cancel the selected target,
 //! `C` cancel all, `e` radar echoes on/off (a radar source's last rotation, under the plots
-//! and tracks), `p` pause (the picture; a live radar is tracked on), `q` quit.
+//! and tracks), `i` the AIS target table ([`ais_table`]) in the radar targets' place and
+//! back, `p` pause (the picture; a live radar is tracked on), `q` quit.
 //!
 //! [`render`] draws one frame from plain data, so tests drive it headless with ratatui's
 //! `TestBackend` and read the screen back. [`plain`] prints the target table as text
 //! instead, scan by scan or as progress lines.
 
+pub mod ais_table;
 pub mod plain;
 mod shown;
 
@@ -102,6 +104,8 @@ pub struct DisplayState {
     scale_chosen: bool,
     /// Draw the radar's echoes under the plots (when the source is a radar).
     pub echoes: bool,
+    /// The table lists the AIS targets ([`ais_table`]) instead of the radar targets.
+    pub ais_table: bool,
     /// How a ship with a radar target and an AIS target associated is drawn.
     pub associated: AssociatedSymbol,
     /// A live radar silent this long, s (raised after a few antenna periods): the
@@ -148,6 +152,7 @@ impl DisplayState {
             message: None,
             scale_chosen: false,
             echoes: true,
+            ais_table: false,
             associated: AssociatedSymbol::default(),
             radar_silent_s: None,
             trails: BTreeMap::new(),
@@ -245,6 +250,12 @@ impl DisplayState {
                 self.echoes = !self.echoes;
                 if view.is_some_and(|v| v.echoes.is_none()) {
                     self.message = Some("echoes: this source sends plots, no radar picture".into());
+                }
+            }
+            'i' => {
+                self.ais_table = !self.ais_table;
+                if self.ais_table && view.is_some_and(|v| v.ais.is_empty()) {
+                    self.message = Some("AIS table: no AIS target heard yet".into());
                 }
             }
             'C' => return Action::CancelAll,
@@ -460,7 +471,7 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
         Line::raw(format!(
             "{}{join}NM{gap}{} vectors{join}{}{join}min{gap}{} {:.2}{join}NM / {:.0}{join}min",
             RANGE_SCALES_NM[state.range_scale],
-            match (state.vectors, narrow) {
+            match (vectors_shown(state, view), narrow) {
                 (VectorMode::Relative, false) => "relative",
                 (VectorMode::Relative, true) => "rel",
                 (VectorMode::True, _) => "true",
@@ -518,6 +529,31 @@ fn own_ship_words(own: &crate::own_ship::OwnShip, narrow: bool) -> String {
     format!("OWN{gap}COG{join}{cog}{gap}SOG{join}{sog}{gap}HDG{join}{heading}{gap}{state}")
 }
 
+/// The vectors drawn: the operator's choice, relative while own ship's motion over ground is
+/// unknown (no fix yet, or dead reckoned past its limit). A target's velocity is then its
+/// motion relative to own ship taken as stopped, and calling it true would mislead (a new
+/// user's trial read "true vectors" beside `NO FIX`).
+fn vectors_shown(state: &DisplayState, view: &ScanReport) -> VectorMode {
+    if view.own.quality.motion_known {
+        state.vectors
+    } else {
+        VectorMode::Relative
+    }
+}
+
+/// The vector drawn for a velocity `v` (m/s, as the session gives it): true, or relative
+/// to own ship's. Without own ship's motion a radar target's velocity is already its motion
+/// relative to own ship as taken (stopped at the origin before a fix, held where dead
+/// reckoning stopped), and own ship's last velocity is not taken off it again.
+fn drawn_velocity(state: &DisplayState, view: &ScanReport, v: EastNorth) -> EastNorth {
+    match vectors_shown(state, view) {
+        VectorMode::Relative if view.own.quality.motion_known => {
+            geo::relative_velocity(view.own.velocity_mps, v)
+        }
+        _ => v,
+    }
+}
+
 fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
     let scale = f64::from(RANGE_SCALES_NM[state.range_scale]);
     let own = view.own.position_m;
@@ -567,12 +603,7 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
             ctx.draw(&Points::new(&trails, Color::Gray));
             for t in view.targets_drawn(state.associated) {
                 let (x, y) = rel(t.position_m);
-                let v = match state.vectors {
-                    VectorMode::Relative => {
-                        geo::relative_velocity(view.own.velocity_mps, t.velocity_mps)
-                    }
-                    VectorMode::True => t.velocity_mps,
-                };
+                let v = drawn_velocity(state, view, t.velocity_mps);
                 let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
                 let colour = if t.dangerous(&state.limits) {
                     Color::Red
@@ -624,15 +655,12 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
                 for (a0, b0) in [(tip, left), (left, right), (right, tip)] {
                     ctx.draw(&CanvasLine::new(a0.0, a0.1, b0.0, b0.1, colour));
                 }
-                // An associated ship's vector is its radar target's, drawn at any range.
-                if a.active || radar.is_some() {
+                // An associated ship's vector is its radar target's, drawn at any range; none
+                // while own ship's motion is unknown (an AIS velocity is over ground, and its
+                // motion relative to own ship is not known, as its CPA is not).
+                if (a.active || radar.is_some()) && view.own.quality.motion_known {
                     let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
-                    let v = match state.vectors {
-                        VectorMode::Relative => {
-                            geo::relative_velocity(view.own.velocity_mps, a.velocity_mps)
-                        }
-                        VectorMode::True => a.velocity_mps,
-                    };
+                    let v = drawn_velocity(state, view, a.velocity_mps);
                     ctx.draw(&CanvasLine::new(x, y, x + to(v[0]), y + to(v[1]), colour));
                 }
             }
@@ -687,6 +715,9 @@ fn short_status(t: &TargetData) -> &'static str {
 /// wide enough, else compact (whole degrees, units left to the header's names), so that no
 /// figure is ever cut short.
 fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
+    if state.ais_table {
+        return ais_table::render(frame, area, state, view);
+    }
     let full: u16 = TABLE_WIDTHS.iter().sum::<u16>() + TABLE_WIDTHS.len() as u16 - 1 + 2;
     let compact = area.width < full;
     let names = if compact {
@@ -842,7 +873,7 @@ fn fit(name: &str, suffix: &str) -> String {
 /// The alarm box's key help, drawn under the alarms while there is room, laid out to the
 /// box's width ([`wrap`]: at 80 columns two fixed lines were cut to "… ↑" and "… e echoe",
 /// and `p`, `q` and Enter went unlisted).
-const KEY_HELP: [&str; 11] = [
+const KEY_HELP: [&str; 12] = [
     "+/- range",
     "v vectors",
     "[/] vector length",
@@ -851,6 +882,7 @@ const KEY_HELP: [&str; 11] = [
     "c cancel",
     "C cancel all",
     "e echoes",
+    "i AIS table",
     "p pause",
     "q quit",
     "Enter acknowledge",
@@ -1359,6 +1391,59 @@ pub(crate) mod tests {
         view
     }
 
+    /// `i` shows the AIS targets in the table's place, nearest first, an associated one with
+    /// its radar target's number before its name, a sleeping one after; `i` again the radar
+    /// targets. At 80 columns the compact columns keep every figure whole.
+    #[test]
+    fn the_ais_table_lists_every_ais_target_heard() {
+        let view = one_associated_ship(eleventh_scan(), true);
+        let t = view.targets[0];
+        let mut view = view;
+        let mut far = view.ais[0].clone();
+        far.mmsi = 235_000_002;
+        far.label = "FAR AWAY".into();
+        far.range_m = 9.0 * METRES_PER_NM;
+        far.velocity_mps = [0.0, 0.0];
+        far.cpa = None;
+        far.active = false;
+        view.ais.insert(0, far);
+        let mut state = DisplayState::new("inproc".into());
+        state.observe(&view);
+        assert!(!screen(&state, &view).contains("AIS targets, nearest first"));
+        assert_eq!(state.key('i', Some(&view)), Action::None);
+        let text = screen(&state, &view);
+        assert!(text.contains("AIS targets, nearest first"), "{text}");
+        let near = format!("{} SHIP", t.label());
+        let (a, b) = (text.find(&near), text.find("FAR AWAY"));
+        assert!(a.is_some() && b.is_some() && a < b, "{text}");
+        assert!(
+            text.contains("235000001") && text.contains("9.00"),
+            "{text}"
+        );
+        // Stopped: no course; no CPA without own ship's motion.
+        let far_row = text.lines().find(|l| l.contains("FAR AWAY")).unwrap();
+        assert_eq!(far_row.matches("---").count(), 3, "{far_row}");
+        let narrow = screen_at(&state, &view, 80, 24);
+        assert!(
+            narrow.contains("235000002") && narrow.contains("9.00"),
+            "{narrow}"
+        );
+        state.key('i', Some(&view));
+        assert!(!screen(&state, &view).contains("AIS targets, nearest first"));
+        // Asked with no AIS heard: answered.
+        let mut none = view.clone();
+        none.ais.clear();
+        state.key('i', Some(&none));
+        assert!(
+            state
+                .message
+                .as_deref()
+                .is_some_and(|m| m.contains("no AIS target heard")),
+            "{:?}",
+            state.message
+        );
+    }
+
     /// The demo's eleventh scan: targets confirmed, with courses and speeds.
     fn eleventh_scan() -> ScanReport {
         let mut d = demo();
@@ -1730,6 +1815,21 @@ pub(crate) mod tests {
             text.contains("PPI 12 NM") && text.contains("true vectors 12 min"),
             "{text}"
         );
+        // Without own ship's motion the vectors are relative whatever was chosen, and the
+        // header says so (a new user's trial read "true vectors" beside `NO FIX`).
+        let mut lost = view.clone();
+        lost.own.quality.motion_known = false;
+        let text = screen(&state, &lost);
+        assert!(text.contains("relative vectors 12 min"), "{text}");
+        // … drawn as the tracks' velocities: own ship's last velocity (held where dead
+        // reckoning stopped) is not taken off them again.
+        lost.own.velocity_mps = [3.0, 0.0];
+        assert_eq!(drawn_velocity(&state, &lost, [1.0, 2.0]), [1.0, 2.0]);
+        state.vectors = VectorMode::Relative;
+        let mut known = lost.clone();
+        known.own.quality.motion_known = true;
+        assert_eq!(drawn_velocity(&state, &known, [1.0, 2.0]), [-2.0, 2.0]);
+        state.vectors = VectorMode::True;
         assert_eq!(state.selected, Some(view.targets[0].track));
         assert_eq!(
             state.key('c', Some(&view)),

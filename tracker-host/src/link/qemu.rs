@@ -68,13 +68,15 @@ pub const FIRMWARE_BIN: &str = "tracker-firmware";
 /// build, brought up to date with cargo (a no-op when nothing changed).
 ///
 /// # Errors
-/// An explicit ELF that does not exist; no source workspace to build from; cargo failing
-/// (the thumb target missing: `scripts/setup` installs it).
+/// An explicit ELF that does not exist or is not an ARM executable (`check_arm_elf`); no
+/// source workspace to build from; cargo failing (the thumb target missing: `scripts/setup`
+/// installs it).
 pub fn firmware_elf(bin: &str, explicit: Option<&Path>) -> anyhow::Result<PathBuf> {
     if let Some(p) = explicit {
         if !p.exists() {
             bail!("firmware {} does not exist", p.display());
         }
+        check_arm_elf(p)?;
         return Ok(p.to_path_buf());
     }
     let Some(root) = workspace_root() else {
@@ -124,6 +126,37 @@ pub fn firmware_elf(bin: &str, explicit: Option<&Path>) -> anyhow::Result<PathBu
         bail!("cargo built no {}", elf.display());
     }
     Ok(elf)
+}
+
+/// Refuses a file that is not a 32-bit little-endian ARM ELF executable before QEMU is
+/// given it: QEMU runs anything, and a text file given by mistake ended in its register
+/// dump ("Lockup: can't escalate 3 to HardFault") and a link error (a new user's trial).
+///
+/// # Errors
+/// The file does not open or read, or it is shorter than an ELF header's first 20 bytes,
+/// or they (System V ABI, ELF32: `\x7fELF`, class 1, data 1, `e_type` 2, `e_machine` 40)
+/// say otherwise.
+fn check_arm_elf(path: &Path) -> anyhow::Result<()> {
+    let mut header = Vec::with_capacity(20);
+    std::fs::File::open(path)
+        .and_then(|f| std::io::Read::read_to_end(&mut std::io::Read::take(f, 20), &mut header))
+        .with_context(|| format!("reading firmware {}", path.display()))?;
+    let u16_at = |i: usize| {
+        header
+            .get(i..i + 2)
+            .map(|b| u16::from_le_bytes([b[0], b[1]]))
+    };
+    let arm = header.starts_with(b"\x7fELF")
+        && header.get(4..6) == Some(&[1, 1][..])
+        && u16_at(16) == Some(2)
+        && u16_at(18) == Some(40);
+    if !arm {
+        bail!(
+            "firmware {} is not an ARM executable (an ELF32 for the Cortex-M, as the firmware's build writes under target/{TARGET}/release/)",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 fn base_command(elf: &Path) -> Command {
@@ -283,4 +316,45 @@ pub fn run_to_exit(elf: &Path, limit: Duration) -> anyhow::Result<String> {
 fn which(program: &str) -> bool {
     std::env::var_os("PATH")
         .is_some_and(|paths| std::env::split_paths(&paths).any(|dir| dir.join(program).is_file()))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn only_an_arm_executable_is_given_to_qemu() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = |name: &str, bytes: &[u8]| {
+            let p = dir.path().join(name);
+            std::fs::write(&p, bytes).unwrap();
+            p
+        };
+        let mut arm = vec![0x7f, b'E', b'L', b'F', 1, 1, 1, 0];
+        arm.extend([0; 8]);
+        arm.extend(2u16.to_le_bytes());
+        arm.extend(40u16.to_le_bytes());
+        arm.extend([0; 32]);
+        assert!(super::check_arm_elf(&file("arm.elf", &arm)).is_ok());
+        let mut x86 = arm.clone();
+        x86[18..20].copy_from_slice(&62u16.to_le_bytes());
+        let mut object = arm.clone();
+        object[16..18].copy_from_slice(&1u16.to_le_bytes());
+        for (name, bytes) in [
+            ("hello.txt", b"hello radar, a text file\n".to_vec()),
+            ("x86.elf", x86),
+            ("object.o", object),
+            ("short", b"\x7fELF".to_vec()),
+            ("empty", Vec::new()),
+        ] {
+            let e = format!(
+                "{:#}",
+                super::check_arm_elf(&file(name, &bytes)).unwrap_err()
+            );
+            assert!(e.contains("is not an ARM executable"), "{name}: {e}");
+        }
+        let absent = super::check_arm_elf(&dir.path().join("absent")).unwrap_err();
+        assert!(
+            format!("{absent:#}").contains("reading firmware"),
+            "{absent:#}"
+        );
+    }
 }

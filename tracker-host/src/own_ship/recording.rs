@@ -18,6 +18,10 @@ use crate::origin::Origin;
 pub struct RecordedTrack {
     /// Position fixes: time (s since 1970), latitude, longitude (degrees).
     pub fixes: Vec<(f64, f64, f64)>,
+    /// The recording tells UTC (a sentence with a valid time: `RMC`, `GGA`, `GLL` or
+    /// `ZDA`); without, its fixes' times are made up (at the start of the day the run was
+    /// given), no UTC to show or send as one.
+    pub timed: bool,
 }
 
 impl RecordedTrack {
@@ -47,7 +51,8 @@ impl RecordedTrack {
                 nav.counts()
             );
         }
-        Ok(RecordedTrack { fixes })
+        let timed = nav.newest_s().is_some();
+        Ok(RecordedTrack { fixes, timed })
     }
 
     /// The first fix's time, s since 1970.

@@ -61,6 +61,10 @@ struct Last {
     /// Own ship's alarms ([`crate::own_ship::OwnShip::alarms`]): why the picture may be
     /// empty (no heading for a head-up radar) or off, written on it.
     own_alarms: Vec<String>,
+    /// Own ship's motion over ground is known: the targets' vectors are true; without it
+    /// the radar targets' are relative to own ship as taken (stopped, or held where dead
+    /// reckoning stopped), titled so, and the AIS targets' are not drawn.
+    motion_known: bool,
 }
 
 impl Last {
@@ -81,6 +85,7 @@ impl Last {
                 })
                 .collect(),
             own_alarms: report.own.alarms(),
+            motion_known: report.own.quality.motion_known,
         }
     }
 }
@@ -193,10 +198,7 @@ fn draw(
     let mut chart = ChartBuilder::on(&root)
         .margin(10)
         .caption(
-            format!(
-                "scan {}, range {scale_nm} NM, north up, true vectors {vector_min} min",
-                last.scan,
-            ),
+            caption(last, scale_nm, vector_min),
             ("sans-serif", 22).into_font().color(&WHITE),
         )
         .build_cartesian_2d(-r..r, -r..r)?;
@@ -260,7 +262,8 @@ fn draw(
         )))?;
         // Its true vector when activated or associated, as the display draws it: an
         // associated ship drawn as its AIS target shows where it is going, at any range.
-        if a.active || radar.is_some() {
+        // None while own ship's motion is unknown, as on the display.
+        if (a.active || radar.is_some()) && last.motion_known {
             chart.draw_series(std::iter::once(PathElement::new(
                 vector((x, y), a.velocity_mps, vector_s),
                 colour.stroke_width(1),
@@ -313,6 +316,20 @@ fn draw(
     }
     root.present()?;
     Ok(())
+}
+
+/// The picture's title: scan, range scale, orientation and the vectors drawn (true, or
+/// relative while own ship's motion is unknown, as the display's header says).
+fn caption(last: &Last, scale_nm: f64, vector_min: f32) -> String {
+    let vectors = if last.motion_known {
+        "true"
+    } else {
+        "relative"
+    };
+    format!(
+        "scan {}, range {scale_nm} NM, north up, {vectors} vectors {vector_min} min",
+        last.scan
+    )
 }
 
 /// Characters a line of own ship's alarms on the picture holds at its font.
@@ -430,7 +447,16 @@ mod tests {
             targets: Vec::new(),
             ais: Vec::new(),
             own_alarms: vec!["OWN SHIP: no heading: a note long enough to take two lines on the picture at its font, so that the wrapping is drawn too".to_string()],
+            motion_known: true,
         };
+        // The title says which vectors are drawn: relative without own ship's motion (a new
+        // user's trial read "true vectors" on a capture with no fix).
+        assert!(caption(&last, 0.5, 0.5).contains("true vectors 0.5 min"));
+        let unknown = Last {
+            motion_known: false,
+            ..last.clone()
+        };
+        assert!(caption(&unknown, 0.5, 0.5).contains("relative vectors 0.5 min"));
         let dir = tempfile::tempdir().unwrap();
         for ext in EXTENSIONS.iter().chain(&["PNG"]) {
             let path = dir.path().join(format!("s.{ext}"));

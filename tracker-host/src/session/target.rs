@@ -52,11 +52,18 @@ pub struct TargetData {
     pub alarm_held: bool,
 }
 
-/// Below this relative speed, m/s, a target keeps its range ([`geo::cpa`]: TCPA 0, CPA the
-/// present range) and is not approaching: no CPA/TCPA alarm. Own ship moored (or taken as
-/// stopped without GNSS) and a target found standing still ([`super::stationary`]) are
-/// such a pair; every moored boat within the CPA limit would alarm otherwise.
-pub const NO_RELATIVE_MOTION_MPS: f32 = 1e-3;
+/// Below this relative speed, m/s (0.25 kn), a target keeps its range and is not
+/// approaching: no CPA/TCPA alarm. Own ship moored and a target standing still (found so,
+/// [`super::stationary`], or an AIS target reporting SOG 0) are such a pair; every moored
+/// boat within the CPA limit would alarm otherwise, its CPA its present range and its TCPA
+/// whatever the noise's direction makes it. Each speed is known to about 0.1 kn: AIS sends
+/// SOG in steps of 0.1 kn (ITU-R M.1371-5, message 1), and a moored ship's GNSS reports
+/// 0.0–0.1 kn (the Merrimac's `RMC`s in `../shared/realdata/nmea/signalk-gofree-merrimac.log`),
+/// so two moored ships may differ by 0.2 kn; the bound is clear of that. At 1 mm/s (before
+/// a new user's trial) the Merrimac, moored, raised alarms on AIS ships moored 0.4–0.5 NM
+/// off, their TCPA jumping from 10.5 to 2.5 min. What it costs: a target closing at under
+/// 0.25 kn is inside the TCPA limit only within 93 m of own ship (12 minutes at 0.129 m/s).
+pub const NO_RELATIVE_MOTION_MPS: f32 = 0.25 * MPS_PER_KNOT;
 
 /// An alarm once on stays on until the target's CPA or TCPA is this many times its limit.
 /// A CPA near the limit moves across it with the velocity's noise from scan to scan: on
@@ -376,6 +383,15 @@ mod tests {
             },
         );
         assert!(drifting.dangerous(&AlarmLimits::default()));
+        // Own ship's GNSS moored reads 0.1 kn in some direction (a new user's trial): the
+        // boat still keeps its range, whichever way the noise points (at 1 mm/s it alarmed).
+        for course_deg in [0.0f32, 90.0, 180.0, 270.0] {
+            let c = course_deg.to_radians();
+            let v = 0.1 * MPS_PER_KNOT;
+            let jitter = OwnShip::at([0.0, 0.0], [v * c.sin(), v * c.cos()]);
+            let d = TargetData::new(&jitter, &t);
+            assert!(!d.dangerous(&AlarmLimits::default()), "{course_deg}: {d:?}");
+        }
     }
 
     #[test]

@@ -610,7 +610,13 @@ impl RadarPlotSource {
             own_ship,
             truth: None,
             echoes: Some(std::sync::Arc::new(echoes)),
-            heading_sensor_rad: self.rotation_heading_rad.take(),
+            // A heading sensor: the radar's own, else one whose sentences the capture
+            // holds (an own-ship source of the run's without a heading takes it: the plots
+            // were placed with it, and it is shown and sent as own ship's heading).
+            heading_sensor_rad: self
+                .rotation_heading_rad
+                .take()
+                .or(own_nmea.and_then(|o| o.heading_rad)),
         }
     }
 }

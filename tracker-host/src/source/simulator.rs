@@ -139,6 +139,17 @@ pub fn source_scan(out: &ScanOutput, epoch_s: f64) -> SourceScan {
 }
 
 impl PlotSource for SimulatorSource {
+    /// UTC from the scenario's epoch or a timed recording's first fix; not from a
+    /// recording without a time (its scans count from midnight of a day it never said: a
+    /// new user's trial saw `00:00:00Z`, and `RMC` with that time and today's date sent to
+    /// the plotter as valid).
+    fn time_is_utc(&self) -> bool {
+        match &self.own {
+            OwnShipTruth::Recorded(track, _) => track.timed,
+            OwnShipTruth::Scenario | OwnShipTruth::Estimated => true,
+        }
+    }
+
     fn next_scan(&mut self) -> anyhow::Result<Option<SourceScan>> {
         if self.scans_left == 0 {
             return Ok(None);

@@ -1,0 +1,163 @@
+//! The AIS target table (key `i` on the radar display): every AIS target heard, nearest
+//! first, with its MMSI, name, range and bearing, COG and SOG, CPA and TCPA, and the age of
+//! its last position (IEC 62388 §11.5's AIS target data, in a list as the radar targets'
+//! table is). An AIS target associated with a radar target shows that target's number
+//! before its name, as the radar table shows the AIS name beside the number. Without it a
+//! navigator could read an AIS target's name and CPA only when it alarmed (a new user's
+//! trial).
+
+use ratatui::layout::{Constraint, Rect};
+use ratatui::style::{Color, Modifier, Style};
+use ratatui::widgets::{Block, Borders, Cell, Row, Table};
+use ratatui::Frame;
+use tracker_core::geo::{self, METRES_PER_NM, MPS_PER_KNOT};
+
+use super::DisplayState;
+use crate::ais::AisTargetData;
+use crate::session::ScanReport;
+
+/// The full table's columns: MMSI, name (with the radar target's number when associated),
+/// range, bearing, COG, SOG, CPA, TCPA, age. As wide as the radar targets' full table.
+const WIDTHS: [u16; 9] = [9, 20, 7, 7, 7, 7, 7, 9, 5];
+
+/// The compact table's columns (the name takes what is left; no age).
+const COMPACT_WIDTHS: [u16; 7] = [9, 5, 3, 3, 4, 5, 6];
+
+/// One AIS target's row: its cells in the full table's column order.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AisRow {
+    /// MMSI, name, range (NM), bearing (°T), COG (°T), SOG (kn), CPA (NM), TCPA (min),
+    /// age (s).
+    pub cells: [String; 9],
+    /// In CPA/TCPA alarm: its own (activated, not paired), or its radar target's.
+    pub dangerous: bool,
+    /// Activated (within the activation range); a sleeping one is drawn dim.
+    pub active: bool,
+}
+
+/// The rows of `view`'s AIS targets, nearest first, angles to `places` decimals (0 or 1).
+pub fn rows(view: &ScanReport, state: &DisplayState, places: usize) -> Vec<AisRow> {
+    let mut targets: Vec<&AisTargetData> = view.ais.iter().collect();
+    targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+    targets
+        .into_iter()
+        .map(|a| row(view, state, a, places))
+        .collect()
+}
+
+fn row(view: &ScanReport, state: &DisplayState, a: &AisTargetData, places: usize) -> AisRow {
+    // As the radar targets' table: whole degrees with three digits, else tenths.
+    let angle = |deg: f32| {
+        let shown = crate::nmea::shown_angle_deg(f64::from(deg), places);
+        if places == 0 {
+            format!("{shown:03.0}")
+        } else {
+            format!("{shown:.1}")
+        }
+    };
+    let (course_rad, speed_mps) = geo::course_speed(a.velocity_mps);
+    let sog_kn = speed_mps / MPS_PER_KNOT;
+    // A speed shown as 0.0 kn has no course, as own ship's.
+    let cog = if f64::from(sog_kn) >= crate::own_ship::COG_FROM_KN {
+        angle(course_rad.to_degrees())
+    } else {
+        "---".to_string()
+    };
+    let radar = view
+        .associated_track(a.mmsi)
+        .and_then(|track| view.targets.iter().find(|t| t.track == track));
+    // The label is the MMSI while no name is heard: not said twice.
+    let name = if a.label == a.mmsi.to_string() {
+        ""
+    } else {
+        a.label.as_str()
+    };
+    let name = match radar {
+        Some(t) => format!("{} {name}", t.label()),
+        None => name.to_string(),
+    };
+    let (cpa, tcpa) = a.cpa.map_or(("---".to_string(), "---".to_string()), |c| {
+        (
+            format!("{:.2}", c.cpa_m / METRES_PER_NM),
+            crate::session::target::tcpa_text(c.tcpa_s),
+        )
+    });
+    let dangerous = match radar {
+        Some(t) => t.dangerous(&state.limits),
+        None => a.active && super::ais_dangerous(a, &state.limits),
+    };
+    AisRow {
+        cells: [
+            a.mmsi.to_string(),
+            name,
+            format!("{:.2}", a.range_m / METRES_PER_NM),
+            angle(a.bearing_rad.to_degrees()),
+            cog,
+            format!("{sog_kn:.1}"),
+            cpa,
+            tcpa,
+            format!("{:.0}", a.age_s.max(0.0)),
+        ],
+        dangerous,
+        active: a.active,
+    }
+}
+
+/// Draws the AIS table in `area`: the full columns where they fit, else compact ones (whole
+/// degrees, the name last, no age), as the radar targets' table does.
+pub fn render(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanReport) {
+    let full: u16 = WIDTHS.iter().sum::<u16>() + WIDTHS.len() as u16 - 1 + 2;
+    let compact = area.width < full;
+    let bold = |h: &'static str| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD));
+    let header = if compact {
+        Row::new(["MMSI", "RNG", "BRG", "COG", "SOG", "CPA", "TCPA", "NAME"].map(bold))
+    } else {
+        Row::new(
+            [
+                "MMSI", "NAME", "RNG NM", "BRG °T", "COG °T", "SOG kn", "CPA NM", "TCPA min",
+                "AGE s",
+            ]
+            .map(bold),
+        )
+    };
+    let all = rows(view, state, usize::from(!compact));
+    let room = usize::from(area.height.saturating_sub(3));
+    let shown = all.iter().take(room).map(|r| {
+        let style = if r.dangerous {
+            Style::default().fg(Color::Red)
+        } else if r.active {
+            Style::default()
+        } else {
+            Style::default().fg(Color::DarkGray)
+        };
+        let c = &r.cells;
+        let cells: Vec<String> = if compact {
+            [0, 2, 3, 4, 5, 6, 7, 1]
+                .iter()
+                .map(|&i| c[i].clone())
+                .collect()
+        } else {
+            c.to_vec()
+        };
+        Row::new(cells).style(style)
+    });
+    let widths: Vec<Constraint> = if compact {
+        COMPACT_WIDTHS
+            .iter()
+            .map(|w| Constraint::Length(*w))
+            .chain([Constraint::Min(0)])
+            .collect()
+    } else {
+        WIDTHS.iter().map(|w| Constraint::Length(*w)).collect()
+    };
+    let n = all.len();
+    let title = if n > room {
+        format!(" AIS targets, nearest first: {room} of {n} shown (i: radar targets) ")
+    } else {
+        " AIS targets, nearest first (i: radar targets) ".to_string()
+    };
+    let table = Table::new(shown, widths)
+        .header(header)
+        .block(Block::default().borders(Borders::ALL).title(title));
+    frame.render_widget(table, area);
+}
