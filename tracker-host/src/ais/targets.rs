@@ -68,6 +68,18 @@ pub struct AisTarget {
 }
 
 impl AisTarget {
+    /// Its motion over ground is reported: SOG and COG, or SOG under 0.05 kn (a ship
+    /// stopped has no course; SOG 0.0 with COG "not available", 360°, is how many a moored
+    /// one reports). Without, [`AisTarget::position_at`]'s velocity is 0 for want of one,
+    /// not a ship stopped.
+    pub fn motion_reported(&self) -> bool {
+        match (self.last.sog_kn, self.last.cog_deg) {
+            (Some(_), Some(_)) => true,
+            (Some(sog), None) => sog < 0.05,
+            (None, _) => false,
+        }
+    }
+
     /// Position at `time_s` and velocity over ground in the local frame of `origin`, m and
     /// m/s, seen from own ship at `own_m` (local, m; [`Origin::to_local_near`]: along the
     /// geodesic from own ship, as the radar measures range and bearing), extrapolated along
@@ -189,7 +201,8 @@ pub struct AisTargetData {
     /// Closest point of approach and the time to it; `None` while own ship's motion is
     /// not known ([`crate::own_ship::OwnShipQuality::motion_known`]): an AIS target's
     /// motion relative to own ship needs own ship's, which the radar measures for its
-    /// targets and AIS cannot.
+    /// targets and AIS cannot; `None` too while the target's own is not reported
+    /// ([`AisTargetData::motion_reported`]).
     pub cpa: Option<geo::Cpa>,
     /// Speed relative to own ship, m/s; `None` as [`AisTargetData::cpa`].
     pub rel_speed_mps: Option<f32>,
@@ -207,6 +220,9 @@ pub struct AisTargetData {
     pub age_s: f32,
     /// Activated (inside the activation range): shown with its vector.
     pub active: bool,
+    /// Its SOG and COG are reported ([`AisTarget::motion_reported`]); without,
+    /// `velocity_mps` is 0 for want of one, and its SOG and COG are shown as unknown.
+    pub motion_reported: bool,
 }
 
 /// What the table has done.
@@ -393,9 +409,7 @@ impl AisTargets {
                 let (p, vel) = t.position_at(&self.origin, own_m, time_s)?;
                 let (p, vel) = (f(p), f(vel));
                 let (range_m, bearing_rad) = geo::range_bearing(own.position_m, p);
-                let cpa = own
-                    .quality
-                    .motion_known
+                let cpa = (own.quality.motion_known && t.motion_reported())
                     .then(|| geo::cpa(own.position_m, own.velocity_mps, p, vel));
                 let rel = geo::relative_velocity(own.velocity_mps, vel);
                 let rel_speed_mps = cpa.map(|_| rel[0].hypot(rel[1]));
@@ -414,6 +428,7 @@ impl AisTargets {
                     hull_centre_unknown_m,
                     age_s: (time_s - t.position_time_s) as f32,
                     active: range_m <= AIS_ACTIVATION_RANGE_M,
+                    motion_reported: t.motion_reported(),
                 })
             })
             .collect();
@@ -642,6 +657,28 @@ mod tests {
         assert!(c.tcpa_s > 0.0 && c.cpa_m < 1.0, "{c:?}");
         let limits = crate::session::target::AlarmLimits::default();
         assert!(crate::display::ais_dangerous(&seen[0], &limits));
+    }
+
+    /// A ship reporting 12 kn and no COG (360, "not available") has no motion to work a CPA
+    /// from (it was taken as stopped: CPA its range, an alarm missed or false); a ship
+    /// reporting 0.0 kn and no COG is stopped.
+    #[test]
+    fn a_motion_not_reported_is_not_a_ship_stopped() {
+        let mut t = AisTargets::new(Origin {
+            lat_deg: 50.0,
+            lon_deg: -1.0,
+        });
+        let mut fast = report(1, 50.01, 12.0, StationClass::ClassA);
+        fast.cog_deg = None;
+        let mut moored = report(2, 50.02, 0.0, StationClass::ClassA);
+        moored.cog_deg = None;
+        t.report(0.0, &fast);
+        t.report(0.0, &moored);
+        let own = OwnShip::at([0.0, 0.0], [0.0, 5.0]);
+        let seen = t.picture(&own, 1.0);
+        let of = |mmsi: u32| seen.iter().find(|a| a.mmsi == mmsi).unwrap();
+        assert!(!of(1).motion_reported && of(1).cpa.is_none(), "{:?}", of(1));
+        assert!(of(2).motion_reported && of(2).cpa.is_some(), "{:?}", of(2));
     }
 
     /// Own ship moored and an AIS target moored 1.1 km off: CPA the range and TCPA 0,

@@ -6,9 +6,9 @@
 //! navigator could read an AIS target's name and CPA only when it alarmed (a new user's
 //! trial).
 
-use ratatui::layout::{Constraint, Rect};
+use ratatui::layout::Rect;
 use ratatui::style::{Color, Modifier, Style};
-use ratatui::widgets::{Block, Borders, Cell, Row, Table};
+use ratatui::widgets::{Cell, Row};
 use ratatui::Frame;
 use tracker_core::geo::{self, METRES_PER_NM, MPS_PER_KNOT};
 
@@ -20,8 +20,9 @@ use crate::session::ScanReport;
 /// range, bearing, COG, SOG, CPA, TCPA, age. As wide as the radar targets' full table.
 const WIDTHS: [u16; 9] = [9, 20, 7, 7, 7, 7, 7, 9, 5];
 
-/// The compact table's columns (the name takes what is left; no age).
-const COMPACT_WIDTHS: [u16; 7] = [9, 5, 3, 3, 4, 5, 6];
+/// The compact table's columns: the name (else the MMSI) cut to 10, range, bearing, COG,
+/// SOG, CPA, TCPA; no age. 42 characters with the gaps: an 80-column terminal's pane.
+const COMPACT_WIDTHS: [u16; 7] = [10, 5, 3, 3, 4, 5, 6];
 
 /// One AIS target's row: its cells in the full table's column order.
 #[derive(Clone, Debug, PartialEq)]
@@ -29,18 +30,34 @@ pub struct AisRow {
     /// MMSI, name, range (NM), bearing (°T), COG (°T), SOG (kn), CPA (NM), TCPA (min),
     /// age (s).
     pub cells: [String; 9],
-    /// In CPA/TCPA alarm: its own (activated, not paired), or its radar target's.
+    /// In CPA/TCPA alarm: its own (activated), or its radar target's, as the PPI colours it.
     pub dangerous: bool,
     /// Activated (within the activation range); a sleeping one is drawn dim.
     pub active: bool,
+    /// Its radar target is the one selected (↑/↓), whose row is highlighted.
+    pub selected: bool,
 }
 
-/// The rows of `view`'s AIS targets, nearest first, angles to `places` decimals (0 or 1).
-pub fn rows(view: &ScanReport, state: &DisplayState, places: usize) -> Vec<AisRow> {
+impl AisRow {
+    /// The compact table's cells: the name (else the MMSI), range, bearing, COG, SOG, CPA,
+    /// TCPA.
+    pub fn compact_cells(&self) -> Vec<String> {
+        let c = &self.cells;
+        let name = if c[1].is_empty() { &c[0] } else { &c[1] };
+        std::iter::once(name.clone())
+            .chain(c[2..8].iter().cloned())
+            .collect()
+    }
+}
+
+/// The rows of `view`'s nearest `at_most` AIS targets, nearest first, angles to `places`
+/// decimals (0 or 1).
+pub fn rows(view: &ScanReport, state: &DisplayState, places: usize, at_most: usize) -> Vec<AisRow> {
     let mut targets: Vec<&AisTargetData> = view.ais.iter().collect();
     targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
     targets
         .into_iter()
+        .take(at_most)
         .map(|a| row(view, state, a, places))
         .collect()
 }
@@ -57,8 +74,14 @@ fn row(view: &ScanReport, state: &DisplayState, a: &AisTargetData, places: usize
     };
     let (course_rad, speed_mps) = geo::course_speed(a.velocity_mps);
     let sog_kn = speed_mps / MPS_PER_KNOT;
-    // A speed shown as 0.0 kn has no course, as own ship's.
-    let cog = if f64::from(sog_kn) >= crate::own_ship::COG_FROM_KN {
+    // A speed shown as 0.0 kn has no course, as own ship's; a motion not reported is not
+    // a ship stopped.
+    let sog = if a.motion_reported {
+        format!("{sog_kn:.1}")
+    } else {
+        "---".to_string()
+    };
+    let cog = if a.motion_reported && f64::from(sog_kn) >= crate::own_ship::COG_FROM_KN {
         angle(course_rad.to_degrees())
     } else {
         "---".to_string()
@@ -82,10 +105,8 @@ fn row(view: &ScanReport, state: &DisplayState, a: &AisTargetData, places: usize
             crate::session::target::tcpa_text(c.tcpa_s),
         )
     });
-    let dangerous = match radar {
-        Some(t) => t.dangerous(&state.limits),
-        None => a.active && super::ais_dangerous(a, &state.limits),
-    };
+    let dangerous = radar.is_some_and(|t| t.dangerous(&state.limits))
+        || (a.active && super::ais_dangerous(a, &state.limits));
     AisRow {
         cells: [
             a.mmsi.to_string(),
@@ -93,13 +114,14 @@ fn row(view: &ScanReport, state: &DisplayState, a: &AisTargetData, places: usize
             format!("{:.2}", a.range_m / METRES_PER_NM),
             angle(a.bearing_rad.to_degrees()),
             cog,
-            format!("{sog_kn:.1}"),
+            sog,
             cpa,
             tcpa,
             format!("{:.0}", a.age_s.max(0.0)),
         ],
         dangerous,
         active: a.active,
+        selected: radar.is_some_and(|t| state.selected == Some(t.track)),
     }
 }
 
@@ -110,7 +132,7 @@ pub fn render(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
     let compact = area.width < full;
     let bold = |h: &'static str| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD));
     let header = if compact {
-        Row::new(["MMSI", "RNG", "BRG", "COG", "SOG", "CPA", "TCPA", "NAME"].map(bold))
+        Row::new(["NAME", "RNG", "BRG", "COG", "SOG", "CPA", "TCPA"].map(bold))
     } else {
         Row::new(
             [
@@ -120,44 +142,35 @@ pub fn render(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
             .map(bold),
         )
     };
-    let all = rows(view, state, usize::from(!compact));
     let room = usize::from(area.height.saturating_sub(3));
-    let shown = all.iter().take(room).map(|r| {
-        let style = if r.dangerous {
-            Style::default().fg(Color::Red)
-        } else if r.active {
-            Style::default()
-        } else {
-            Style::default().fg(Color::DarkGray)
-        };
-        let c = &r.cells;
-        let cells: Vec<String> = if compact {
-            [0, 2, 3, 4, 5, 6, 7, 1]
-                .iter()
-                .map(|&i| c[i].clone())
-                .collect()
-        } else {
-            c.to_vec()
-        };
-        Row::new(cells).style(style)
-    });
-    let widths: Vec<Constraint> = if compact {
-        COMPACT_WIDTHS
-            .iter()
-            .map(|w| Constraint::Length(*w))
-            .chain([Constraint::Min(0)])
-            .collect()
+    let shown = rows(view, state, usize::from(!compact), room)
+        .into_iter()
+        .map(|r| {
+            // As the radar targets' table: red in alarm, the selection behind.
+            let style = match (r.dangerous, r.selected, r.active) {
+                (true, true, _) => Style::default().fg(Color::White).bg(Color::Red),
+                (true, false, _) => Style::default().fg(Color::Red),
+                (false, true, _) => Style::default().fg(Color::Black).bg(Color::Cyan),
+                (false, false, true) => Style::default(),
+                (false, false, false) => Style::default().fg(Color::DarkGray),
+            };
+            let cells = if compact {
+                r.compact_cells()
+            } else {
+                r.cells.to_vec()
+            };
+            Row::new(cells).style(style)
+        });
+    let widths = if compact {
+        super::column_widths(&COMPACT_WIDTHS, false)
     } else {
-        WIDTHS.iter().map(|w| Constraint::Length(*w)).collect()
+        super::column_widths(&WIDTHS, false)
     };
-    let n = all.len();
+    let n = view.ais.len();
     let title = if n > room {
         format!(" AIS targets, nearest first: {room} of {n} shown (i: radar targets) ")
     } else {
         " AIS targets, nearest first (i: radar targets) ".to_string()
     };
-    let table = Table::new(shown, widths)
-        .header(header)
-        .block(Block::default().borders(Borders::ALL).title(title));
-    frame.render_widget(table, area);
+    super::draw_table(frame, area, (header, shown), widths, title);
 }

@@ -791,17 +791,10 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
         ])
         .style(style)
     });
-    let widths: Vec<Constraint> = if compact {
-        COMPACT_WIDTHS
-            .iter()
-            .map(|w| Constraint::Length(*w))
-            .chain([Constraint::Min(0)])
-            .collect()
+    let widths = if compact {
+        column_widths(&COMPACT_WIDTHS, true)
     } else {
-        TABLE_WIDTHS
-            .iter()
-            .map(|w| Constraint::Length(*w))
-            .collect()
+        column_widths(&TABLE_WIDTHS, false)
     };
     let n = view.targets.len();
     let title = if skip > 0 {
@@ -815,6 +808,27 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     } else {
         " targets, nearest first ".to_string()
     };
+    draw_table(frame, area, (header, rows), widths, title);
+}
+
+/// A table's columns of `lengths` characters, and with `rest` one more taking what is left
+/// (a compact table's name).
+fn column_widths(lengths: &[u16], rest: bool) -> Vec<Constraint> {
+    lengths
+        .iter()
+        .map(|w| Constraint::Length(*w))
+        .chain(rest.then_some(Constraint::Min(0)))
+        .collect()
+}
+
+/// Draws a table of `header` and `rows` in `area`, boxed under `title`.
+fn draw_table<'a>(
+    frame: &mut Frame,
+    area: Rect,
+    (header, rows): (Row<'a>, impl IntoIterator<Item = Row<'a>>),
+    widths: Vec<Constraint>,
+    title: String,
+) {
     let table = Table::new(rows, widths)
         .header(header)
         .block(Block::default().borders(Borders::ALL).title(title));
@@ -1373,6 +1387,7 @@ pub(crate) mod tests {
             hull_centre_unknown_m: 0.0,
             age_s: 0.0,
             active: true,
+            motion_reported: true,
         }];
         if paired {
             view.paired = vec![crate::session::ais::Pairing {
@@ -1392,8 +1407,8 @@ pub(crate) mod tests {
     }
 
     /// `i` shows the AIS targets in the table's place, nearest first, an associated one with
-    /// its radar target's number before its name, a sleeping one after; `i` again the radar
-    /// targets. At 80 columns the compact columns keep every figure whole.
+    /// its radar target's number before its name, a sleeping one after, dim; `i` again the
+    /// radar targets. At 80 columns the compact columns keep the name and every figure.
     #[test]
     fn the_ais_table_lists_every_ais_target_heard() {
         let view = one_associated_ship(eleventh_scan(), true);
@@ -1406,6 +1421,7 @@ pub(crate) mod tests {
         far.velocity_mps = [0.0, 0.0];
         far.cpa = None;
         far.active = false;
+        far.motion_reported = false;
         view.ais.insert(0, far);
         let mut state = DisplayState::new("inproc".into());
         state.observe(&view);
@@ -1413,19 +1429,47 @@ pub(crate) mod tests {
         assert_eq!(state.key('i', Some(&view)), Action::None);
         let text = screen(&state, &view);
         assert!(text.contains("AIS targets, nearest first"), "{text}");
-        let near = format!("{} SHIP", t.label());
-        let (a, b) = (text.find(&near), text.find("FAR AWAY"));
-        assert!(a.is_some() && b.is_some() && a < b, "{text}");
-        assert!(
-            text.contains("235000001") && text.contains("9.00"),
-            "{text}"
-        );
-        // Stopped: no course; no CPA without own ship's motion.
-        let far_row = text.lines().find(|l| l.contains("FAR AWAY")).unwrap();
-        assert_eq!(far_row.matches("---").count(), 3, "{far_row}");
+        let row_of = |text: &str, what: &str| -> (usize, String) {
+            text.lines()
+                .enumerate()
+                .find(|(_, l)| l.contains(what))
+                .map(|(y, l)| (y, l.to_string()))
+                .unwrap_or_else(|| panic!("no {what} in {text}"))
+        };
+        let (near_y, near) = row_of(&text, &format!("{} SHIP", t.label()));
+        let (far_y, far_row) = row_of(&text, "FAR AWAY");
+        assert!(near_y < far_y, "{text}");
+        // The near one's own figures, in its row.
+        for figure in [
+            "235000001".to_string(),
+            format!("{:.2}", t.range_m / METRES_PER_NM),
+            format!("{:.2}", t.cpa_m / METRES_PER_NM),
+            format!("{:.1}", t.speed_mps / MPS_PER_KNOT),
+        ] {
+            assert!(near.contains(&figure), "{figure} not in {near}");
+        }
+        // Motion not reported: no COG, SOG, CPA or TCPA; sleeping: dim.
+        assert!(far_row.contains("9.00"), "{far_row}");
+        assert_eq!(far_row.matches("---").count(), 4, "{far_row}");
+        let mut terminal = Terminal::new(TestBackend::new(160, 40)).unwrap();
+        terminal.draw(|f| render(f, &state, &view)).unwrap();
+        let fg_at = |y: usize, what: &str| {
+            let buffer = terminal.backend().buffer();
+            let line: String = (0..160).map(|x| buffer[(x, y as u16)].symbol()).collect();
+            let x = line.find(what).map_or(0, |b| line[..b].chars().count());
+            buffer[(x as u16, y as u16)].fg
+        };
+        assert_eq!(fg_at(far_y, "FAR AWAY"), Color::DarkGray);
+        // In alarm as its radar target or itself, as the PPI colours it.
+        let dangerous = t.dangerous(&state.limits) || ais_dangerous(&view.ais[1], &state.limits);
+        let near_fg = fg_at(near_y, "235000001");
+        assert_eq!(near_fg == Color::Red, dangerous, "{near_fg:?}");
         let narrow = screen_at(&state, &view, 80, 24);
+        let (_, far_narrow) = row_of(&narrow, "FAR AWAY");
+        assert!(far_narrow.contains("9.00"), "{narrow}");
+        let (_, near_narrow) = row_of(&narrow, &format!("{} SHIP", t.label()));
         assert!(
-            narrow.contains("235000002") && narrow.contains("9.00"),
+            near_narrow.contains(&format!("{:.2}", t.cpa_m / METRES_PER_NM)),
             "{narrow}"
         );
         state.key('i', Some(&view));
