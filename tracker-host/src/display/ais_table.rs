@@ -63,15 +63,7 @@ pub fn rows(view: &ScanReport, state: &DisplayState, places: usize, at_most: usi
 }
 
 fn row(view: &ScanReport, state: &DisplayState, a: &AisTargetData, places: usize) -> AisRow {
-    // As the radar targets' table: whole degrees with three digits, else tenths.
-    let angle = |deg: f32| {
-        let shown = crate::nmea::shown_angle_deg(f64::from(deg), places);
-        if places == 0 {
-            format!("{shown:03.0}")
-        } else {
-            format!("{shown:.1}")
-        }
-    };
+    let angle = |deg: f32| super::table_angle(deg, places == 0);
     let (course_rad, speed_mps) = geo::course_speed(a.velocity_mps);
     let sog_kn = speed_mps / MPS_PER_KNOT;
     // A speed shown as 0.0 kn has no course, as own ship's; a motion not reported is not

@@ -731,7 +731,6 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     };
     let header =
         Row::new(names.map(|h| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD))));
-    let places = usize::from(!compact);
     // Rows that fit under the borders and the header. When fewer than the targets, the
     // nearest are shown, unless the selected target is further down: then the table is
     // scrolled so that it is the last row (a navigator who selects a target sees its data),
@@ -757,14 +756,7 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
                 "---".to_string()
             }
         };
-        let angle = |deg: f32| {
-            let shown = crate::nmea::shown_angle_deg(f64::from(deg), places) as f32;
-            if compact {
-                format!("{shown:03.0}")
-            } else {
-                format!("{shown:.1}")
-            }
-        };
+        let angle = |deg: f32| table_angle(deg, compact);
         let course = if t.trend_known && t.moving() {
             angle(t.course_rad.to_degrees())
         } else {
@@ -809,6 +801,17 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
         " targets, nearest first ".to_string()
     };
     draw_table(frame, area, (header, rows), widths, title);
+}
+
+/// An angle (degrees) as a table shows it: whole degrees in three digits in a compact
+/// table, else tenths; one that rounds to 360 shows as 0 ([`crate::nmea::shown_angle_deg`]).
+fn table_angle(deg: f32, compact: bool) -> String {
+    let shown = crate::nmea::shown_angle_deg(f64::from(deg), usize::from(!compact)) as f32;
+    if compact {
+        format!("{shown:03.0}")
+    } else {
+        format!("{shown:.1}")
+    }
 }
 
 /// A table's columns of `lengths` characters, and with `rest` one more taking what is left
