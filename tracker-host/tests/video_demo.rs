@@ -4,9 +4,13 @@
 //! model's 0.9, no more false plots a scan than its 10. The tracking: every target
 //! confirmed, no false track, no swap, as the plot-level demo; confirmation within 5 scans
 //! for at least 90 % of as many targets; RMS position and velocity errors and OSPA no worse
-//! than 10 % above (measured 2026-12-05: 15.5 m, 1.23 m/s and 29.1 m against 21.2 m,
+//! than 10 % above (measured 2026-12-06: 15.5 m, 1.23 m/s and 24.9 m against 21.2 m,
 //! 1.48 m/s and 27.4 m; the OSPA was 35.3 m while the CFAR took the first cells' near side
-//! from the blanked samples, docs/radar.md).
+//! from the blanked samples, 29.1 m before the synthetic radar's sea control, docs/radar.md).
+//! Untracked target-scans, where the plot-level demo has none, are bounded at the 7 reached
+//! (22 before the sea control: a target passing own ship inside 660 m, in clutter saturating
+//! the 4 bits; the 7 are 3 scans of that target at 452–482 m and 4 of one at 10 km whose
+//! Swerling I echo drew under 0.43 of its mean amplitude six rotations in a row).
 
 use tracker_core::filter::FilterKind;
 use tracker_core::sim::ScenarioKind;
@@ -42,6 +46,11 @@ fn spokes_to_tracks_tracks_like_the_plot_level_demo() {
     assert!(video.confirmed_within_5_scans * 10 >= plots.confirmed_within_5_scans * 9);
     assert!(video.rms_velocity_mps <= 1.1 * plots.rms_velocity_mps);
     assert!(video.rms_position_m <= 1.1 * plots.rms_position_m);
+    assert!(
+        video.untracked_target_scans <= 7,
+        "untracked {}",
+        video.untracked_target_scans
+    );
     assert!(
         video.ospa_mean_m <= 1.1 * plots.ospa_mean_m,
         "OSPA {} against {}",

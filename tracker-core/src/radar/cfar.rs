@@ -60,7 +60,7 @@
 //!   samples (after blanking) is not tested at all.
 //! - The formulas hold for continuous amplitudes; on 8-bit samples with the noise spread
 //!   over tens of levels they hold within a few per cent (measured 1.016 × 10⁻³ at σ 30),
-//!   and on the synthetic Navico's 4 bits nearly so: 0.98, 0.95 and 0.91 × 10⁻³ at noise
+//!   and on the synthetic Navico's 4 bits nearly so: 1.033, 1.019 and 0.978 × 10⁻³ at noise
 //!   σ 3, 2 and 1.5 levels (the coarser the noise in levels, the lower; tested in
 //!   `synthetic`, feature `sim`).
 //! - Sea clutter and near range: the CFAR adapts to the clutter's local level, and GO keeps
@@ -81,8 +81,10 @@
 //!   far side), the price of seeing there at all ([`MIN_TESTED_NEAR`] gives the trade).
 //!   Until 2026-12-05 the blanked samples served the first n + g cells: on the synthetic
 //!   radar at 12 NM they hold the main bang and clutter saturating the 4 bits, and a target
-//!   at 400–600 m was found on 3 % of its scans (23 % now: there the clutter's own σ of 4–5
-//!   levels leaves an echo saturated at 15 little above its threshold; 600–800 m 53 → 58 %).
+//!   at 400–600 m was found on 3 % of its scans (23 % after: there the clutter's own σ of 4–5
+//!   levels left an echo saturated at 15 little above its threshold; 600–800 m 53 → 58 %;
+//!   since 2026-12-06 the synthetic radar's sea control holds that clutter at the noise's
+//!   level, as a real radar's does).
 //!   An absolute floor
 //!   ([`CfarConfig::min_level`]) keeps quiet stretches (a radar's own noise rejection leaves
 //!   zeros) from detecting every ripple. Real sea clutter is spikier than Rayleigh

@@ -100,9 +100,9 @@ pub struct Video {
 impl Video {
     /// A radar for a scenario of `scan_s` per scan that sees nothing nearer than
     /// `min_range_m` (the plot model's own blind range, so both see the same ships), its
-    /// noise drawn from `seed`. The extractor blanks (does not test) below that range too;
-    /// the blanked samples still serve as the first tested cells' near reference, so the
-    /// steep sea clutter there raises their threshold.
+    /// noise drawn from `seed`, its sea control on auto (the clutter held at the noise's
+    /// level inside 655 m). The extractor blanks (does not test) below that range too;
+    /// the blanked samples still serve as the first tested cells' near reference.
     ///
     /// # Errors
     /// A synthetic radar or extractor setting out of range (none with these).
