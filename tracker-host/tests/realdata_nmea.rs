@@ -260,6 +260,14 @@ fn a_recording_without_a_time_gives_no_utc() {
             tracker_core::filter::FilterKind::KalmanCv,
         );
         options.own_ship.nmea_in = Some(tracker_host::nmea::input::InSpec::File(path));
+        // As the command line does: a recording's times before a date are today's.
+        options.own_ship.nmea.provisional_day = tracker_host::app::today();
+        // Its plots and truth recorded read back with the same clock (an untimed run's was
+        // written from the computer's date, then replayed as UTC).
+        let dir = tempfile::tempdir().unwrap();
+        let (plots, truth) = (dir.path().join("p.csv"), dir.path().join("t.csv"));
+        options.outputs.record_plots = Some(plots.clone());
+        options.outputs.record_truth = Some(truth.clone());
         let client =
             tracker_host::link::Client::new(Box::new(tracker_host::link::InprocTransport::new()));
         let mut run = tracker_host::app::demo::start(client, &options).unwrap();
@@ -272,5 +280,24 @@ fn a_recording_without_a_time_gives_no_utc() {
             report.time_label()
         );
         assert_eq!(report.utc_s().is_some(), timed, "{name}");
+        let first_s = report.time_s;
+        while run.step().unwrap().is_some() {}
+        run.finish().unwrap();
+        let replay = tracker_host::source::plots_file::PlotsFileSource::open(&plots).unwrap();
+        assert_eq!(
+            tracker_host::source::PlotSource::time_is_utc(&replay),
+            timed,
+            "{name}: plots replayed"
+        );
+        let t0 = |p: &std::path::Path| {
+            let text = std::fs::read_to_string(p).unwrap();
+            let header: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+            let col = header.iter().position(|c| *c == "t_s").unwrap();
+            let row = text.lines().nth(1).expect("a row").to_string();
+            row.split(',').nth(col).unwrap().parse::<f64>().unwrap()
+        };
+        let expected = if timed { first_s } else { 0.0 };
+        assert_eq!(t0(&plots), expected, "{name}: plots");
+        assert_eq!(t0(&truth), expected, "{name}: truth");
     }
 }

@@ -58,6 +58,27 @@ pub fn check_writable(path: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// A run's clock as its recordings write it: a UTC clock as it is; any other (a recording
+/// without a time, a capture's own clock) as the time since the run's first scan, so that
+/// reading the file back does not take it for UTC (a plots file's times from
+/// [`plots_file::UTC_FROM_S`], 10⁹ s, on are). Decided on the first scan; the plots, truth
+/// and tracks recorders of a run all see it, so their times agree.
+#[derive(Clone, Copy, Debug, Default)]
+struct RecordClock {
+    /// Taken off every time, s: 0 for a UTC clock, else the first scan's time.
+    offset_s: Option<f64>,
+}
+
+impl RecordClock {
+    /// `time_s` (the scan's time on the run's clock) as written, s.
+    fn t_s(&mut self, r: &ScanReport, time_s: f64) -> f64 {
+        let offset = *self
+            .offset_s
+            .get_or_insert(if r.time_is_utc { 0.0 } else { r.time_s });
+        time_s - offset
+    }
+}
+
 /// A CSV file being written.
 struct CsvOut {
     out: BufWriter<File>,
@@ -88,7 +109,7 @@ impl CsvOut {
 
 /// Writes the scans' plots as a plots file ([`plots_file`]'s format), with own ship as the
 /// session used it (position and velocity).
-pub struct PlotsRecorder(CsvOut);
+pub struct PlotsRecorder(CsvOut, RecordClock);
 
 impl PlotsRecorder {
     /// Creates `path`.
@@ -102,12 +123,16 @@ impl PlotsRecorder {
             .chain(plots_file::OPTIONAL.iter().filter(|c| **c != "heading_deg"))
             .copied()
             .collect();
-        Ok(PlotsRecorder(CsvOut::create(path, &header.join(","))?))
+        Ok(PlotsRecorder(
+            CsvOut::create(path, &header.join(","))?,
+            RecordClock::default(),
+        ))
     }
 }
 
 impl ScanSink for PlotsRecorder {
     fn scan(&mut self, _: &SourceScan, r: &ScanReport) -> anyhow::Result<()> {
+        let t = self.1.t_s(r, r.time_s);
         let own = format!(
             "{},{},{},{}",
             r.own.position_m[0], r.own.position_m[1], r.own.velocity_mps[0], r.own.velocity_mps[1]
@@ -121,13 +146,13 @@ impl ScanSink for PlotsRecorder {
             )
         });
         if r.plots.is_empty() {
-            return self.0.line(&format!("{},{},,,{own},,", r.scan, r.time_s));
+            return self.0.line(&format!("{},{t},,,{own},,", r.scan));
         }
         for p in &r.plots {
             let bearing_deg = f64::from(p.bearing_rad).to_degrees().rem_euclid(360.0);
             self.0.line(&format!(
-                "{},{},{},{bearing_deg},{own},{accuracy}",
-                r.scan, r.time_s, p.range_m
+                "{},{t},{},{bearing_deg},{own},{accuracy}",
+                r.scan, p.range_m
             ))?;
         }
         Ok(())
@@ -140,7 +165,7 @@ impl ScanSink for PlotsRecorder {
 
 /// Writes the source's truth as a truth file ([`truth_file`]'s format, own ship as target
 /// 0). Scans without truth write nothing.
-pub struct TruthRecorder(CsvOut);
+pub struct TruthRecorder(CsvOut, RecordClock);
 
 impl TruthRecorder {
     /// Creates `path`.
@@ -149,16 +174,20 @@ impl TruthRecorder {
     /// The file cannot be created.
     pub fn create(path: &Path) -> anyhow::Result<Self> {
         let header = [&truth_file::REQUIRED[..], &truth_file::OPTIONAL[..]].concat();
-        Ok(TruthRecorder(CsvOut::create(path, &header.join(","))?))
+        Ok(TruthRecorder(
+            CsvOut::create(path, &header.join(","))?,
+            RecordClock::default(),
+        ))
     }
 }
 
 impl ScanSink for TruthRecorder {
-    fn scan(&mut self, s: &SourceScan, _: &ScanReport) -> anyhow::Result<()> {
+    fn scan(&mut self, s: &SourceScan, r: &ScanReport) -> anyhow::Result<()> {
+        // The clock is decided on the run's first scan, with or without truth.
+        let t = self.1.t_s(r, s.radar.time_s);
         let Some(truth) = &s.truth else {
             return Ok(());
         };
-        let t = s.radar.time_s;
         let own = truth.own;
         self.0.line(&format!(
             "{t},0,{},{},{},{},1",
@@ -191,7 +220,7 @@ pub const TRACKS_HEADER: &str = "scan,t_s,track,status,east_m,north_m,vx_mps,vy_
 /// it (`tentative`, `confirmed`, `coasting`, `lost`); `held` 1 for a firm track held as
 /// hidden in another's echo and not drawn ([`ScanReport::in_echo`]; a held track whose
 /// CPA/TCPA alarm draws it is 0), else 0.
-pub struct TracksRecorder(CsvOut);
+pub struct TracksRecorder(CsvOut, RecordClock);
 
 impl TracksRecorder {
     /// Creates `path`.
@@ -199,7 +228,10 @@ impl TracksRecorder {
     /// # Errors
     /// The file cannot be created.
     pub fn create(path: &Path) -> anyhow::Result<Self> {
-        Ok(TracksRecorder(CsvOut::create(path, TRACKS_HEADER)?))
+        Ok(TracksRecorder(
+            CsvOut::create(path, TRACKS_HEADER)?,
+            RecordClock::default(),
+        ))
     }
 }
 
@@ -215,12 +247,13 @@ pub fn status_word(s: TrackStatus) -> &'static str {
 
 impl ScanSink for TracksRecorder {
     fn scan(&mut self, _: &SourceScan, r: &ScanReport) -> anyhow::Result<()> {
+        let time_s = self.1.t_s(r, r.time_s);
         for t in &r.tracks {
             let held = r.in_echo.iter().any(|h| h.track == t.track);
             self.0.line(&format!(
                 "{},{},{},{},{},{},{},{},{}",
                 r.scan,
-                r.time_s,
+                time_s,
                 t.track,
                 status_word(t.status),
                 t.position_m[0],
