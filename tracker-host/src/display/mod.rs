@@ -542,15 +542,16 @@ fn vectors_shown(state: &DisplayState, view: &ScanReport) -> VectorMode {
 }
 
 /// The vector drawn for a velocity `v` (m/s, as the session gives it): true, or relative
-/// to own ship's. Without own ship's motion a radar target's velocity is already its motion
-/// relative to own ship as taken (stopped at the origin before a fix, held where dead
-/// reckoning stopped), and own ship's last velocity is not taken off it again.
+/// to own ship's. Where own ship's position stands still (stopped at the origin before a
+/// fix, held where dead reckoning stopped) a radar target's velocity is already its motion
+/// relative to own ship, and own ship's last velocity is not taken off it again
+/// ([`OwnShip::track_frame_velocity_mps`]).
+///
+/// [`OwnShip::track_frame_velocity_mps`]: crate::own_ship::OwnShip::track_frame_velocity_mps
 fn drawn_velocity(state: &DisplayState, view: &ScanReport, v: EastNorth) -> EastNorth {
     match vectors_shown(state, view) {
-        VectorMode::Relative if view.own.quality.motion_known => {
-            geo::relative_velocity(view.own.velocity_mps, v)
-        }
-        _ => v,
+        VectorMode::Relative => geo::relative_velocity(view.own.track_frame_velocity_mps(), v),
+        VectorMode::True => v,
     }
 }
 
@@ -1868,10 +1869,16 @@ pub(crate) mod tests {
         lost.own.quality.motion_known = false;
         let text = screen(&state, &lost);
         assert!(text.contains("relative vectors 12 min"), "{text}");
-        // … drawn as the tracks' velocities: own ship's last velocity (held where dead
-        // reckoning stopped) is not taken off them again.
+        // … drawn as the tracks' velocities where own ship's position is held (dead
+        // reckoning stopped): own ship's last velocity is not taken off them again.
         lost.own.velocity_mps = [3.0, 0.0];
+        lost.own.quality.dead_reckoning_s = Some(400.0);
         assert_eq!(drawn_velocity(&state, &lost, [1.0, 2.0]), [1.0, 2.0]);
+        // Fixes coming but the motion not yet measured: the position moves with own ship,
+        // the tracks are over ground, and own ship's estimate is taken off.
+        let mut measuring = lost.clone();
+        measuring.own.quality.dead_reckoning_s = None;
+        assert_eq!(drawn_velocity(&state, &measuring, [1.0, 2.0]), [-2.0, 2.0]);
         state.vectors = VectorMode::Relative;
         let mut known = lost.clone();
         known.own.quality.motion_known = true;

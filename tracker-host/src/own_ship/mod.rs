@@ -112,6 +112,21 @@ impl OwnShip {
         }
     }
 
+    /// The velocity of the frame radar tracks are formed in, m/s (east, north): own ship's
+    /// velocity over ground while own ship's position moves with it; zero while it does
+    /// not (no fix yet: own ship at the origin; dead reckoning ended: the position held).
+    /// Plots are placed about own ship's position, so with it standing still the tracks'
+    /// velocities are their motion relative to own ship already, and own ship's last
+    /// velocity is not to be taken off them again: CPA, TCPA and relative motion take this.
+    pub fn track_frame_velocity_mps(&self) -> EastNorth {
+        let q = self.quality;
+        if q.no_fix_yet || (q.dead_reckoning_s.is_some() && !q.motion_known) {
+            [0.0, 0.0]
+        } else {
+            self.velocity_mps
+        }
+    }
+
     /// Speed over ground, kn; `None` while the motion is unknown
     /// ([`OwnShipQuality::motion_known`]).
     pub fn sog_kn(&self) -> Option<f64> {

@@ -80,14 +80,11 @@ impl TargetData {
     pub fn new(own: &OwnShip, t: &TrackState) -> Self {
         let (range_m, bearing_rad) = geo::range_bearing(own.position_m, t.position_m);
         let (course_rad, speed_mps) = geo::course_speed(t.velocity_mps);
-        let rel = geo::relative_velocity(own.velocity_mps, t.velocity_mps);
+        // Relative to the frame the track was formed in (own ship held: none).
+        let own_v = own.track_frame_velocity_mps();
+        let rel = geo::relative_velocity(own_v, t.velocity_mps);
         let (rel_course_rad, rel_speed_mps) = geo::course_speed(rel);
-        let c = geo::cpa(
-            own.position_m,
-            own.velocity_mps,
-            t.position_m,
-            t.velocity_mps,
-        );
+        let c = geo::cpa(own.position_m, own_v, t.position_m, t.velocity_mps);
         TargetData {
             track: t.track,
             number: None,
@@ -338,6 +335,32 @@ mod tests {
         assert_eq!(format!("{:.1}", tcpa_minutes(-2.0)), "0.0");
         assert_eq!(format!("{:.1}", tcpa_minutes(-4.0)), "-0.1");
         assert_eq!(format!("{:.1}", tcpa_minutes(90.0)), "1.5");
+    }
+
+    #[test]
+    fn a_target_seen_from_own_ship_held_past_dead_reckoning_is_relative_already() {
+        // Own ship last at 5 m/s east, its position held (dead reckoning ended): the plots
+        // stand about a position that does not move, so a track closing from dead ahead at
+        // 5 m/s is closing at 5 m/s relative: CPA 0 in 200 s. Own ship's last velocity
+        // taken off it again made it 7.1 m/s on 225°, CPA 707 m in 100 s.
+        let mut own = OwnShip::at([0.0, 0.0], [5.0, 0.0]);
+        own.quality.dead_reckoning_s = Some(400.0);
+        own.quality.motion_known = false;
+        let t = settled([0.0, 1000.0], [0.0, -5.0]);
+        let d = TargetData::new(&own, &t);
+        assert!(d.cpa_m < 1.0 && (d.tcpa_s - 200.0).abs() < 0.5, "{d:?}");
+        assert!((d.rel_speed_mps - 5.0).abs() < 1e-3, "{d:?}");
+        assert!(!d.true_motion_known);
+        // Dead reckoning still on (the position moves on at the last velocity): the tracks
+        // are over ground, own ship's velocity is taken off.
+        own.quality.motion_known = true;
+        let d = TargetData::new(&own, &t);
+        assert!((d.rel_speed_mps - 50f32.sqrt()).abs() < 1e-3, "{d:?}");
+        // No fix yet: at the origin, stopped, whatever velocity it holds.
+        let mut unknown = OwnShip::unknown();
+        unknown.velocity_mps = [5.0, 0.0];
+        let d = TargetData::new(&unknown, &t);
+        assert!(d.cpa_m < 1.0, "{d:?}");
     }
 
     #[test]
