@@ -148,9 +148,11 @@ impl Run {
         let mut own = self.own_ship.own_ship(&scan)?;
         // An own-ship source without a heading (NMEA with no HDT/HDG): the radar's heading
         // sensor, when its spokes carried one this rotation (the plots were placed with it).
+        // One whose heading was lost is told so: the heading has changed source.
         if own.heading_rad.is_none() {
             if let Some(h) = scan.heading_sensor_rad {
                 own.heading_rad = Some(h);
+                own.quality.heading_from_radar = own.quality.heading_lost;
                 own.quality.heading_lost = false;
             }
         }
@@ -570,34 +572,50 @@ mod tests {
             None
         }
     }
-    struct PositionOnly;
+    /// An own-ship source with a position only: its heading lost (`true`: it had one), or
+    /// never one (NMEA without a heading sentence).
+    struct PositionOnly(bool);
     impl OwnShipSource for PositionOnly {
         fn own_ship(
             &mut self,
             _: &crate::source::SourceScan,
         ) -> anyhow::Result<crate::own_ship::OwnShip> {
             let mut own = crate::own_ship::OwnShip::at([10.0, 20.0], [1.0, 0.0]);
-            own.quality.heading_lost = true;
+            own.quality.heading_lost = self.0;
             Ok(own)
         }
     }
 
     #[test]
     fn own_ship_without_a_heading_takes_the_radars_heading_sensor_only() {
-        for (sensor, heading, lost) in [(Some(0.5), Some(0.5), false), (None, None, true)] {
+        // (radar's sensor, own ship's heading lost: shown heading, lost, changed source)
+        let cases = [
+            (Some(0.5), true, Some(0.5), false, true),
+            (None, true, None, true, false),
+            (Some(0.5), false, Some(0.5), false, false),
+            (None, false, None, false, false),
+        ];
+        for (sensor, had_one, heading, lost, changed) in cases {
             let client = Client::new(Box::new(InprocTransport::new()));
             let config =
                 crate::session::SessionConfig::tracking_plots_of(FilterKind::KalmanCv, 40.0);
             let mut run = Run::new(
                 Box::new(Radar { heading: sensor }),
-                Box::new(PositionOnly),
+                Box::new(PositionOnly(had_one)),
                 Session::start(client, config).unwrap(),
                 Vec::new(),
             );
             let report = run.step().unwrap().unwrap();
             assert_eq!(report.own.heading_rad, heading);
             assert_eq!(report.own.quality.heading_lost, lost);
+            assert_eq!(report.own.quality.heading_from_radar, changed);
             assert_eq!(report.own.position_m, [10.0, 20.0]);
+            let told = report
+                .own
+                .alarms()
+                .iter()
+                .any(|a| a.contains("the radar's heading in use"));
+            assert_eq!(told, changed, "{:?}", report.own.alarms());
         }
     }
 

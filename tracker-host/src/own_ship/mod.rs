@@ -57,6 +57,10 @@ pub struct OwnShipQuality {
     /// A head-up radar's plots were dropped this scan for want of a heading: none from
     /// NMEA, none in the spokes, no fixed heading given.
     pub heading_needed: bool,
+    /// Own ship's heading sensor (NMEA) was lost and the radar's (in its spokes, or the
+    /// heading sentences of its capture) stands in: the heading has changed source, which
+    /// the navigator is told.
+    pub heading_from_radar: bool,
 }
 
 impl Default for OwnShipQuality {
@@ -69,6 +73,7 @@ impl Default for OwnShipQuality {
             no_fix_yet: false,
             implausible_fix: false,
             heading_needed: false,
+            heading_from_radar: false,
         }
     }
 }
@@ -165,6 +170,9 @@ impl OwnShip {
         }
         if q.heading_lost {
             a.push("OWN SHIP: heading lost".to_string());
+        }
+        if q.heading_from_radar {
+            a.push("OWN SHIP: heading sensor lost, the radar's heading in use".to_string());
         }
         if q.implausible_fix {
             a.push("OWN SHIP: implausible position fix refused".to_string());

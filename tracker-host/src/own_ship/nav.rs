@@ -778,6 +778,7 @@ impl OwnShipNav {
                     .last_implausible_s
                     .is_some_and(|t| (0.0..=IMPLAUSIBLE_ALARM_S).contains(&(time_s - t))),
                 heading_needed: false,
+                heading_from_radar: false,
             },
         })
     }
