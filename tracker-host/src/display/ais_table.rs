@@ -50,13 +50,20 @@ impl AisRow {
     }
 }
 
-/// The rows of `view`'s nearest `at_most` AIS targets, nearest first, angles to `places`
-/// decimals (0 or 1).
-pub fn rows(view: &ScanReport, state: &DisplayState, places: usize, at_most: usize) -> Vec<AisRow> {
+/// The rows of `view`'s AIS targets, nearest first, from the `first` (counted from 0) and
+/// at most `at_most` of them, angles to `places` decimals (0 or 1).
+pub fn rows(
+    view: &ScanReport,
+    state: &DisplayState,
+    places: usize,
+    first: usize,
+    at_most: usize,
+) -> Vec<AisRow> {
     let mut targets: Vec<&AisTargetData> = view.ais.iter().collect();
     targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
     targets
         .into_iter()
+        .skip(first)
         .take(at_most)
         .map(|a| row(view, state, a, places))
         .collect()
@@ -135,7 +142,11 @@ pub fn render(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
         )
     };
     let room = usize::from(area.height.saturating_sub(3));
-    let shown = rows(view, state, usize::from(!compact), room)
+    let n = view.ais.len();
+    // Scrolled no further than a full pane's last rows.
+    let first = state.ais_first_row.min(n.saturating_sub(room));
+    state.set_ais_rows_drawn(room);
+    let shown = rows(view, state, usize::from(!compact), first, room)
         .into_iter()
         .map(|r| {
             // As the radar targets' table: red in alarm, the selection behind.
@@ -158,11 +169,15 @@ pub fn render(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
     } else {
         super::column_widths(&WIDTHS, false)
     };
-    let n = view.ais.len();
-    let title = if n > room {
-        format!(" AIS targets, nearest first: {room} of {n} shown (i: radar targets) ")
-    } else {
-        " AIS targets, nearest first (i: radar targets) ".to_string()
+    let (from, to) = (first + 1, (first + room).min(n));
+    // Short in a narrow pane, whose title the full words would cut.
+    let title = match (n > room, compact) {
+        (true, false) => format!(
+            " AIS targets, nearest first: {from}–{to} of {n} shown (↑↓ scroll, i: radar targets) "
+        ),
+        (true, true) => format!(" AIS, nearest first: {from}–{to} of {n} (↑↓, i) "),
+        (false, false) => " AIS targets, nearest first (i: radar targets) ".to_string(),
+        (false, true) => " AIS, nearest first (i: radar targets) ".to_string(),
     };
     super::draw_table(frame, area, (header, shown), widths, title);
 }

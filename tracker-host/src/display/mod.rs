@@ -106,6 +106,12 @@ pub struct DisplayState {
     pub echoes: bool,
     /// The table lists the AIS targets ([`ais_table`]) instead of the radar targets.
     pub ais_table: bool,
+    /// The AIS table's first row shown, nearest first counted from 0 (↑↓ scroll it while
+    /// it is shown; held within the targets heard when drawn).
+    pub ais_first_row: usize,
+    /// The AIS table's rows as last drawn (the pane's height decides them): ↓ stops where
+    /// the last target is on the pane's last row.
+    ais_rows_drawn: std::cell::Cell<usize>,
     /// How a ship with a radar target and an AIS target associated is drawn.
     pub associated: AssociatedSymbol,
     /// A live radar silent this long, s (raised after a few antenna periods): the
@@ -153,6 +159,8 @@ impl DisplayState {
             scale_chosen: false,
             echoes: true,
             ais_table: false,
+            ais_first_row: 0,
+            ais_rows_drawn: std::cell::Cell::new(1),
             associated: AssociatedSymbol::default(),
             radar_silent_s: None,
             trails: BTreeMap::new(),
@@ -280,6 +288,16 @@ impl DisplayState {
                 }
                 self.message = Some("acquire: no plot without a track".into());
             }
+            // The AIS table, while shown, scrolls; else a radar target is selected.
+            '↓' | '↑' if self.ais_table => {
+                let heard = view.map_or(0, |v| v.ais.len());
+                let last = heard.saturating_sub(self.ais_rows_drawn.get().max(1));
+                self.ais_first_row = if key == '↓' {
+                    (self.ais_first_row + 1).min(last)
+                } else {
+                    self.ais_first_row.min(last).saturating_sub(1)
+                };
+            }
             '↓' | '↑' => {
                 if let Some(v) = view {
                     self.select_step(v, if key == '↓' { 1 } else { -1 });
@@ -288,6 +306,11 @@ impl DisplayState {
             _ => {}
         }
         Action::None
+    }
+
+    /// Told by the AIS table as it is drawn: how many rows its pane holds.
+    pub(crate) fn set_ais_rows_drawn(&self, rows: usize) {
+        self.ais_rows_drawn.set(rows);
     }
 
     fn select_step(&mut self, view: &ScanReport, step: isize) {
@@ -1413,6 +1436,65 @@ pub(crate) mod tests {
     /// `i` shows the AIS targets in the table's place, nearest first, an associated one with
     /// its radar target's number before its name, a sleeping one after, dim; `i` again the
     /// radar targets. At 80 columns the compact columns keep the name and every figure.
+    #[test]
+    fn the_ais_table_scrolls_with_the_arrows_while_shown() {
+        let mut view = one_associated_ship(eleventh_scan(), true);
+        let template = view.ais[0].clone();
+        view.ais = (0..60u32)
+            .map(|i| {
+                let mut a = template.clone();
+                a.mmsi = 235_100_000 + i;
+                a.label = format!("SHIP{i:02}");
+                a.range_m = (1.0 + i as f32 * 0.1) * METRES_PER_NM;
+                a
+            })
+            .collect();
+        let mut state = DisplayState::new("inproc".into());
+        state.observe(&view);
+        let selected = state.selected;
+        state.key('i', Some(&view));
+        let title = |state: &DisplayState| {
+            let text = screen_at(state, &view, 80, 24);
+            let line = text
+                .lines()
+                .find(|l| l.contains("AIS, nearest first"))
+                .unwrap_or_else(|| panic!("{text}"))
+                .to_string();
+            (line, text)
+        };
+        let (line, text) = title(&state);
+        assert!(line.contains(" 1–7 of 60 (↑↓, i)"), "{line}");
+        assert!(
+            text.contains("SHIP00") && !text.contains("SHIP07"),
+            "{text}"
+        );
+        for _ in 0..5 {
+            state.key('↓', Some(&view));
+        }
+        let (line, text) = title(&state);
+        assert!(line.contains(" 6–12 of 60 "), "{line}");
+        assert!(
+            text.contains("SHIP05") && !text.contains("SHIP04"),
+            "{text}"
+        );
+        // The radar target's selection is not moved by the arrows while the table shows.
+        assert_eq!(state.selected, selected);
+        for _ in 0..10 {
+            state.key('↑', Some(&view));
+        }
+        assert!(title(&state).0.contains(" 1–"));
+        // Past the end: the last rows, a full pane of them.
+        for _ in 0..100 {
+            state.key('↓', Some(&view));
+        }
+        let (line, text) = title(&state);
+        assert!(line.contains("–60 of 60"), "{line}");
+        assert!(text.contains("SHIP59"), "{text}");
+        // One ↑ from there moves the rows at once.
+        state.key('↑', Some(&view));
+        assert!(title(&state).0.contains("–59 of 60"));
+    }
+
     #[test]
     fn the_ais_table_lists_every_ais_target_heard() {
         let view = one_associated_ship(eleventh_scan(), true);
