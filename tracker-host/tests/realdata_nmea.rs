@@ -301,3 +301,54 @@ fn a_recording_without_a_time_gives_no_utc() {
         assert_eq!(t0(&truth), expected, "{name}: truth");
     }
 }
+
+/// A stray sentence of another date (a valid 1994 `RMC`, the textbook example, before the
+/// first fix of a 2015 log and every ten lines after): set apart, counted as time jumps,
+/// and the run is the clean log's, scan for scan. Before, it took the stray fix as the
+/// origin and the start, and the run would have lasted 21 years (a new user's trial filled
+/// a disk with it).
+#[test]
+fn a_stray_sentence_of_another_date_does_not_move_the_run() {
+    let clean = nmea_dir().join("gpsd-neo-m8n.log");
+    let text = std::fs::read_to_string(&clean).unwrap();
+    let stray = "$GPRMC,123519,A,4807.038,N,01131.000,E,022.4,084.4,230394,003.1,W*6A";
+    let doctored: String = text
+        .lines()
+        .enumerate()
+        .flat_map(|(i, l)| (i % 10 == 0).then_some(stray).into_iter().chain([l]))
+        .map(|l| format!("{l}\n"))
+        .collect();
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("stray.log");
+    std::fs::write(&path, doctored).unwrap();
+    let options = NmeaOptions::default();
+    let a = RecordedTrack::read(&clean, &options).unwrap();
+    let b = RecordedTrack::read(&path, &options).unwrap();
+    assert_eq!(a.set_apart, 0);
+    assert!(b.set_apart > 0);
+    assert_eq!(a.fixes, b.fixes);
+    // The demo on each, to the end of the recording.
+    let run = |path: PathBuf| {
+        let mut options = tracker_host::app::demo::DemoOptions::new(
+            tracker_core::sim::ScenarioKind::OpenSea,
+            4,
+            1,
+            10.0,
+            tracker_core::filter::FilterKind::KalmanCv,
+        );
+        options.duration_from_recording = true;
+        options.own_ship.nmea_in = Some(tracker_host::nmea::input::InSpec::File(path));
+        let client =
+            tracker_host::link::Client::new(Box::new(tracker_host::link::InprocTransport::new()));
+        let mut run = tracker_host::app::demo::start(client, &options).unwrap();
+        let mut scans = Vec::new();
+        while let Some(r) = run.step().unwrap() {
+            assert!(scans.len() < 1000, "a run that does not end");
+            scans.push((r.time_s, r.own.position_m, r.own.quality.dead_reckoning_s));
+        }
+        scans
+    };
+    let (a, b) = (run(clean), run(path));
+    assert!(!a.is_empty());
+    assert_eq!(a, b);
+}

@@ -93,9 +93,19 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
     let truth = match &o.own_ship.nmea_in {
         Some(InSpec::File(path)) => {
             let track = RecordedTrack::read(path, &o.own_ship.nmea)?;
+            if track.set_apart > 0 {
+                eprintln!(
+                    "{}: {} position fix(es) more than a day from the recording's track set apart (another date: a stray sentence); the run follows the track's {} fixes",
+                    path.display(),
+                    track.set_apart,
+                    track.fixes.len()
+                );
+            }
             let origin = o.own_ship.origin.unwrap_or(track.first_position());
             own_ship.origin = Some(origin);
             own_ship.nmea.provisional_day = (track.start_s() / 86_400.0).floor() as i64;
+            own_ship.nmea.recording_window_s =
+                Some((track.start_s(), track.start_s() + track.span_s()));
             simulator.epoch_s = track.start_s();
             if o.duration_from_recording {
                 // Through the last fix: the last scan at or after it, so the recording is

@@ -270,6 +270,8 @@ impl RunArgs {
                 // Times before a first date are today's: a live source's, and a recording's
                 // that has no date at all (one with a date takes its own first date's).
                 provisional_day: crate::app::today(),
+                // Set by whoever reads a recording ahead (`demo`).
+                recording_window_s: None,
             },
         }
     }

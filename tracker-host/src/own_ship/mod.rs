@@ -262,6 +262,11 @@ pub struct NmeaOptions {
     pub variation_deg: Option<f64>,
     /// Times before the first dated sentence count from this day (days since 1970).
     pub provisional_day: i64,
+    /// A recording's track, its first and last fix (s since 1970), when it was read ahead
+    /// ([`recording::RecordedTrack`]): a dated sentence more than
+    /// [`recording::MAX_FIX_GAP_S`] outside it is refused as a time jump (a stray sentence
+    /// of another date would set the clock's date and put every later fix years off).
+    pub recording_window_s: Option<(f64, f64)>,
 }
 
 /// A timed sentence this far ahead of the clock, whose next timed neighbour is back before
@@ -326,7 +331,8 @@ impl NmeaOwnShip {
                 o.provisional_day,
                 o.variation_deg,
                 Selector::new(o.priority.clone()),
-            ),
+            )
+            .within(o.recording_window_s),
             ais: crate::ais::AisDecoder::new(),
             heard: Vec::new(),
             offset_s: None,

@@ -247,6 +247,8 @@ pub struct OwnShipNav {
     last_implausible_s: Option<f64>,
     /// The position fixes used (time, latitude, longitude), when asked to keep them.
     fixes: Option<Vec<(f64, f64, f64)>>,
+    /// A recording's track's first and last fix, s since 1970 ([`OwnShipNav::within`]).
+    window_s: Option<(f64, f64)>,
 }
 
 impl OwnShipNav {
@@ -283,7 +285,16 @@ impl OwnShipNav {
             implausible: Vec::new(),
             last_implausible_s: None,
             fixes: None,
+            window_s: None,
         }
+    }
+
+    /// Refuses, as a time jump, a dated sentence more than
+    /// [`super::recording::MAX_FIX_GAP_S`] outside `window_s` (a recording's track's first
+    /// and last fix, s since 1970); `None` refuses none.
+    pub fn within(mut self, window_s: Option<(f64, f64)>) -> Self {
+        self.window_s = window_s;
+        self
     }
 
     /// Keeps every position fix used, for [`OwnShipNav::fixes`].
@@ -391,6 +402,18 @@ impl OwnShipNav {
                 return;
             }
         };
+        // A dated sentence far outside the recording's track: another date, not this voyage.
+        if let (Some((first, last)), Some(_)) = (self.window_s, stamp.day) {
+            let gap = super::recording::MAX_FIX_GAP_S;
+            if self
+                .clock
+                .peek(&stamp)
+                .is_some_and(|t| t < first - gap || t > last + gap)
+            {
+                self.counts.time_jump += 1;
+                return;
+            }
+        }
         let first_time = self.clock.newest_s().is_none();
         let now = match self.clock.take(&stamp) {
             Ok(Some(t)) => {

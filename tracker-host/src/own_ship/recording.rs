@@ -22,6 +22,33 @@ pub struct RecordedTrack {
     /// `ZDA`); without, its fixes' times are made up (at the start of the day the run was
     /// given), no UTC to show or send as one.
     pub timed: bool,
+    /// Fixes set apart from the track: more than [`MAX_FIX_GAP_S`] from the stretch of the
+    /// recording that holds the most fixes (a stray sentence of another date).
+    pub set_apart: usize,
+}
+
+/// Fixes further apart than this are not one voyage, s (a day). A recording's track is
+/// its stretch of fixes with no gap longer than this that holds the most fixes: one stray
+/// `RMC` of 1994 before a 2015 log's first fix made the run's origin 600 km off and its
+/// span 21 years (a new user's trial: a run of 265 million scans). Real logs' gaps were up
+/// to 2.5 h (`../shared/realdata/nmea/`).
+pub const MAX_FIX_GAP_S: f64 = 86_400.0;
+
+/// The stretch of `fixes` (in time order) with no gap over [`MAX_FIX_GAP_S`] that holds
+/// the most, the first of equals: its first and one-past-last index.
+fn main_stretch(fixes: &[(f64, f64, f64)]) -> (usize, usize) {
+    let mut best = (0, 0);
+    let mut start = 0;
+    for i in 1..=fixes.len() {
+        let ends = i == fixes.len() || fixes[i].0 - fixes[i - 1].0 > MAX_FIX_GAP_S;
+        if ends {
+            if i - start > best.1 - best.0 {
+                best = (start, i);
+            }
+            start = i;
+        }
+    }
+    best
 }
 
 impl RecordedTrack {
@@ -31,18 +58,24 @@ impl RecordedTrack {
     /// The file does not open, or holds no position fix.
     pub fn read(path: &Path, o: &NmeaOptions) -> anyhow::Result<Self> {
         let open = || crate::nmea::input::open_recording(path).map(std::io::BufReader::new);
-        let provisional_day = first_day(open()?).unwrap_or(o.provisional_day);
-        let mut reader = open()?;
-        let mut nav = OwnShipNav::with_selector(
-            Origin::default(),
-            provisional_day,
-            o.variation_deg,
-            Selector::new(o.priority.clone()),
-        )
-        .keep_fixes();
-        while let Ok(Some(line)) = read_bounded_line(&mut reader, MAX_LINE_BYTES) {
-            nav.feed(&line);
-        }
+        // The fixes, and whether a sentence gave the time, read with the times before the
+        // first date on `day`, refusing dated sentences far outside `window` when given.
+        let read = |day: i64, window: Option<(f64, f64)>| -> anyhow::Result<OwnShipNav> {
+            let mut reader = open()?;
+            let mut nav = OwnShipNav::with_selector(
+                Origin::default(),
+                day,
+                o.variation_deg,
+                Selector::new(o.priority.clone()),
+            )
+            .within(window)
+            .keep_fixes();
+            while let Ok(Some(line)) = read_bounded_line(&mut reader, MAX_LINE_BYTES) {
+                nav.feed(&line);
+            }
+            Ok(nav)
+        };
+        let nav = read(first_day(open()?).unwrap_or(o.provisional_day), None)?;
         let fixes = nav.fixes().to_vec();
         if fixes.is_empty() {
             anyhow::bail!(
@@ -52,7 +85,24 @@ impl RecordedTrack {
             );
         }
         let timed = nav.newest_s().is_some();
-        Ok(RecordedTrack { fixes, timed })
+        let (first, end) = main_stretch(&fixes);
+        let set_apart = fixes.len() - (end - first);
+        let mut fixes = fixes[first..end].to_vec();
+        if set_apart > 0 {
+            // Read again within the track: the stray sentence's date set the clock's for the
+            // undated sentences after it, whose fixes belong to the track.
+            let window = (fixes[0].0, fixes[fixes.len() - 1].0);
+            let again = read((window.0 / 86_400.0).floor() as i64, Some(window))?;
+            let (a, b) = main_stretch(again.fixes());
+            if b - a >= fixes.len() {
+                fixes = again.fixes()[a..b].to_vec();
+            }
+        }
+        Ok(RecordedTrack {
+            fixes,
+            timed,
+            set_apart,
+        })
     }
 
     /// The first fix's time, s since 1970.
