@@ -95,7 +95,7 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
             let track = RecordedTrack::read(path, &o.own_ship.nmea)?;
             if track.set_apart > 0 {
                 eprintln!(
-                    "{}: {} position fix(es) more than a day from the recording's track set apart (another date: a stray sentence); the run follows the track's {} fixes",
+                    "{}: {} position fix(es) set apart, more than a day from the stretch of the recording that holds the most (a stray sentence of another date, or another voyage); the run follows that stretch's {} fixes",
                     path.display(),
                     track.set_apart,
                     track.fixes.len()

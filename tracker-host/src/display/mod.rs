@@ -491,17 +491,21 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
             Span::raw(first),
         ]),
         Line::raw(own_ship_words(&view.own, narrow)),
+        // In a narrow pane on one row (at most 40 characters: "48 NM true 30 min alarm
+        // 12.00 NM/60 min"), so that the rows above may wrap and the limits still show.
         Line::raw(format!(
-            "{}{join}NM{gap}{} vectors{join}{}{join}min{gap}{} {:.2}{join}NM / {:.0}{join}min",
+            "{}{join}NM{gap}{}{}{join}min{gap}{} {:.2}{join}NM{}{:.0}{join}min",
             RANGE_SCALES_NM[state.range_scale],
             match (vectors_shown(state, view), narrow) {
-                (VectorMode::Relative, false) => "relative",
-                (VectorMode::Relative, true) => "rel",
-                (VectorMode::True, _) => "true",
+                (VectorMode::Relative, false) => "relative vectors ",
+                (VectorMode::Relative, true) => "rel ",
+                (VectorMode::True, false) => "true vectors ",
+                (VectorMode::True, true) => "true ",
             },
             VECTOR_MINUTES[state.vector_length],
             if narrow { "alarm" } else { "CPA/TCPA alarm" },
             state.limits.cpa_m / METRES_PER_NM,
+            if narrow { "/" } else { " / " },
             state.limits.tcpa_s / 60.0,
         )),
     ];
@@ -553,9 +557,9 @@ fn own_ship_words(own: &crate::own_ship::OwnShip, narrow: bool) -> String {
 }
 
 /// The vectors drawn: the operator's choice, relative while own ship's motion over ground is
-/// unknown (no fix yet, or dead reckoned past its limit). A target's velocity is then its
-/// motion relative to own ship taken as stopped, and calling it true would mislead (a new
-/// user's trial read "true vectors" beside `NO FIX`).
+/// unknown (no fix yet, not yet measured, or dead reckoned past its limit): a true vector
+/// would need it, and calling one true then would mislead (a new user's trial read "true
+/// vectors" beside `NO FIX`). [`drawn_velocity`] makes the relative one.
 fn vectors_shown(state: &DisplayState, view: &ScanReport) -> VectorMode {
     if view.own.quality.motion_known {
         state.vectors
@@ -1433,9 +1437,8 @@ pub(crate) mod tests {
         view
     }
 
-    /// `i` shows the AIS targets in the table's place, nearest first, an associated one with
-    /// its radar target's number before its name, a sleeping one after, dim; `i` again the
-    /// radar targets. At 80 columns the compact columns keep the name and every figure.
+    /// ↑↓ scroll the AIS table while it shows, by one row, within the targets heard, the
+    /// title saying which rows; the radar target's selection stays.
     #[test]
     fn the_ais_table_scrolls_with_the_arrows_while_shown() {
         let mut view = one_associated_ship(eleventh_scan(), true);
@@ -1495,6 +1498,9 @@ pub(crate) mod tests {
         assert!(title(&state).0.contains("–59 of 60"));
     }
 
+    /// `i` shows the AIS targets in the table's place, nearest first, an associated one with
+    /// its radar target's number before its name, a sleeping one after, dim; `i` again the
+    /// radar targets. At 80 columns the compact columns keep the name and every figure.
     #[test]
     fn the_ais_table_lists_every_ais_target_heard() {
         let view = one_associated_ship(eleventh_scan(), true);
@@ -1839,32 +1845,43 @@ pub(crate) mod tests {
             view = step(&mut d);
         }
         let state = DisplayState::new("inproc".into());
-        let text = screen_at(&state, &view, 80, 24);
-        let header: Vec<String> = text
-            .lines()
-            .take(7)
-            .map(|l| {
-                l.rsplit('│')
-                    .nth(1)
-                    .unwrap_or("")
-                    .trim()
-                    .replace('\u{a0}', " ")
-            })
-            .collect();
-        for item in [
+        let header = |state: &DisplayState, view: &ScanReport| -> Vec<String> {
+            screen_at(state, view, 80, 24)
+                .lines()
+                .take(7)
+                .map(|l| {
+                    l.rsplit('│')
+                        .nth(1)
+                        .unwrap_or("")
+                        .trim()
+                        .replace('\u{a0}', " ")
+                })
+                .collect()
+        };
+        let items = [
             format!("scan {}", view.scan),
             format!("plots {}", view.plots.len()),
             format!("trk {}", view.tracked()),
             format!("acq {}", view.acquiring()),
-            "1.00 NM".to_string(),
-            "12 min".to_string(),
+            "1.00 NM/12 min".to_string(),
             "SOG 12.0 kn".to_string(),
-        ] {
-            assert!(
-                header.iter().any(|l| l.contains(&item)),
-                "{item}: {header:#?}"
-            );
-        }
+        ];
+        let all_there = |header: Vec<String>| {
+            for item in &items {
+                assert!(
+                    header.iter().any(|l| l.contains(item.as_str())),
+                    "{item}: {header:#?}"
+                );
+            }
+        };
+        all_there(header(&state, &view));
+        // Paused, own ship dead reckoned: the first two rows wrap, the limits still show
+        // (the TCPA limit fell off the box's end, a new user's trial).
+        let mut paused = state.clone();
+        paused.paused = true;
+        let mut reckoned = view.clone();
+        reckoned.own.quality.dead_reckoning_s = Some(40.0);
+        all_there(header(&paused, &reckoned));
     }
 
     #[test]
@@ -1964,6 +1981,7 @@ pub(crate) mod tests {
         state.vectors = VectorMode::Relative;
         let mut known = lost.clone();
         known.own.quality.motion_known = true;
+        known.own.quality.dead_reckoning_s = None;
         assert_eq!(drawn_velocity(&state, &known, [1.0, 2.0]), [-2.0, 2.0]);
         state.vectors = VectorMode::True;
         assert_eq!(state.selected, Some(view.targets[0].track));

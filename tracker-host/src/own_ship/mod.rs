@@ -125,7 +125,11 @@ impl OwnShip {
     /// velocity is not to be taken off them again: CPA, TCPA and relative motion take this.
     pub fn track_frame_velocity_mps(&self) -> EastNorth {
         let q = self.quality;
-        if q.no_fix_yet || (q.dead_reckoning_s.is_some() && !q.motion_known) {
+        // Held past dead reckoning's limit (within it, the position moves on at the velocity).
+        let held = q
+            .dead_reckoning_s
+            .is_some_and(|s| f64::from(s) > nav::MAX_DEAD_RECKONING_S);
+        if q.no_fix_yet || held {
             [0.0, 0.0]
         } else {
             self.velocity_mps

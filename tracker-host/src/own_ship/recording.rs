@@ -31,7 +31,9 @@ pub struct RecordedTrack {
 /// its stretch of fixes with no gap longer than this that holds the most fixes: one stray
 /// `RMC` of 1994 before a 2015 log's first fix made the run's origin 600 km off and its
 /// span 21 years (a new user's trial: a run of 265 million scans). Real logs' gaps were up
-/// to 2.5 h (`../shared/realdata/nmea/`).
+/// to 2.5 h (`../shared/realdata/nmea/`). Not handled: a stray sentence dated *later* than
+/// the log, before its first fix, whose date the clock then keeps, refusing the log's own
+/// dated sentences as going back.
 pub const MAX_FIX_GAP_S: f64 = 86_400.0;
 
 /// The stretch of `fixes` (in time order) with no gap over [`MAX_FIX_GAP_S`] that holds
@@ -94,8 +96,13 @@ impl RecordedTrack {
             let window = (fixes[0].0, fixes[fixes.len() - 1].0);
             let again = read((window.0 / 86_400.0).floor() as i64, Some(window))?;
             let (a, b) = main_stretch(again.fixes());
-            if b - a >= fixes.len() {
-                fixes = again.fixes()[a..b].to_vec();
+            let again = &again.fixes()[a..b];
+            // Taken only in time order: undated fixes of the part set apart, put on the
+            // track's day, and a clock started again on the track's first date would run
+            // back (a genuine second part of the log, more than a day away).
+            let in_order = again.windows(2).all(|w| w[0].0 <= w[1].0);
+            if in_order && again.len() >= fixes.len() {
+                fixes = again.to_vec();
             }
         }
         Ok(RecordedTrack {

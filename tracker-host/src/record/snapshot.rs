@@ -62,9 +62,13 @@ struct Last {
     /// empty (no heading for a head-up radar) or off, written on it.
     own_alarms: Vec<String>,
     /// Own ship's motion over ground is known: the targets' vectors are true; without it
-    /// the radar targets' are relative to own ship as taken (stopped, or held where dead
-    /// reckoning stopped), titled so, and the AIS targets' are not drawn.
+    /// the radar targets' are relative to own ship, titled so, and the AIS targets' are not
+    /// drawn.
     motion_known: bool,
+    /// Taken off a radar target's velocity for its relative vector while own ship's motion
+    /// is unknown, m/s: own ship's velocity where its position moves with it, none where it
+    /// stands (the tracks are relative already; [`crate::own_ship::OwnShip::track_frame_velocity_mps`]).
+    frame_velocity_mps: [f32; 2],
 }
 
 impl Last {
@@ -86,6 +90,7 @@ impl Last {
                 .collect(),
             own_alarms: report.own.alarms(),
             motion_known: report.own.quality.motion_known,
+            frame_velocity_mps: report.own.track_frame_velocity_mps(),
         }
     }
 }
@@ -284,8 +289,13 @@ fn draw(
         let (x, y) = rel(t.position_m);
         // No vector before the motion's trend is known, as on the display.
         if t.trend_known {
+            let v = if last.motion_known {
+                t.velocity_mps
+            } else {
+                tracker_core::geo::relative_velocity(last.frame_velocity_mps, t.velocity_mps)
+            };
             chart.draw_series(std::iter::once(PathElement::new(
-                vector((x, y), t.velocity_mps, vector_s),
+                vector((x, y), v, vector_s),
                 colour.stroke_width(2),
             )))?;
         }
@@ -448,6 +458,7 @@ mod tests {
             ais: Vec::new(),
             own_alarms: vec!["OWN SHIP: no heading: a note long enough to take two lines on the picture at its font, so that the wrapping is drawn too".to_string()],
             motion_known: true,
+            frame_velocity_mps: [0.0, 0.0],
         };
         // The title says which vectors are drawn: relative without own ship's motion (a new
         // user's trial read "true vectors" on a capture with no fix).

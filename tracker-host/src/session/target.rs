@@ -353,7 +353,13 @@ mod tests {
         assert!(!d.true_motion_known);
         // Dead reckoning still on (the position moves on at the last velocity): the tracks
         // are over ground, own ship's velocity is taken off.
+        own.quality.dead_reckoning_s = Some(60.0);
         own.quality.motion_known = true;
+        let d = TargetData::new(&own, &t);
+        assert!((d.rel_speed_mps - 50f32.sqrt()).abs() < 1e-3, "{d:?}");
+        // Lost 60 s after the first fix, the motion not yet measured: dead reckoned all the
+        // same (straight on at the estimate), so the estimate is taken off.
+        own.quality.motion_known = false;
         let d = TargetData::new(&own, &t);
         assert!((d.rel_speed_mps - 50f32.sqrt()).abs() < 1e-3, "{d:?}");
         // No fix yet: at the origin, stopped, whatever velocity it holds.
