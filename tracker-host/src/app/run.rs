@@ -470,7 +470,7 @@ impl RunReport {
         }
         if self.events.len() > EVENTS_IN_TEXT {
             s += &format!(
-                "… and {} more events (every one in --summary-json's `events`)\n",
+                "… and {} more events (all those kept, in --summary-json's `events`)\n",
                 self.events.len() - EVENTS_IN_TEXT
             );
         }

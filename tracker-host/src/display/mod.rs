@@ -235,6 +235,8 @@ impl DisplayState {
 
     /// Applies a key; returns what the link must do.
     pub fn key(&mut self, key: char, view: Option<&ScanReport>) -> Action {
+        // The last command's answer stands until this one.
+        self.message = None;
         match key {
             'q' => return Action::Quit,
             '+' => {
@@ -256,9 +258,13 @@ impl DisplayState {
             'p' => self.paused = !self.paused,
             'e' => {
                 self.echoes = !self.echoes;
-                if view.is_some_and(|v| v.echoes.is_none()) {
-                    self.message = Some("echoes: this source sends plots, no radar picture".into());
-                }
+                self.message = Some(if view.is_some_and(|v| v.echoes.is_none()) {
+                    "echoes: this source sends plots, no radar picture".into()
+                } else if self.echoes {
+                    "echoes shown".into()
+                } else {
+                    "echoes hidden (e shows them)".into()
+                });
             }
             'i' => {
                 self.ais_table = !self.ais_table;
@@ -1578,6 +1584,9 @@ pub(crate) mod tests {
             "{:?}",
             state.message
         );
+        // … until the next command (it outlived it, a new user's trial).
+        state.key('i', Some(&none));
+        assert_eq!(state.message, None);
     }
 
     /// The demo's eleventh scan: targets confirmed, with courses and speeds.
@@ -1722,8 +1731,17 @@ pub(crate) mod tests {
         assert!(state.echoes);
         state.key('e', Some(&view));
         assert!(!state.echoes);
+        // Answered, as every command (a new user's trial had none on a capture).
+        assert_eq!(
+            state.message.as_deref(),
+            Some("echoes hidden (e shows them)")
+        );
         let text = screen(&state, &view);
         assert!(text.contains("PPI 0.25 NM"), "{text}");
+        assert!(text.contains("echoes hidden"), "{text}");
+        // The answer stands until the next command.
+        state.key('+', Some(&view));
+        assert_eq!(state.message, None);
     }
 
     #[test]
