@@ -103,9 +103,8 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
             }
             let origin = o.own_ship.origin.unwrap_or(track.first_position());
             own_ship.origin = Some(origin);
-            own_ship.nmea.provisional_day = (track.start_s() / 86_400.0).floor() as i64;
-            own_ship.nmea.recording_window_s =
-                Some((track.start_s(), track.start_s() + track.span_s()));
+            own_ship.nmea.provisional_day = crate::own_ship::clock::day_of_s(track.start_s());
+            own_ship.nmea.recording_window_s = Some(track.window_s());
             simulator.epoch_s = track.start_s();
             if o.duration_from_recording {
                 // Through the last fix: the last scan at or after it, so the recording is

@@ -135,7 +135,7 @@ pub fn with_live_origin(o: &OwnShipOptions) -> anyhow::Result<OwnShipOptions> {
 
 /// Today, as days since 1970 (a live source's sentences before their first date).
 pub fn today() -> i64 {
-    (crate::utc::now_s() / 86_400.0).floor() as i64
+    crate::own_ship::clock::day_of_s(crate::utc::now_s())
 }
 
 /// The sinks `o` asks for; the snapshot draws alarms at `alarms`, the session's limits.

@@ -739,7 +739,7 @@ mod tests {
             crate::own_ship::recording::RecordedTrack::read(file.path(), &run.own_ship().nmea)
                 .unwrap();
         // (Or tomorrow, had midnight passed since `today`.)
-        let day = (track.start_s() / 86_400.0).floor() as i64;
+        let day = crate::own_ship::clock::day_of_s(track.start_s());
         assert!(day == today || day == today + 1, "day {day}, today {today}");
         assert_eq!(track.start_s().rem_euclid(86_400.0).round(), 45_319.0);
         // GLL without a time (the HALO network's recording): today's too, at its start.
@@ -749,7 +749,7 @@ mod tests {
         let track =
             crate::own_ship::recording::RecordedTrack::read(untimed.path(), &run.own_ship().nmea)
                 .unwrap();
-        let day = (track.start_s() / 86_400.0).floor() as i64;
+        let day = crate::own_ship::clock::day_of_s(track.start_s());
         assert!(day == today || day == today + 1, "day {day}, today {today}");
     }
 

@@ -16,6 +16,11 @@ use super::sentences::{Day, Stamp};
 /// Seconds in a day.
 pub const DAY_S: f64 = 86_400.0;
 
+/// The day `t_s` (s since 1970) falls on, days since 1970.
+pub fn day_of_s(t_s: f64) -> Day {
+    (t_s / DAY_S).floor() as Day
+}
+
 /// How far back a time may be before it is a step backwards, s (sentences of one epoch
 /// share a time; receivers round it).
 const SAME_TIME_S: f64 = 1e-3;

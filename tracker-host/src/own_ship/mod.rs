@@ -651,7 +651,7 @@ impl OwnShipSource for SimulatedBridge {
         let origin = self.origin;
         let nav = self
             .nav
-            .get_or_insert_with(|| OwnShipNav::new(origin, (t / 86_400.0).floor() as i64, None));
+            .get_or_insert_with(|| OwnShipNav::new(origin, clock::day_of_s(t), None));
         let lines = own_ship_sentences(
             truth.position_m.map(f64::from),
             truth.velocity_mps.map(f64::from),
@@ -713,7 +713,7 @@ mod tests {
         let file = tempfile::NamedTempFile::new().unwrap();
         let spec = InSpec::File(file.path().to_path_buf());
         let options = NmeaOptions {
-            provisional_day: (pc_s / 86_400.0).floor() as i64,
+            provisional_day: clock::day_of_s(pc_s),
             ..NmeaOptions::default()
         };
         let own = NmeaOwnShip::open(&spec, Origin::default(), &options).unwrap();
@@ -834,7 +834,7 @@ mod tests {
         let per_epoch = own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t0).len() as u64;
         let spec = InSpec::File(file.path().to_path_buf());
         let options = NmeaOptions {
-            provisional_day: (t0 / 86_400.0).floor() as i64,
+            provisional_day: clock::day_of_s(t0),
             ..NmeaOptions::default()
         };
         let mut own = NmeaOwnShip::open(&spec, origin, &options).unwrap();

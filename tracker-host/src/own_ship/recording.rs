@@ -34,7 +34,12 @@ pub struct RecordedTrack {
 /// to 2.5 h (`../shared/realdata/nmea/`). Not handled: a stray sentence dated *later* than
 /// the log, before its first fix, whose date the clock then keeps, refusing the log's own
 /// dated sentences as going back.
-pub const MAX_FIX_GAP_S: f64 = 86_400.0;
+pub const MAX_FIX_GAP_S: f64 = super::clock::DAY_S;
+
+/// The first and last time of `fixes` (not empty), s since 1970.
+fn window_of(fixes: &[(f64, f64, f64)]) -> (f64, f64) {
+    (fixes[0].0, fixes[fixes.len() - 1].0)
+}
 
 /// The stretch of `fixes` (in time order) with no gap over [`MAX_FIX_GAP_S`] that holds
 /// the most, the first of equals: its first and one-past-last index.
@@ -93,8 +98,8 @@ impl RecordedTrack {
         if set_apart > 0 {
             // Read again within the track: the stray sentence's date set the clock's for the
             // undated sentences after it, whose fixes belong to the track.
-            let window = (fixes[0].0, fixes[fixes.len() - 1].0);
-            let again = read((window.0 / 86_400.0).floor() as i64, Some(window))?;
+            let window = window_of(&fixes);
+            let again = read(super::clock::day_of_s(window.0), Some(window))?;
             let (a, b) = main_stretch(again.fixes());
             let again = &again.fixes()[a..b];
             // Taken only in time order: undated fixes of the part set apart, put on the
@@ -115,6 +120,11 @@ impl RecordedTrack {
     /// The first fix's time, s since 1970.
     pub fn start_s(&self) -> f64 {
         self.fixes[0].0
+    }
+
+    /// The first fix's time and the last's, s since 1970.
+    pub fn window_s(&self) -> (f64, f64) {
+        window_of(&self.fixes)
     }
 
     /// From the first fix to the last, s.
