@@ -38,13 +38,17 @@ fn the_limits_set_are_the_limits_alarmed_on() {
 
 #[test]
 fn limits_that_are_no_limits_are_refused() {
+    // A negative limit written as two words (`--cpa-nm -1`) is this refusal too, not clap's
+    // "unexpected argument '-1'", which told a navigator nothing about the limit.
     for bad in [
-        "--cpa-nm=0",
-        "--cpa-nm=nan",
-        "--tcpa-min=-3",
-        "--tcpa-min=inf",
+        &["--cpa-nm=0"][..],
+        &["--cpa-nm=nan"],
+        &["--tcpa-min=-3"],
+        &["--tcpa-min=inf"],
+        &["--cpa-nm", "-1"],
+        &["--tcpa-min", "-0.5"],
     ] {
-        let out = demo(&[bad]);
+        let out = demo(bad);
         assert_eq!(out.status.code(), Some(2), "{bad:?}");
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert!(

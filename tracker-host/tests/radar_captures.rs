@@ -1011,6 +1011,35 @@ fn a_capture_without_spokes_is_refused_in_words() {
         }
     }
     let path = write_temp(dir.path(), "other.pcap", &pcap(&frames));
+    let e = track_start_error(path);
+    assert!(e.contains("no radar spokes in the capture"), "{e}");
+}
+
+/// A capture cut short before its first spoke (the first 100 bytes of a real one, in a
+/// new user's trial) is told as cut short, not as a capture of something other than a radar.
+#[test]
+fn a_capture_cut_short_before_its_first_spoke_is_told_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let frames: Vec<_> = udp_frames(
+        b"$GPRMC,142007.00,A,5310.81238,N,00525.70658,E,0.010,,181015,,,D*71\r\n",
+        1,
+        [192, 168, 1, 255],
+        10110,
+        1480,
+    )
+    .into_iter()
+    .map(|f| (0.0, f))
+    .collect();
+    let whole = pcap(&frames);
+    // The global header (24 bytes), a record header (16) and part of its frame.
+    let path = write_temp(dir.path(), "cut.pcap", &whole[..24 + 16 + 20]);
+    let e = track_start_error(path);
+    assert!(e.contains("cut short"), "{e}");
+    assert!(!e.contains("no radar spokes"), "{e}");
+}
+
+/// The error `track --radar pcap:PATH` stops with at its start.
+fn track_start_error(path: std::path::PathBuf) -> String {
     let options = tracker_host::app::track::TrackOptions {
         input: tracker_host::app::track::TrackInput::Radar(
             tracker_host::source::radar::RadarOptions::new(RadarSpec::Capture(path)),
@@ -1023,9 +1052,8 @@ fn a_capture_without_spokes_is_refused_in_words() {
     };
     let client =
         tracker_host::link::Client::new(Box::new(tracker_host::link::InprocTransport::new()));
-    let e = match tracker_host::app::track::start(client, &options) {
+    match tracker_host::app::track::start(client, &options) {
         Ok(_) => panic!("a capture without spokes was taken"),
         Err(e) => format!("{e:#}"),
-    };
-    assert!(e.contains("no radar spokes in the capture"), "{e}");
+    }
 }

@@ -53,7 +53,13 @@ fn track(name: &str, heading_deg: Option<f32>) -> Tracked {
 
 /// … with own ship from `own_ship` (`--nmea-in`).
 fn track_with(name: &str, heading_deg: Option<f32>, own_ship: OwnShipOptions) -> Tracked {
-    let mut radar = RadarOptions::new(RadarSpec::Capture(capture(name)));
+    track_path(capture(name), heading_deg, own_ship)
+}
+
+/// … of the capture at `path`.
+fn track_path(path: PathBuf, heading_deg: Option<f32>, own_ship: OwnShipOptions) -> Tracked {
+    let name = path.display().to_string();
+    let mut radar = RadarOptions::new(RadarSpec::Capture(path.clone()));
     radar.fixed_heading_rad = heading_deg.map(f32::to_radians);
     let options = TrackOptions {
         input: TrackInput::Radar(radar),
@@ -74,10 +80,7 @@ fn track_with(name: &str, heading_deg: Option<f32>, own_ship: OwnShipOptions) ->
         );
         reports.push(r);
     }
-    let first_range_m = CaptureSurvey::of(&capture(name))
-        .unwrap()
-        .first_range_m
-        .unwrap();
+    let first_range_m = CaptureSurvey::of(&path).unwrap().first_range_m.unwrap();
     Tracked {
         reports,
         run,
@@ -832,4 +835,75 @@ fn a_heading_in_the_capture_is_own_ships_with_nmea_in_too() {
         "a heading on {both} of {} scans",
         with.reports.len()
     );
+}
+
+/// A heading sensor lost mid-run while the radar's own heading (flagged true in the 3G's
+/// spokes) goes on: the plots stay placed, and own ship says the radar's heading is in use
+/// (it took over in silence when own ship came from the capture's own NMEA). The capture's
+/// NMEA heading is its `IIHDM,001,M` (magnetic, with no variation known: not used) and an
+/// `APHDT` flagged `M` (refused), so the test makes the sensor: the `HDM`s of its first
+/// 4.5 s (at 1.7 and 4.2 s; its scans close at 12.5–22.5 s) are rewritten as the true
+/// `IIHDT,001,T` (same length and checksum), and every heading after them dropped (`HDT`,
+/// `HDM`, `HDG`, `VHW`, and the transponder's own `AIVDO`).
+#[test]
+fn a_lost_heading_sensor_replaced_by_the_radars_is_told() {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    flate2::read::GzDecoder::new(
+        std::fs::File::open(capture("radar_pi-3g-trueheading.pcap.gz")).unwrap(),
+    )
+    .read_to_end(&mut bytes)
+    .unwrap();
+    // A classic little-endian pcap: a 24-byte header, then records of a 16-byte header
+    // (seconds, microseconds, length kept, length on the wire) and the frame.
+    assert_eq!(bytes[..4], [0xd4, 0xc3, 0xb2, 0xa1]);
+    let u32_at = |b: &[u8], i: usize| u32::from_le_bytes(b[i..i + 4].try_into().unwrap());
+    let mut doctored = bytes[..24].to_vec();
+    let (mut at, mut first_s, mut dropped, mut made) = (24, None, 0, 0);
+    while at + 16 <= bytes.len() {
+        let t_s = f64::from(u32_at(&bytes, at)) + f64::from(u32_at(&bytes, at + 4)) * 1e-6;
+        let end = at + 16 + u32_at(&bytes, at + 8) as usize;
+        let record = &bytes[at..end.min(bytes.len())];
+        let heading = [&b"HDT,"[..], b"HDM,", b"HDG,", b"VHW,", b"VDO,"]
+            .iter()
+            .any(|h| record.windows(4).any(|w| w == *h));
+        if heading && t_s - *first_s.get_or_insert(t_s) > 4.5 {
+            dropped += 1;
+        } else {
+            let (hdm, hdt) = (b"$IIHDM,001,M*3D", b"$IIHDT,001,T*3D");
+            let mut record = record.to_vec();
+            if let Some(i) = record.windows(hdm.len()).position(|w| w == hdm) {
+                record[i..i + hdt.len()].copy_from_slice(hdt);
+                made += 1;
+            }
+            doctored.extend_from_slice(&record);
+        }
+        at = end;
+    }
+    assert!(dropped > 10, "{dropped} heading sentences dropped");
+    assert_eq!(made, 2, "HDTs made");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("3g-heading-lost.pcap");
+    std::fs::write(&path, &doctored).unwrap();
+    let t = track_path(path, None, OwnShipOptions::default());
+    let told: Vec<bool> = t
+        .reports
+        .iter()
+        .map(|r| r.own.quality.heading_from_radar)
+        .collect();
+    // Lost 10 s after its last sentence (`HEADING_LOST_S`), at 14.2 s: told from then to
+    // the end.
+    let first_told = told.iter().position(|x| *x).expect("never told");
+    assert!(first_told >= 1, "told from scan {first_told}: {told:?}");
+    assert!(told[first_told..].iter().all(|x| *x), "{told:?}");
+    for r in &t.reports {
+        assert!(r.own.heading_rad.is_some(), "scan {}: no heading", r.scan);
+        assert!(!r.own.quality.heading_lost, "scan {}: heading lost", r.scan);
+        assert!(!r.own.quality.heading_needed, "scan {}", r.scan);
+    }
+    assert!(t.reports[first_told]
+        .own
+        .alarms()
+        .iter()
+        .any(|a| a.contains("the radar's heading in use")));
 }

@@ -85,6 +85,12 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
                     let survey = CaptureSurvey::of(path)?;
                     // Read to its end without a spoke: the wrong capture (a new user's trial
                     // was told "0 scans" and exit 0).
+                    if survey.first_range_m.is_none() && survey.cut_short {
+                        anyhow::bail!(
+                            "{}: the capture ends inside a record before its first radar spoke (cut short: copied or downloaded in part?)",
+                            path.display()
+                        );
+                    }
                     if survey.first_range_m.is_none() {
                         anyhow::bail!(
                             "{}: no radar spokes in the capture (none of a Navico BR24, 3G, 4G or HALO, nor of a Garmin xHD): capture the radar's spoke multicast on its network (README, \"A radar\")",

@@ -97,7 +97,7 @@ pub struct RunArgs {
     pub association: AssociationArg,
     /// Source seconds per real second, or `max` (the default; 1, real time, with a live
     /// NMEA source).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     pub speedup: Option<Speedup>,
     /// Print the target table every scan as plain text (without it: the radar display in a
     /// terminal, progress lines otherwise).
@@ -112,10 +112,10 @@ pub struct RunArgs {
     /// The CPA/TCPA alarm's CPA limit, nautical miles: a target (radar or activated AIS)
     /// whose CPA is below it within the TCPA limit alarms (a bridge's open-water setting is
     /// 1 NM; in a harbour or a traffic separation scheme far less).
-    #[arg(long, value_name = "NM", default_value_t = 1.0, value_parser = positive)]
+    #[arg(long, allow_negative_numbers = true, value_name = "NM", default_value_t = 1.0, value_parser = positive)]
     pub cpa_nm: f64,
     /// The CPA/TCPA alarm's TCPA limit, minutes.
-    #[arg(long, value_name = "MIN", default_value_t = 12.0, value_parser = positive)]
+    #[arg(long, allow_negative_numbers = true, value_name = "MIN", default_value_t = 12.0, value_parser = positive)]
     pub tcpa_min: f64,
     /// Send every target to a chart plotter as NMEA 0183 `TTM` and `TLL` sentences each
     /// scan: `udp:HOST:PORT` or `tcp:PORT` (a server plotters connect to).

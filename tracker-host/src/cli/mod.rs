@@ -42,12 +42,12 @@ pub struct Cli {
 
     /// How long to wait for the device's answer before asking again, s (default 5; each
     /// request is asked up to 6 times).
-    #[arg(long, global = true, value_name = "SECONDS", value_parser = link_timeout_s)]
+    #[arg(long, allow_negative_numbers = true, global = true, value_name = "SECONDS", value_parser = link_timeout_s)]
     pub link_timeout: Option<f64>,
 
     /// Damage the link on purpose: this probability per byte, both ways, of a flipped bit
     /// (80 %), a lost byte (10 %) or a repeated one (10 %). For testing; the host retries.
-    #[arg(long, global = true, value_name = "RATE", value_parser = byte_error_rate)]
+    #[arg(long, allow_negative_numbers = true, global = true, value_name = "RATE", value_parser = byte_error_rate)]
     pub byte_errors: Option<f64>,
 
     /// The command.
@@ -65,13 +65,13 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = ScenarioArg::OpenSea)]
         scenario: ScenarioArg,
         /// Number of targets (at most 64).
-        #[arg(long, default_value_t = 40)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 40)]
         targets: usize,
         /// Seed of the scenario.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
         seed: u64,
         /// Simulated duration, s (default 600; with `--nmea-in file:`, the recording's length).
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         duration: Option<f64>,
         /// Write the simulation's truth to this file (the truth file format `track --truth`
         /// reads: `t_s,target,east_m,north_m,vx_mps,vy_mps,detected`, own ship as target 0).
@@ -94,18 +94,28 @@ pub enum Command {
         )]
         ais_truth: Option<PathBuf>,
         /// With --ais-truth: own ship's MMSI.
-        #[arg(long, value_name = "MMSI", requires = "ais_truth")]
+        #[arg(
+            long,
+            allow_negative_numbers = true,
+            value_name = "MMSI",
+            requires = "ais_truth"
+        )]
         own_mmsi: Option<u32>,
         /// With --ais-truth: start this many seconds after the file's first report (default:
         /// own ship's first report).
-        #[arg(long, value_name = "S", requires = "ais_truth", value_parser = args::non_negative)]
+        #[arg(long, allow_negative_numbers = true, value_name = "S", requires = "ais_truth", value_parser = args::non_negative)]
         start: Option<f64>,
         /// With --ais-truth: a vessel still at both ends of a silence (under 1 kn at both
         /// reports and between them: moored) stays in the truth across silences up to this
         /// long, s, and its reports are sent as moored (at least 120, any vessel's gap, the
         /// default: out between its reports). Moored class A ships report every 3 minutes
         /// (ITU-R M.1371); 400 keeps them in, as a radar sees them.
-        #[arg(long, value_name = "S", requires = "ais_truth")]
+        #[arg(
+            long,
+            allow_negative_numbers = true,
+            value_name = "S",
+            requires = "ais_truth"
+        )]
         moored_gap: Option<f64>,
         /// How the run is shown, own ship, outputs.
         #[command(flatten)]
@@ -130,12 +140,12 @@ pub enum Command {
         /// With --radar: own ship's heading, degrees true in [0, 360), when neither the radar
         /// nor NMEA gives one (a moored ship), turned by own ship's yaw measured from the
         /// picture (a moored ship swings); without any heading, plots are not tracked.
-        #[arg(long, value_name = "DEG", requires = "radar", value_parser = args::heading_deg)]
+        #[arg(long, allow_negative_numbers = true, value_name = "DEG", requires = "radar", value_parser = args::heading_deg)]
         heading_deg: Option<f64>,
         /// With --radar: the plots' accuracy, m (one axis), for the filters and gates; by
         /// default 0.25 % of the range scale in use, 2 to 40 m (live: 40 m until the first
         /// rotation).
-        #[arg(long, value_name = "M", requires = "radar", value_parser = args::positive_f32)]
+        #[arg(long, allow_negative_numbers = true, value_name = "M", requires = "radar", value_parser = args::positive_f32)]
         plot_sigma_m: Option<f32>,
         /// How the run is shown, own ship, outputs.
         #[command(flatten)]
@@ -145,10 +155,10 @@ pub enum Command {
     LinkCheck {
         /// Good frames to send (at least 1); each bad input is then followed by one more,
         /// to show the link recovered, and the report counts those too.
-        #[arg(long, default_value_t = 1000, value_parser = at_least_one::<usize>)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 1000, value_parser = at_least_one::<usize>)]
         frames: usize,
         /// Seed for frame sizes and contents.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
         seed: u64,
     },
     /// Run one single-target filter over recorded measurements (CSV `t,x,y` in, CSV out).
@@ -172,26 +182,26 @@ pub enum Command {
         #[arg(long, value_name = "CSV")]
         nav: Option<PathBuf>,
         /// Radar range σ for `--filter ttkf`, m.
-        #[arg(long, default_value_t = 20.0)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 20.0)]
         range_sd: f64,
         /// Radar bearing σ for `--filter ttkf`, degrees.
-        #[arg(long, default_value_t = 0.5)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 0.5)]
         bearing_sd: f64,
     },
     /// GRNN against the CV Kalman and α-β filters on a manoeuvring target, and the GRNN
     /// manoeuvre detector's false alarms and delay (Monte Carlo).
     Compare {
         /// Monte Carlo runs.
-        #[arg(long, default_value_t = 200, value_parser = at_least_one::<u64>)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 200, value_parser = at_least_one::<u64>)]
         runs: u64,
         /// Position noise per axis, m.
-        #[arg(long, default_value_t = 5.0, value_parser = args::positive)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 5.0, value_parser = args::positive)]
         sigma: f64,
     },
     /// The IMO ARPA accuracy test (A.823 App. 2) by Monte Carlo: our EKFs and a least-squares plot.
     Arpa {
         /// Monte Carlo runs per scenario.
-        #[arg(long, default_value_t = 500, value_parser = at_least_one::<u64>)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 500, value_parser = at_least_one::<u64>)]
         runs: u64,
     },
     /// Reruns the seed papers' experiments: DIR/report.md (paper figure beside ours) and plots.
@@ -206,10 +216,10 @@ pub enum Command {
     /// How far f32 and fixed point drift from f64 on a long run, per filter.
     Precision {
         /// Scans in the run.
-        #[arg(long, default_value_t = 100_000, value_parser = at_least_one::<usize>)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 100_000, value_parser = at_least_one::<usize>)]
         scans: usize,
         /// Noise seed.
-        #[arg(long, default_value_t = 1)]
+        #[arg(long, allow_negative_numbers = true, default_value_t = 1)]
         seed: u64,
     },
     /// Instruction counts on the emulated Cortex-M4F, as CSV.

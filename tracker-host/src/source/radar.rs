@@ -588,6 +588,10 @@ impl RadarPlotSource {
                 .or_else(|| self.heading_for(time_s));
             own.heading_rad = found.map(|(h, _)| h);
             self.reported_fixed_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
+            // A heading sensor lost and the radar's own standing in is told, as when own
+            // ship comes from `--nmea-in` (`Run`): the heading has changed source.
+            own.quality.heading_from_radar =
+                own.quality.heading_lost && self.radar_heading_rad.is_some();
             own.quality.heading_lost &= own.heading_rad.is_none();
         }
         // Whether the alarm stands (no heading for own ship at all) is the run's to say.
@@ -654,6 +658,9 @@ pub struct CaptureSurvey {
     pub first_fix: Option<Origin>,
     /// The first spoke's range, m, if it has spokes.
     pub first_range_m: Option<f32>,
+    /// The file ended inside a record (or its gzip stream was cut short) before the survey
+    /// was done: with no spoke, a capture cut short rather than one of something else.
+    pub cut_short: bool,
 }
 
 impl CaptureSurvey {
@@ -679,6 +686,7 @@ impl CaptureSurvey {
                 }
             }
             let Some((_, t)) = spoke else {
+                survey.cut_short = spokes.stats().capture.is_some_and(|c| c.truncated_file);
                 return Ok(survey);
             };
             let first = *first_s.get_or_insert(t);
