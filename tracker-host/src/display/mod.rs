@@ -404,13 +404,23 @@ pub fn render_paused(
         .constraints([Constraint::Percentage(45), Constraint::Percentage(55)])
         .split(area);
     render_ppi(frame, columns[0], state, view);
-    // Made once: the box's height depends on them.
-    let alarms = alarm_lines(state, latest, columns[1].width < NARROW_ALARM_COLUMNS);
+    // A narrow pane's header lines wrap, each onto a second row.
+    let header_rows = if columns[1].width < 80 { 7 } else { 5 };
+    // Made once: the box's height depends on them. One line an alarm, unless that leaves
+    // the table fewer than [`TABLE_MIN_TARGET_ROWS`] targets: then the alarms are listed by
+    // target, several to a line (an 80×24 terminal with ten alarms showed 2 of 40 targets).
+    let narrow = columns[1].width < NARROW_ALARM_COLUMNS;
+    let mut alarms = alarm_lines(state, latest, narrow, None);
+    if header_rows + TABLE_MIN_TARGET_ROWS + 3 + alarm_box_rows(&alarms, state, columns[1].width)
+        > columns[1].height
+    {
+        let inner = usize::from(columns[1].width.saturating_sub(2));
+        alarms = alarm_lines(state, latest, narrow, Some(inner));
+    }
     let right = Layout::default()
         .direction(Direction::Vertical)
         .constraints([
-            // A narrow pane's header lines wrap, each onto a second row.
-            Constraint::Length(if columns[1].width < 80 { 7 } else { 5 }),
+            Constraint::Length(header_rows),
             Constraint::Min(5),
             Constraint::Length(alarm_box_rows(&alarms, state, columns[1].width)),
         ])
@@ -986,12 +996,25 @@ fn alarm_box_rows(alarms: &[Line], state: &DisplayState, width: u16) -> u16 {
 /// line.
 const ALARM_BOX_MAX_ROWS: u16 = 14;
 
+/// The target table keeps at least this many rows of targets: past it the alarms are
+/// listed by target ([`alarm_lines`]' grouped form).
+const TABLE_MIN_TARGET_ROWS: u16 = 6;
+
 /// The alarm box's lines, the most urgent first: a live radar gone silent and own ship's
 /// sensor alarms, then the CPA/TCPA alarms of radar and AIS targets together, the soonest
 /// closest approach first (IEC 62388 has the operator see every alarm; the soonest is the
 /// one to act on), lost targets, the track table's capacity, then skipped scans. (The answer
 /// to the operator's last command is drawn apart, always: see [`render_alarms`].)
-fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Line<'static>> {
+///
+/// With `grouped` (the box's inner width, columns), the CPA/TCPA alarms and the lost
+/// targets are listed by their targets' labels, as many to a line as fit (the CPA and TCPA
+/// of each are in the table, its row red): every alarm is still seen, in fewer rows.
+fn alarm_lines(
+    state: &DisplayState,
+    view: &ScanReport,
+    narrow: bool,
+    grouped: Option<usize>,
+) -> Vec<Line<'static>> {
     // In a narrow pane the words go, not the figures.
     let head = if narrow { "ALARM" } else { "CPA/TCPA ALARM:" };
     let (of, cpa, within) = if narrow {
@@ -1020,13 +1043,14 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
             .into_iter()
             .map(|a| Line::styled(a, alarm)),
     );
-    let mut approaching: Vec<(f32, String)> = view
+    let mut approaching: Vec<(f32, String, String)> = view
         .targets
         .iter()
         .filter(|t| t.dangerous(&state.limits))
         .map(|t| {
             (
                 t.tcpa_s,
+                t.label(),
                 format!(
                     "{head} {of}{} {cpa}{:.2} NM {within}{} min",
                     t.label(),
@@ -1041,6 +1065,10 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
         Some((
             c.tcpa_s,
             format!(
+                "AIS {}",
+                a.label.chars().take(NARROW_AIS_NAME).collect::<String>()
+            ),
+            format!(
                 "{head} AIS {} {cpa}{:.2} NM {within}{} min",
                 if narrow {
                     a.label.chars().take(NARROW_AIS_NAME).collect::<String>()
@@ -1053,11 +1081,31 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
         ))
     }));
     approaching.sort_by(|a, b| a.0.total_cmp(&b.0));
-    lines.extend(
-        approaching
+    // A list by target: its head, then the labels, wrapped to the box.
+    let listed = |head: &str, labels: Vec<String>, width: usize| -> Vec<String> {
+        let head = format!("{head} ({}):", labels.len());
+        wrap(
+            std::iter::once(head.as_str()).chain(labels.iter().map(String::as_str)),
+            " ",
+            width,
+        )
+    };
+    match grouped {
+        Some(width) if !approaching.is_empty() => lines.extend(
+            listed(
+                "CPA/TCPA ALARM, soonest first",
+                approaching.into_iter().map(|(_, label, _)| label).collect(),
+                width,
+            )
             .into_iter()
-            .map(|(_, text)| Line::styled(text, alarm)),
-    );
+            .map(|text| Line::styled(text, alarm)),
+        ),
+        _ => lines.extend(
+            approaching
+                .into_iter()
+                .map(|(_, _, text)| Line::styled(text, alarm)),
+        ),
+    }
     if let Some(silence) = &state.silence {
         let text = if narrow {
             silence.short()
@@ -1066,11 +1114,22 @@ fn alarm_lines(state: &DisplayState, view: &ScanReport, narrow: bool) -> Vec<Lin
         };
         lines.push(Line::styled(text, alarm));
     }
-    for id in &state.lost {
-        lines.push(Line::styled(
-            format!("LOST TARGET {id}"),
-            Style::default().fg(Color::Magenta),
-        ));
+    let lost = Style::default().fg(Color::Magenta);
+    match grouped {
+        Some(width) if !state.lost.is_empty() => lines.extend(
+            listed(
+                "LOST TARGETS",
+                state.lost.iter().map(ToString::to_string).collect(),
+                width,
+            )
+            .into_iter()
+            .map(|text| Line::styled(text, lost)),
+        ),
+        _ => {
+            for id in &state.lost {
+                lines.push(Line::styled(format!("LOST TARGET {id}"), lost));
+            }
+        }
     }
     if view.tracks.len() + 4 >= MAX_TRACKS {
         lines.push(Line::styled(
@@ -2076,7 +2135,7 @@ pub(crate) mod tests {
         let text = screen(&state, &view);
         assert!(!text.contains("NO RADAR DATA"), "{text}");
         state.radar_silent_s = Some(12);
-        let lines = alarm_lines(&state, &view, false);
+        let lines = alarm_lines(&state, &view, false, None);
         assert!(
             lines[0].to_string().starts_with("NO RADAR DATA for 12 s"),
             "{lines:?}"
@@ -2100,7 +2159,7 @@ pub(crate) mod tests {
         });
         state.observe(&view);
         assert_eq!(state.lost.len(), shown.len());
-        let text: Vec<String> = alarm_lines(&state, &view, false)
+        let text: Vec<String> = alarm_lines(&state, &view, false, None)
             .iter()
             .map(|l| l.to_string())
             .collect();
@@ -2120,7 +2179,7 @@ pub(crate) mod tests {
             header.contains(&format!("\n  LOST TARGET {label}")),
             "{header}"
         );
-        let narrow: Vec<String> = alarm_lines(&state, &view, true)
+        let narrow: Vec<String> = alarm_lines(&state, &view, true, None)
             .iter()
             .map(|l| l.to_string())
             .collect();
@@ -2131,12 +2190,12 @@ pub(crate) mod tests {
         view.ended.clear();
         state.observe(&view);
         assert_eq!(state.lost.len(), shown.len());
-        assert!(alarm_lines(&state, &view, false)
+        assert!(alarm_lines(&state, &view, false, None)
             .iter()
             .any(|l| l.to_string().starts_with("RADAR SILENT")));
         assert_eq!(state.key('\n', Some(&view)), Action::None);
         assert!(state.lost.is_empty());
-        assert!(!alarm_lines(&state, &view, false)
+        assert!(!alarm_lines(&state, &view, false, None)
             .iter()
             .any(|l| l.to_string().starts_with("RADAR SILENT")));
         // Without a silence, ends the device did not call lost are no alarm.
@@ -2181,6 +2240,64 @@ pub(crate) mod tests {
         ));
     }
 
+    /// On an 80×24 terminal with many alarms (every target, limits wide open) the alarms
+    /// are listed by target and the table keeps its rows: ten one-line alarms showed 2 of
+    /// 40 targets in the table.
+    #[test]
+    fn many_alarms_on_a_small_terminal_are_listed_by_target() {
+        let (state, view) = alarming(20);
+        let dangerous: Vec<String> = view
+            .targets
+            .iter()
+            .filter(|t| t.dangerous(&state.limits))
+            .map(|t| t.label())
+            .collect();
+        assert!(dangerous.len() >= 6, "{} alarms", dangerous.len());
+        let text = screen_at(&state, &view, 80, 24);
+        let rows: Vec<&str> = text.lines().collect();
+        // The table's rows of targets: a label, then a status.
+        let table_rows = rows
+            .iter()
+            .filter(|r| {
+                view.targets
+                    .iter()
+                    .any(|t| r.contains(&format!("│{} ", t.label())) && r.contains(" trk "))
+            })
+            .count();
+        assert!(
+            table_rows >= usize::from(TABLE_MIN_TARGET_ROWS),
+            "{table_rows} rows:\n{text}"
+        );
+        // Every alarm seen: its target's label in the list, soonest first.
+        let list: String = rows
+            .iter()
+            .skip_while(|r| !r.contains("CPA/TCPA ALARM, soonest first"))
+            .take_while(|r| !r.contains("LOST") && !r.contains("range,"))
+            .map(|r| r.rsplit('│').nth(1).unwrap_or(""))
+            .collect::<Vec<_>>()
+            .join(" ");
+        assert!(
+            list.contains(&format!("({}):", dangerous.len())),
+            "{list}\n{text}"
+        );
+        let listed: Vec<&str> = list
+            .split_once("):")
+            .map(|(_, l)| l.split_whitespace().collect())
+            .unwrap_or_default();
+        let mut soonest = view
+            .targets
+            .iter()
+            .filter(|t| t.dangerous(&state.limits))
+            .collect::<Vec<_>>();
+        soonest.sort_by(|a, b| a.tcpa_s.total_cmp(&b.tcpa_s));
+        let expected: Vec<String> = soonest.iter().map(|t| t.label()).collect();
+        assert_eq!(listed, expected, "{text}");
+        // A tall terminal keeps one line an alarm, with its CPA and TCPA.
+        let tall = screen_at(&state, &view, 80, 60);
+        assert!(!tall.contains("soonest first"), "{tall}");
+        assert!(tall.contains(" NM "), "{tall}");
+    }
+
     #[test]
     fn alarms_that_do_not_fit_are_counted_and_the_soonest_come_first() {
         let (mut state, view) = alarming(20);
@@ -2189,12 +2306,12 @@ pub(crate) mod tests {
             .iter()
             .filter(|t| t.dangerous(&state.limits))
             .count();
-        let total = alarm_lines(&state, &view, false).len();
+        let total = alarm_lines(&state, &view, false, None).len();
         // A box of 4 rows inside its borders, as on a short terminal.
         let draw = |state: &DisplayState| -> Vec<String> {
             let mut terminal = Terminal::new(TestBackend::new(90, 6)).unwrap();
             terminal
-                .draw(|f| render_alarms(f, f.area(), state, alarm_lines(state, &view, false)))
+                .draw(|f| render_alarms(f, f.area(), state, alarm_lines(state, &view, false, None)))
                 .unwrap();
             let buffer = terminal.backend().buffer();
             (0..buffer.area.height)
