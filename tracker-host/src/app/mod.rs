@@ -13,6 +13,7 @@ pub mod track;
 
 use std::path::PathBuf;
 
+use crate::nmea::input::NmeaIn;
 use crate::nmea::{InSpec, OutSpec};
 use crate::origin::Origin;
 use crate::own_ship::{FromPlotSource, NmeaOptions, NmeaOwnShip, OwnShipSource, SimulatedBridge};
@@ -37,6 +38,38 @@ pub struct OwnShipOptions {
     pub origin: Option<Origin>,
     /// How NMEA is read (talker priority, magnetic variation).
     pub nmea: NmeaOptions,
+    /// `nmea_in` opened already, when the run waited on it for the origin
+    /// ([`with_live_origin`]): the run takes it rather than opening it again.
+    pub opened: OpenedInput,
+}
+
+/// A live NMEA source opened before the run, handed to the run's own-ship source once
+/// (shared by the options' clones; the first [`own_ship_source`] takes it).
+#[derive(Clone, Default)]
+pub struct OpenedInput(std::sync::Arc<std::sync::Mutex<Option<NmeaIn>>>);
+
+impl OpenedInput {
+    fn new(input: NmeaIn) -> Self {
+        OpenedInput(std::sync::Arc::new(std::sync::Mutex::new(Some(input))))
+    }
+
+    /// The source, if opened and not taken yet.
+    fn take(&self) -> Option<NmeaIn> {
+        self.0.lock().ok()?.take()
+    }
+}
+
+impl std::fmt::Debug for OpenedInput {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("OpenedInput")
+    }
+}
+
+/// Options are alike whatever was opened for them.
+impl PartialEq for OpenedInput {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 impl OwnShipOptions {
@@ -84,7 +117,11 @@ pub fn own_ship_source(
             if spec.is_live() {
                 nmea.provisional_day = today();
             }
-            Box::new(NmeaOwnShip::open(spec, origin, &nmea)?.with_more(&o.nmea_in_more)?)
+            let input = match o.opened.take() {
+                Some(input) => input,
+                None => NmeaIn::open(spec)?,
+            };
+            Box::new(NmeaOwnShip::of(input, origin, &nmea).with_more(&o.nmea_in_more)?)
         }
         (None, Some(path)) => Box::new(SimulatedBridge::create(path, origin)?),
         (None, None) => Box::new(FromPlotSource),
@@ -110,7 +147,9 @@ pub fn with_live_origin(o: &OwnShipOptions) -> anyhow::Result<OwnShipOptions> {
         "waiting up to {} s for own ship's first fix on the NMEA input, the local frame's origin (--origin LAT,LON starts at once; Ctrl-C ends the run)",
         wait.as_secs()
     );
-    match crate::own_ship::first_fix::first_live_fix(spec, wait)? {
+    let (fix, input) = crate::own_ship::first_fix::first_live_fix(spec, wait)?;
+    o.opened = OpenedInput::new(input);
+    match fix {
         Some(fix) => {
             eprintln!(
                 "origin: {:.5}, {:.5} (own ship's first fix)",

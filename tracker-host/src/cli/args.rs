@@ -273,6 +273,7 @@ impl RunArgs {
                 // Set by whoever reads a recording ahead (`demo`).
                 recording_window_s: None,
             },
+            opened: Default::default(),
         }
     }
 

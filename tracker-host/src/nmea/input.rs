@@ -184,6 +184,10 @@ impl Retry {
     }
 }
 
+/// Lines given back to a live source at most ([`LiveLines::give_back`]): a start-up's
+/// wait for the first fix (30 s of a busy bridge's sentences and AIS) and no more.
+pub const MAX_GIVEN_BACK_LINES: usize = 4096;
+
 /// How long a reconnection attempt may take, so the scan loop is never held longer.
 const CONNECT_TIMEOUT: std::time::Duration = std::time::Duration::from_millis(200);
 
@@ -191,6 +195,8 @@ const CONNECT_TIMEOUT: std::time::Duration = std::time::Duration::from_millis(20
 pub struct LiveLines {
     source: LiveSource,
     partial: Vec<u8>,
+    /// Lines read already and given back, to be read again first ([`LiveLines::give_back`]).
+    given_back: std::collections::VecDeque<String>,
     /// Times the source went away.
     pub drops: u64,
     /// Times it came back.
@@ -224,7 +230,11 @@ impl LiveLines {
     /// sender's half line never joins another's.
     pub fn available(&mut self) -> Vec<String> {
         let mut buf = [0u8; 65_536];
-        let mut out = Vec::new();
+        let given_back = self.given_back.len().min(MAX_LINES_PER_READ);
+        let mut out: Vec<String> = self.given_back.drain(..given_back).collect();
+        if out.len() >= MAX_LINES_PER_READ {
+            return out;
+        }
         let datagrams = matches!(self.source, LiveSource::Udp(_));
         // Reads per call are bounded too (a 1-byte-a-read stream, a serial port).
         for _ in 0..MAX_LINES_PER_READ {
@@ -241,6 +251,14 @@ impl LiveLines {
             }
         }
         out
+    }
+
+    /// Gives `lines` (read from this source) back, to be read again first, oldest first;
+    /// at most [`MAX_GIVEN_BACK_LINES`] are kept, the newest.
+    pub fn give_back(&mut self, lines: impl IntoIterator<Item = String>) {
+        self.given_back.extend(lines);
+        let over = self.given_back.len().saturating_sub(MAX_GIVEN_BACK_LINES);
+        self.given_back.drain(..over);
     }
 
     /// Splits bytes into lines, in linear time; an unfinished line waits in `partial`. A
@@ -416,6 +434,7 @@ impl NmeaIn {
             NmeaIn::Live(LiveLines {
                 source,
                 partial: Vec::new(),
+                given_back: std::collections::VecDeque::new(),
                 drops: 0,
                 reconnects: 0,
                 kernel_drops: 0,

@@ -9,7 +9,7 @@
 
 use std::time::{Duration, Instant};
 
-use crate::nmea::input::{InSpec, NmeaIn};
+use crate::nmea::input::{InSpec, NmeaIn, MAX_GIVEN_BACK_LINES};
 use crate::origin::Origin;
 
 use super::nav::OwnShipNav;
@@ -17,30 +17,39 @@ use super::nav::OwnShipNav;
 /// How long a run waits at start-up for a live source's first fix.
 pub const FIRST_FIX_WAIT: Duration = Duration::from_secs(30);
 
-/// The first position fix `spec` gives within `wait`, or `None`. The source is opened for
-/// this alone and closed again (a UDP source's sentences meanwhile are not tracked; the
-/// run opens it anew).
+/// The first position fix `spec` gives within `wait`, or `None`, and the source opened for
+/// it, with the lines read meanwhile given back ([`crate::nmea::input::LiveLines::give_back`]):
+/// the run goes on with this very source (a TCP server that serves one client gave a run
+/// that connected again nothing), and its first scan has own ship's fix.
 ///
 /// # Errors
 /// The source does not open.
-pub fn first_live_fix(spec: &InSpec, wait: Duration) -> anyhow::Result<Option<Origin>> {
+pub fn first_live_fix(spec: &InSpec, wait: Duration) -> anyhow::Result<(Option<Origin>, NmeaIn)> {
     let mut input = NmeaIn::open(spec)?;
     let NmeaIn::Live(live) = &mut input else {
-        return Ok(None);
+        return Ok((None, input));
     };
     let mut nav = OwnShipNav::new(Origin::default(), crate::app::today(), None).keep_fixes();
+    let mut read = Vec::new();
     let until = Instant::now() + wait;
+    let mut fix = None;
     // Ctrl-C ends the wait (and then the run, with its summary).
-    while Instant::now() < until && !crate::app::interrupt::interrupted() {
+    'wait: while Instant::now() < until && !crate::app::interrupt::interrupted() {
         for line in live.available() {
             nav.feed(&line);
+            read.push(line);
             if let Some(&(_, lat_deg, lon_deg)) = nav.fixes().first() {
-                return Ok(Some(Origin { lat_deg, lon_deg }));
+                fix = Some(Origin { lat_deg, lon_deg });
+                break 'wait;
             }
         }
+        // Bounded while waiting, too.
+        let over = read.len().saturating_sub(MAX_GIVEN_BACK_LINES);
+        read.drain(..over);
         std::thread::sleep(Duration::from_millis(50));
     }
-    Ok(None)
+    live.give_back(read);
+    Ok((fix, input))
 }
 
 #[cfg(test)]
@@ -68,6 +77,7 @@ mod tests {
         });
         let fix = first_live_fix(&spec, Duration::from_secs(5))
             .unwrap()
+            .0
             .expect("a fix");
         sender.join().unwrap();
         assert!((fix.lat_deg + 33.53).abs() < 1e-6, "{fix:?}");
@@ -78,7 +88,63 @@ mod tests {
             .local_addr()
             .unwrap()
             .port();
-        let none = first_live_fix(&InSpec::Udp(quiet), Duration::from_millis(200)).unwrap();
+        let none = first_live_fix(&InSpec::Udp(quiet), Duration::from_millis(200))
+            .unwrap()
+            .0;
         assert_eq!(none, None);
+    }
+
+    /// A TCP server that serves one client (as many a bridge's multiplexer does): the run
+    /// reads the very connection the wait for the first fix opened, and has own ship's fix
+    /// on its first scan (a new user's trial: the run connected again, was served nothing,
+    /// and said "no position fix yet" throughout).
+    #[test]
+    fn the_run_reads_the_source_it_waited_on() {
+        use crate::app::{own_ship_source, with_live_origin, OwnShipOptions};
+        use std::io::Write;
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        let port = listener.local_addr().unwrap().port();
+        let server = std::thread::spawn(move || {
+            let (mut client, _) = listener.accept().unwrap();
+            // One client only: a second connection is refused.
+            drop(listener);
+            for _ in 0..40 {
+                let s = crate::utc::now_s() % crate::own_ship::clock::DAY_S;
+                let gga = sentence(&format!(
+                    "GPGGA,{:02}{:02}{:05.2},3331.800,S,15100.600,E,1,08,0.9,10.0,M,,M,,",
+                    (s / 3600.0) as u32,
+                    (s % 3600.0 / 60.0) as u32,
+                    s % 60.0
+                ));
+                if client.write_all(gga.as_bytes()).is_err() {
+                    break;
+                }
+                std::thread::sleep(Duration::from_millis(50));
+            }
+        });
+        let options = OwnShipOptions {
+            nmea_in: Some(InSpec::Tcp(format!("127.0.0.1:{port}"))),
+            ..OwnShipOptions::default()
+        };
+        let o = with_live_origin(&options).unwrap();
+        let origin = o.origin.expect("the first fix");
+        assert!((origin.lat_deg + 33.53).abs() < 1e-6, "{origin:?}");
+        let mut own = own_ship_source(&o, origin).expect("the source opened once");
+        let scan = crate::source::SourceScan {
+            radar: crate::source::RadarScan {
+                scan: 0,
+                time_s: crate::utc::now_s(),
+                plots: Default::default(),
+            },
+            ..Default::default()
+        };
+        let first = own.own_ship(&scan).unwrap();
+        assert!(!first.quality.no_fix_yet, "{:?}", first.quality);
+        assert!(
+            first.position_m[0].hypot(first.position_m[1]) < 1.0,
+            "{:?}",
+            first.position_m
+        );
+        server.join().unwrap();
     }
 }

@@ -327,8 +327,13 @@ impl NmeaOwnShip {
     /// # Errors
     /// The file, socket or port does not open.
     pub fn open(spec: &InSpec, origin: Origin, o: &NmeaOptions) -> anyhow::Result<Self> {
-        Ok(NmeaOwnShip {
-            input: NmeaIn::open(spec)?,
+        Ok(Self::of(NmeaIn::open(spec)?, origin, o))
+    }
+
+    /// As [`NmeaOwnShip::open`], on a source opened already.
+    pub fn of(input: NmeaIn, origin: Origin, o: &NmeaOptions) -> Self {
+        NmeaOwnShip {
+            input,
             more: Vec::new(),
             nav: OwnShipNav::with_selector(
                 origin,
@@ -345,7 +350,7 @@ impl NmeaOwnShip {
             first_timed_read_s: None,
             untimed_told: false,
             clock_events: crate::event_log::EventLog::default(),
-        })
+        }
     }
 
     /// Adds further live sources whose lines are taken with the first's (a bridge that
