@@ -409,8 +409,9 @@ impl AisTargets {
                 let (p, vel) = t.position_at(&self.origin, own_m, time_s)?;
                 let (p, vel) = (f(p), f(vel));
                 let (range_m, bearing_rad) = geo::range_bearing(own.position_m, p);
-                let cpa = (own.quality.motion_known && t.motion_reported())
-                    .then(|| geo::cpa(own.position_m, own.velocity_mps, p, vel));
+                let cpa = (own.quality.motion_known && t.motion_reported()).then(|| {
+                    crate::session::target::cpa_shown(own.position_m, own.velocity_mps, p, vel)
+                });
                 let rel = geo::relative_velocity(own.velocity_mps, vel);
                 let rel_speed_mps = cpa.map(|_| rel[0].hypot(rel[1]));
                 let (hull_centre_m, hull_centre_unknown_m) = t.hull_centre(p);

@@ -75,6 +75,28 @@ pub const ALARM_CLEAR_FACTOR: f32 = 1.2;
 /// target is abeam does not end the alarm).
 pub const ALARM_PASSED_S: f32 = 60.0;
 
+/// CPA and TCPA of a target at `target` moving at `target_v`, seen from own ship at `own`
+/// moving at `own_v` ([`geo::cpa`]), as shown and sent: below [`NO_RELATIVE_MOTION_MPS`]
+/// the target keeps its range, so its CPA is its present range and its TCPA 0 (the
+/// relative velocity's noise made a moored boat's CPA 0.00 NM and its TCPA −177 min, on the
+/// display and in `TTM`, in a new user's trial).
+pub fn cpa_shown(
+    own: EastNorth,
+    own_v: EastNorth,
+    target: EastNorth,
+    target_v: EastNorth,
+) -> geo::Cpa {
+    let rel = geo::relative_velocity(own_v, target_v);
+    if libm::hypotf(rel[0], rel[1]) < NO_RELATIVE_MOTION_MPS {
+        let (range_m, _) = geo::range_bearing(own, target);
+        return geo::Cpa {
+            cpa_m: range_m,
+            tcpa_s: 0.0,
+        };
+    }
+    geo::cpa(own, own_v, target, target_v)
+}
+
 impl TargetData {
     /// Computes the target data of a track seen from own ship.
     pub fn new(own: &OwnShip, t: &TrackState) -> Self {
@@ -84,7 +106,7 @@ impl TargetData {
         let own_v = own.track_frame_velocity_mps();
         let rel = geo::relative_velocity(own_v, t.velocity_mps);
         let (rel_course_rad, rel_speed_mps) = geo::course_speed(rel);
-        let c = geo::cpa(own.position_m, own_v, t.position_m, t.velocity_mps);
+        let c = cpa_shown(own.position_m, own_v, t.position_m, t.velocity_mps);
         TargetData {
             track: t.track,
             number: None,
@@ -218,7 +240,7 @@ pub fn table_with_ais(
     for t in targets {
         // A column is `---` when what it shows is not known: the motion before the trend
         // is, the true course and speed without own ship's motion, the course of a target
-        // shown still.
+        // shown still, the relative course of one keeping its range.
         let known = |ok: bool, width: usize, v: f32, places: usize| {
             if ok {
                 format!("{v:>width$.places$}")
@@ -243,7 +265,12 @@ pub fn table_with_ais(
             known(truth, 8, t.speed_mps / MPS_PER_KNOT, 1),
             known(trend, 7, t.cpa_m / METRES_PER_NM, 2),
             tcpa,
-            known(trend, 8, deg(t.rel_course_rad), 1),
+            known(
+                trend && t.rel_speed_mps >= NO_RELATIVE_MOTION_MPS,
+                8,
+                deg(t.rel_course_rad),
+                1,
+            ),
             known(trend, 8, t.rel_speed_mps / MPS_PER_KNOT, 1),
             t.age_scans,
             name.unwrap_or_default(),
@@ -371,13 +398,32 @@ mod tests {
 
     #[test]
     fn a_target_with_next_to_no_relative_motion_shows_no_tcpa_of_hours() {
-        // Both stopped, the target's track drifting 0.07 kn away 1 NM off: its TCPA is
-        // −900 min, shown as beyond the field; one minute off is shown as it is.
+        // Both stopped, the target's track drifting 0.07 kn away 1 NM off (its velocity's
+        // noise): it keeps its range, so its CPA is that range and its TCPA 0, and its
+        // relative course is not shown (the trial's moored boat read CPA 0.00 NM, TCPA
+        // −177 min, relative course 316.4).
         let own = OwnShip::at([0.0, 0.0], [0.0, 0.0]);
-        let t = settled([0.0, 1852.0], [0.0, 0.0343]);
-        let d = TargetData::new(&own, &t);
-        assert!((tcpa_minutes(d.tcpa_s) + 900.0).abs() < 1.0, "{}", d.tcpa_s);
+        let still = TargetData::new(&own, &settled([0.0, 1852.0], [0.0, 0.0343]));
+        assert_eq!((still.cpa_m, still.tcpa_s), (1852.0, 0.0));
         let row = |d: TargetData| table(&[d], &AlarmLimits::default());
+        let fields: Vec<String> = row(still)
+            .lines()
+            .nth(1)
+            .unwrap()
+            .split_whitespace()
+            .map(String::from)
+            .collect();
+        assert_eq!(
+            fields[6..10],
+            ["1.00", "0.0", "---", "0.1"],
+            "{}",
+            row(still)
+        );
+        // Drifting away at 0.3 kn: its TCPA is −200 min, shown as beyond the field; one
+        // minute off is shown as it is.
+        let t = settled([0.0, 1852.0], [0.0, 0.3 * MPS_PER_KNOT]);
+        let d = TargetData::new(&own, &t);
+        assert!((tcpa_minutes(d.tcpa_s) + 200.0).abs() < 1.0, "{}", d.tcpa_s);
         assert!(row(d).contains(" <-99.9 "), "{}", row(d));
         let coming = TargetData {
             tcpa_s: -d.tcpa_s,
