@@ -85,6 +85,49 @@ fn ctrl_c_ends_a_run_with_its_summary() {
     assert!((2..100).contains(&scans), "{scans} scans");
 }
 
+/// Paced as slowly as allowed (a scan every 2,500 s), Ctrl-C ends the wait for the next
+/// scan at once (a new user's trial at 10⁻⁹ was still waiting 8 minutes after it); slower
+/// than allowed is refused (at 10⁻³⁰⁰ the wait's length overflowed the clock: a panic).
+#[test]
+fn ctrl_c_ends_a_slowly_paced_run_at_once_and_absurd_pacing_is_refused() {
+    let mut child = spawn_piped(&[
+        "--link",
+        "inproc",
+        "demo",
+        "--plain",
+        "--speedup",
+        "0.001",
+        "--duration",
+        "600",
+    ]);
+    let mut out = BufReader::new(child.stdout.take().unwrap());
+    read_until(
+        &mut out,
+        |l| l.starts_with("scan    0"),
+        "ended before scan 0",
+    );
+    let started = std::time::Instant::now();
+    ctrl_c(&child);
+    let mut rest = String::new();
+    std::io::Read::read_to_string(&mut out, &mut rest).unwrap();
+    let status = child.wait().unwrap();
+    assert!(status.success(), "{status:?}");
+    assert!(rest.contains("== summary"), "{rest}");
+    assert!(started.elapsed() < std::time::Duration::from_secs(10));
+    for absurd in ["1e-9", "1e-300", "1e9", "0", "nan"] {
+        let out = spawn_piped(&["--link", "inproc", "demo", "--speedup", absurd])
+            .wait_with_output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2), "{absurd}");
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.contains("expected a number from"),
+            "{absurd}: {stderr}"
+        );
+        assert!(!stderr.contains("panicked"), "{absurd}: {stderr}");
+    }
+}
+
 #[test]
 fn ctrl_c_while_waiting_for_the_first_fix_ends_the_run_with_its_summary() {
     let dir = tempfile::tempdir().unwrap();

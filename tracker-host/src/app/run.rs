@@ -13,6 +13,10 @@ use crate::session::{ScanReport, Session};
 use crate::sink::ScanSink;
 use crate::source::PlotSource;
 
+/// A paced run's wait for a scan's time is slept in slices of this, so that Ctrl-C is
+/// answered within one.
+const WAIT_SLICE: Duration = Duration::from_millis(100);
+
 /// What [`Run::poll`] came to.
 #[derive(Debug)]
 pub enum Polled {
@@ -231,13 +235,21 @@ impl Run {
     ) -> anyhow::Result<()> {
         let start = Instant::now();
         let mut first_time_s = None;
-        // A scan is tracked (and sent on) when its time has come, not before.
+        // A scan is tracked (and sent on) when its time has come, not before; Ctrl-C ends
+        // the wait (a long one ignored it: a run paced at 10⁻⁹ waited on after Ctrl-C).
         let wait = |time_s: f64, first: &mut Option<f64>| {
             let Some(x) = speedup else { return };
             let t0 = *first.get_or_insert(time_s);
-            let due = start + Duration::from_secs_f64(((time_s - t0) / x).max(0.0));
-            if let Some(wait) = due.checked_duration_since(Instant::now()) {
-                std::thread::sleep(wait);
+            // A due time past the clock's reach is never.
+            let due = Duration::try_from_secs_f64(((time_s - t0) / x).max(0.0))
+                .ok()
+                .and_then(|d| start.checked_add(d));
+            while !super::interrupt::interrupted() {
+                let left = due.map_or(WAIT_SLICE, |d| d.saturating_duration_since(Instant::now()));
+                if left.is_zero() {
+                    break;
+                }
+                std::thread::sleep(left.min(WAIT_SLICE));
             }
         };
         while let Some(report) = self.step_at(|t| wait(t, &mut first_time_s))? {

@@ -22,6 +22,11 @@ pub fn filter_parser() -> impl TypedValueParser<Value = FilterKind> {
         .try_map(|name| name.parse::<FilterKind>())
 }
 
+/// The slowest `--speedup`: a source second in 1,000 real ones.
+pub const MIN_SPEEDUP: f64 = 1e-3;
+/// The fastest `--speedup` short of `max`.
+pub const MAX_SPEEDUP: f64 = 1e6;
+
 /// `--speedup X` or `--speedup max`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Speedup(pub Option<f64>);
@@ -32,9 +37,13 @@ impl std::str::FromStr for Speedup {
         if s == "max" {
             return Ok(Speedup(None));
         }
+        // Bounded: at 10⁻⁹ a run waited years for its second scan (a new user's trial),
+        // and past the bounds a scan's due time no longer fits the clock.
         match s.parse::<f64>() {
-            Ok(x) if x.is_finite() && x > 0.0 => Ok(Speedup(Some(x))),
-            _ => Err(format!("`{s}`: expected a positive number or `max`")),
+            Ok(x) if (MIN_SPEEDUP..=MAX_SPEEDUP).contains(&x) => Ok(Speedup(Some(x))),
+            _ => Err(format!(
+                "`{s}`: expected a number from {MIN_SPEEDUP} to {MAX_SPEEDUP:.0} (1: real time) or `max`"
+            )),
         }
     }
 }

@@ -1316,12 +1316,15 @@ pub fn run_tui(
     use crate::app::run::Polled;
     use std::time::{Duration, Instant};
 
+    // Seconds as a wait, at most a day (a source's period comes from its data: a plots
+    // file's scans a century apart would not fit the clock).
+    let secs = |s: f64| Duration::try_from_secs_f64(s.clamp(0.0, 86_400.0)).unwrap_or_default();
     let period = run.scan_period_s().unwrap_or(2.5);
-    let interval = speedup.map_or(Duration::ZERO, |x| Duration::from_secs_f64(period / x));
+    let interval = speedup.map_or(Duration::ZERO, |x| secs(period / x));
     // A live radar's period is known from its data, after its first scans.
     let silent_after = |run: &Run| {
         let period = run.scan_period_s().unwrap_or(2.5);
-        Duration::from_secs_f64((SILENT_PERIODS * period).max(SILENT_MIN_S))
+        secs((SILENT_PERIODS * period).max(SILENT_MIN_S))
     };
     let mut silence_alarm_after = silent_after(run);
     let live = run.is_live();
