@@ -63,10 +63,22 @@ impl Origin {
     /// # Errors
     /// Not two numbers, or a latitude beyond ±85° or longitude beyond ±180°.
     pub fn parse(s: &str) -> anyhow::Result<Self> {
-        let (lat, lon) = s.split_once(',').context("expected LAT,LON")?;
+        // Each error names the value and the form: clap shows only the outermost words
+        // (`--origin 50,1,2` was answered "longitude").
+        let form = "expected LAT,LON in decimal degrees, e.g. 50.67,-1.0";
+        let (lat, lon) = s
+            .split_once(',')
+            .with_context(|| format!("`{s}`: {form}"))?;
+        let number = |x: &str, what: &str| {
+            x.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| format!("`{s}`: the {what} `{x}` is not a number ({form})"))
+        };
         let o = Origin {
-            lat_deg: lat.trim().parse().context("latitude")?,
-            lon_deg: lon.trim().parse().context("longitude")?,
+            lat_deg: number(lat, "latitude")?,
+            lon_deg: number(lon, "longitude")?,
         };
         if !(o.lat_deg.abs() < 85.0 && o.lon_deg.abs() <= 180.0) {
             bail!("{s}: latitude within ±85°, longitude within ±180°");
@@ -356,5 +368,18 @@ mod tests {
             .0
             .is_nan());
         assert!(Origin::parse("95,0").is_err() && Origin::parse("x").is_err());
+    }
+
+    #[test]
+    fn an_origin_that_does_not_parse_is_answered_with_its_value_and_the_form() {
+        for (bad, said) in [
+            ("50,1,2", "the longitude `1,2` is not a number"),
+            ("x,1", "the latitude `x` is not a number"),
+            ("50", "expected LAT,LON"),
+            ("nan,1", "the latitude `nan` is not a number"),
+        ] {
+            let e = Origin::parse(bad).unwrap_err().to_string();
+            assert!(e.contains(said) && e.contains(bad), "{bad}: {e}");
+        }
     }
 }

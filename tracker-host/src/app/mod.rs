@@ -189,10 +189,13 @@ pub fn sinks(
 ) -> anyhow::Result<Vec<Box<dyn ScanSink>>> {
     let mut sinks: Vec<Box<dyn ScanSink>> = Vec::new();
     if let Some(spec) = &o.nmea_out {
-        sinks.push(Box::new(
-            crate::nmea::targets::TargetsOut::open(spec, origin, o.nmea_out_own_ship)?
-                .with_origin_known(origin_known),
-        ));
+        let out = crate::nmea::targets::TargetsOut::open(spec, origin, o.nmea_out_own_ship)?
+            .with_origin_known(origin_known);
+        // The port plotters connect to, told (`tcp:0` takes a free one, which was not said).
+        if let (OutSpec::Tcp(_), Ok(addr)) = (spec, out.local_addr()) {
+            eprintln!("nmea out: plotters connect to TCP port {}", addr.port());
+        }
+        sinks.push(Box::new(out));
     }
     if let Some(p) = &o.record_plots {
         sinks.push(Box::new(PlotsRecorder::create(p)?));

@@ -1200,6 +1200,13 @@ pub fn key(
     // A plot to acquire is one of the scan tracked last; a target is selected among those
     // drawn (a paused picture's).
     let view = if key == 'a' { latest } else { drawn };
+    // Past the input's end no rotation comes to act on a command or to pause: said so
+    // (a cancel was answered "gone from the next rotation", and `p` not at all).
+    if state.ended && matches!(key, 'a' | 'c' | 'C' | 'p') {
+        state.message =
+            Some("the input has ended: no more scans, the last picture stays (q quits)".into());
+        return false;
+    }
     let command = match state.key(key, Some(view)) {
         Action::None if key == 'p' && run.is_live() => {
             state.message = state
@@ -2473,6 +2480,18 @@ pub(crate) mod tests {
             state.message.as_deref(),
             Some("all targets cancelled: gone from the next rotation")
         );
+        // Past the input's end no rotation comes: commands and `p` are answered so.
+        state.ended = true;
+        for k in ['c', 'C', 'a', 'p'] {
+            state.message = None;
+            assert!(!key(&mut d, &mut state, k, &view, &view));
+            assert_eq!(
+                state.message.as_deref(),
+                Some("the input has ended: no more scans, the last picture stays (q quits)"),
+                "{k}"
+            );
+        }
+        assert!(!state.paused);
         assert!(key(&mut d, &mut state, 'q', &view, &view), "q quits");
     }
 }
