@@ -45,6 +45,15 @@ pub fn utc_label(time_s: f64) -> String {
     format!("{}Z", time_of_day(time_s))
 }
 
+/// `yyyy-mm-dd hh:mm:ssZ` of a time in s since 1970-01-01 00:00 UTC (`?` beyond chrono's
+/// years).
+pub fn date_time_label(time_s: f64) -> String {
+    chrono::DateTime::from_timestamp(time_s.floor() as i64, 0).map_or_else(
+        || "?".to_string(),
+        |d| d.format("%Y-%m-%d %H:%M:%SZ").to_string(),
+    )
+}
+
 /// The scan time as the header shows it: [`utc_label`] when the clock is UTC, else the
 /// source's own time of day without the `Z` (`t 00:01:05`).
 pub fn scan_time_label(time_s: f64, is_utc: bool) -> String {

@@ -907,3 +907,56 @@ fn a_lost_heading_sensor_replaced_by_the_radars_is_told() {
         .iter()
         .any(|a| a.contains("the radar's heading in use")));
 }
+
+/// An NMEA recording played with a capture: its times before its first date (a log of
+/// `GGA` and `GLL` only has none) fall on the capture's day, not today's (the 4G's own
+/// log without its `RMC`s gave own ship no fix on any scan), and a log of another voyage
+/// is told not to cover the scans (it gave no fix, and said nothing).
+#[test]
+fn a_recording_without_dates_falls_on_the_captures_day_and_one_apart_is_told() {
+    let name = "radar_pi-4g-noheading-merrimac.pcap.gz";
+    let with_log = |path: PathBuf| {
+        track_with(
+            name,
+            None,
+            OwnShipOptions {
+                nmea_in: Some(tracker_host::nmea::input::InSpec::File(path)),
+                ..OwnShipOptions::default()
+            },
+        )
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let undated = dir.path().join("4g-without-rmc.log");
+    let log = std::fs::read_to_string(realdata::file(
+        "nmea/radar_pi-4g-noheading-merrimac-tcp2000.log",
+    ))
+    .unwrap();
+    let lines: Vec<&str> = log.lines().filter(|l| !l.contains("RMC,")).collect();
+    assert!(lines.iter().any(|l| l.contains("GGA,")));
+    std::fs::write(&undated, lines.join("\n")).unwrap();
+    let t = with_log(undated);
+    let fixed = t
+        .reports
+        .iter()
+        .filter(|r| !r.own.quality.no_fix_yet && r.own.quality.dead_reckoning_s.is_none())
+        .count();
+    assert!(
+        fixed + 1 >= t.reports.len(),
+        "a fix on {fixed} of {} scans",
+        t.reports.len()
+    );
+    let events = t.run.report("inproc").events;
+    assert!(
+        !events.iter().any(|e| e.contains("does not cover")),
+        "{events:?}"
+    );
+    // Another voyage's log (Bundg, 2018; its first sentences without a date).
+    let apart = with_log(realdata::file("nmea/gpsd-bundg_zeus_9.log"));
+    let events = apart.run.report("inproc").events;
+    let told: Vec<&String> = events
+        .iter()
+        .filter(|e| e.contains("does not cover the scans' time (2015-10-18 14:20:07Z)"))
+        .collect();
+    assert_eq!(told.len(), 1, "{events:?}");
+    assert!(told[0].contains("its next at 2018-08-20"), "{told:?}");
+}

@@ -9,6 +9,7 @@ use tracker_core::filter::FilterKind;
 use super::run::Run;
 use super::{own_ship_source, sinks, Outputs, OwnShipOptions};
 use crate::link::Client;
+use crate::nmea::InSpec;
 use crate::origin::Origin;
 use crate::radar::RadarSpec;
 use crate::session::{Session, SessionConfig, PLOT_SIGMA_M};
@@ -69,6 +70,9 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
         origin_known = own_ship_options.own_ship.origin.is_some();
         &own_ship_options
     };
+    // The capture's first spoke, s since 1970: the day an NMEA recording's sentences
+    // without a date fall on.
+    let mut capture_s = None;
     let (source, origin, sigma_m): (Box<dyn PlotSource>, Origin, f32) = match &o.input {
         TrackInput::Plots { plots, truth } => {
             let mut source = PlotsFileSource::open(plots)?;
@@ -102,6 +106,7 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
                 RadarSpec::Live { .. } => CaptureSurvey::default(),
             };
             origin_known |= survey.first_fix.is_some();
+            capture_s = survey.first_spoke_s;
             let origin = o.own_ship.origin.or(survey.first_fix).unwrap_or_default();
             let sigma_m = radar
                 .plot_sigma_on(survey.first_range_m)
@@ -113,7 +118,14 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             )
         }
     };
-    let own_ship = own_ship_source(&o.own_ship, origin)?;
+    // A recording's times before its first date (a log of GGA and GLL only has none) are
+    // the capture's day's, not today's: today's put a log of the capture's own voyage
+    // years after its scans, and own ship had no fix on any.
+    let mut own_ship_dated = o.own_ship.clone();
+    if let (Some(t), Some(InSpec::File(_))) = (capture_s, &o.own_ship.nmea_in) {
+        own_ship_dated.nmea.provisional_day = crate::own_ship::clock::day_of_s(t);
+    }
+    let own_ship = own_ship_source(&own_ship_dated, origin)?;
     let config = SessionConfig {
         association: o.association,
         alarms: o.alarms,

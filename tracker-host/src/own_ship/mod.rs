@@ -304,6 +304,8 @@ pub struct NmeaOwnShip {
     first_timed_read_s: Option<f64>,
     /// A recording read to its end without a timed sentence has been told of.
     untimed_told: bool,
+    /// Whether the recording was told not to cover the scans' time.
+    apart_told: bool,
     clock_events: crate::event_log::EventLog,
 }
 
@@ -349,6 +351,7 @@ impl NmeaOwnShip {
             offset_told_s: None,
             first_timed_read_s: None,
             untimed_told: false,
+            apart_told: false,
             clock_events: crate::event_log::EventLog::default(),
         }
     }
@@ -469,6 +472,38 @@ impl NmeaOwnShip {
                     (time_s, time_s),
                     None,
                 );
+            }
+        }
+        // A recording with nothing near the scans' time (a radar capture of 2015 with a log
+        // of another voyage gave own ship no fix on any scan, and said nothing): told once,
+        // when its sentences before the scan (if any) are older, and those after it (if
+        // any) newer, than dead reckoning reaches.
+        if !self.apart_told {
+            let next = file.peek(0).and_then(|l| self.nav.time_of(l));
+            let last = self.nav.newest_s();
+            let far = |at: f64| (at - time_s).abs() > nav::MAX_DEAD_RECKONING_S;
+            let apart = (next.is_some() || last.is_some())
+                && last.is_none_or(far)
+                && (next.is_some_and(far) || file.peek(0).is_none());
+            if apart {
+                self.apart_told = true;
+                let at = |what: &str, t: f64| {
+                    format!(
+                        "{what} at {} ({} it)",
+                        crate::utc::date_time_label(t),
+                        crate::utc::offset_label(t - time_s)
+                    )
+                };
+                let around: Vec<String> = last
+                    .map(|t| at("its last time before it", t))
+                    .into_iter()
+                    .chain(next.map(|t| at("its next", t)))
+                    .collect();
+                self.clock_events.push(format!(
+                    "the recording does not cover the scans' time ({}): {}",
+                    crate::utc::date_time_label(time_s),
+                    around.join(", ")
+                ));
             }
         }
         // Read to its end with no time in it: played at once, not on its own clock.

@@ -658,6 +658,8 @@ pub struct CaptureSurvey {
     pub first_fix: Option<Origin>,
     /// The first spoke's range, m, if it has spokes.
     pub first_range_m: Option<f32>,
+    /// The first spoke's time, s since 1970 (the capture's clock, UTC).
+    pub first_spoke_s: Option<f64>,
     /// The file ended inside a record (or its gzip stream was cut short) before the survey
     /// was done: with no spoke, a capture cut short rather than one of something else.
     pub cut_short: bool,
@@ -678,6 +680,7 @@ impl CaptureSurvey {
         loop {
             let spoke = spokes.next_spoke()?.map(|(s, t)| (s.range_m, t));
             survey.first_range_m = survey.first_range_m.or(spoke.map(|(r, _)| r));
+            survey.first_spoke_s = survey.first_spoke_s.or(spoke.map(|(_, t)| t));
             for (_, line) in spokes.nmea_lines() {
                 nav.feed(&line);
                 if let Some(&(_, lat_deg, lon_deg)) = nav.fixes().first() {
