@@ -1006,9 +1006,10 @@ const TABLE_MIN_TARGET_ROWS: u16 = 6;
 /// one to act on), lost targets, the track table's capacity, then skipped scans. (The answer
 /// to the operator's last command is drawn apart, always: see [`render_alarms`].)
 ///
-/// With `grouped` (the box's inner width, columns), the CPA/TCPA alarms and the lost
-/// targets are listed by their targets' labels, as many to a line as fit (the CPA and TCPA
-/// of each are in the table, its row red): every alarm is still seen, in fewer rows.
+/// With `grouped` (the box's inner width, columns), the radar targets' CPA/TCPA alarms and
+/// the lost targets are listed by their targets' labels, as many to a line as fit (the CPA
+/// and TCPA of each are in the table, its row red); an AIS target's alarm, which has no row
+/// there, keeps its line: every alarm is still seen, in fewer rows.
 fn alarm_lines(
     state: &DisplayState,
     view: &ScanReport,
@@ -1043,14 +1044,15 @@ fn alarm_lines(
             .into_iter()
             .map(|a| Line::styled(a, alarm)),
     );
-    let mut approaching: Vec<(f32, String, String)> = view
+    // (TCPA, the radar target's label, the alarm's line); an AIS target has no label here.
+    let mut approaching: Vec<(f32, Option<String>, String)> = view
         .targets
         .iter()
         .filter(|t| t.dangerous(&state.limits))
         .map(|t| {
             (
                 t.tcpa_s,
-                t.label(),
+                Some(t.label()),
                 format!(
                     "{head} {of}{} {cpa}{:.2} NM {within}{} min",
                     t.label(),
@@ -1064,10 +1066,7 @@ fn alarm_lines(
         let c = a.cpa?;
         Some((
             c.tcpa_s,
-            format!(
-                "AIS {}",
-                a.label.chars().take(NARROW_AIS_NAME).collect::<String>()
-            ),
+            None,
             format!(
                 "{head} AIS {} {cpa}{:.2} NM {within}{} min",
                 if narrow {
@@ -1090,22 +1089,30 @@ fn alarm_lines(
             width,
         )
     };
-    match grouped {
-        Some(width) if !approaching.is_empty() => lines.extend(
-            listed(
-                "CPA/TCPA ALARM, soonest first",
-                approaching.into_iter().map(|(_, label, _)| label).collect(),
-                width,
+    // Grouped, the radar targets are listed by label (their CPA and TCPA are in the
+    // table); an AIS target, which has no row there, keeps its line.
+    let (labels, lines_of): (Vec<String>, Vec<String>) = match grouped {
+        Some(_) => {
+            let (radar, ais): (Vec<_>, Vec<_>) =
+                approaching.into_iter().partition(|(_, l, _)| l.is_some());
+            (
+                radar.into_iter().filter_map(|(_, l, _)| l).collect(),
+                ais.into_iter().map(|(_, _, text)| text).collect(),
             )
-            .into_iter()
-            .map(|text| Line::styled(text, alarm)),
+        }
+        None => (
+            Vec::new(),
+            approaching.into_iter().map(|(_, _, text)| text).collect(),
         ),
-        _ => lines.extend(
-            approaching
+    };
+    if let (Some(width), false) = (grouped, labels.is_empty()) {
+        lines.extend(
+            listed("CPA/TCPA ALARM, soonest first", labels, width)
                 .into_iter()
-                .map(|(_, _, text)| Line::styled(text, alarm)),
-        ),
+                .map(|text| Line::styled(text, alarm)),
+        );
     }
+    lines.extend(lines_of.into_iter().map(|text| Line::styled(text, alarm)));
     if let Some(silence) = &state.silence {
         let text = if narrow {
             silence.short()

@@ -48,10 +48,18 @@ pub struct PlotterTarget<'a> {
 /// show.
 pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     let d = &t.data;
+    // A course only where there is motion to have one: not for a target shown standing
+    // still (true), nor one keeping its range (relative); the display shows `---` for
+    // both, and `TTM` sent 0.0 and the noise's direction.
     let (speed, course, reference) = if d.true_motion_known {
-        (d.speed_mps, d.course_rad, 'T')
+        (d.speed_mps, d.moving().then_some(d.course_rad), 'T')
     } else {
-        (d.rel_speed_mps, d.rel_course_rad, 'R')
+        (
+            d.rel_speed_mps,
+            (d.rel_speed_mps >= crate::session::target::NO_RELATIVE_MOTION_MPS)
+                .then_some(d.rel_course_rad),
+            'R',
+        )
     };
     let motion = if t.status == 'Q' || !d.trend_known {
         format!(",,{reference},,")
@@ -59,7 +67,7 @@ pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
         format!(
             "{:.1},{},{reference},{:.3},{:.2}",
             f64::from(speed) / f64::from(MPS_PER_KNOT),
-            angle_360(degrees(course), 1),
+            course.map_or_else(String::new, |c| angle_360(degrees(c), 1)),
             f64::from(d.cpa_m) / f64::from(METRES_PER_NM),
             // Just past the CPA (under 0.3 s) is 0.00, not -0.00.
             super::shown_signed(f64::from(d.tcpa_s) / 60.0, 2),
@@ -673,6 +681,41 @@ mod tests {
             s.split(',').count(),
             ttm(&plotter(d), 0.0).split(',').count()
         );
+    }
+
+    /// A target shown standing still has no course to send (it was 0.0), nor has one
+    /// keeping its range in relative motion (the noise's direction); its speed, CPA and
+    /// TCPA are sent. A parser reads the field as absent.
+    #[test]
+    fn a_still_target_is_sent_without_a_course() {
+        let d = crate::session::target::example();
+        let still = TargetData {
+            speed_mps: 0.0,
+            ..d
+        };
+        let s = ttm(&plotter(still), 0.0);
+        let parsed = match nmea::parse_str(s.trim()).unwrap() {
+            nmea::ParseResult::TTM(d) => d,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(parsed.target_speed, Some(0.0), "{s}");
+        assert!(parsed.target_course.is_none(), "{s}");
+        assert!(parsed.distance_of_cpa.is_some(), "{s}");
+        let relative = |rel_speed_mps: f32| TargetData {
+            true_motion_known: false,
+            rel_speed_mps,
+            ..d
+        };
+        let keeping = ttm(&plotter(relative(0.05)), 0.0);
+        assert!(keeping.contains(",0.1,,R,"), "{keeping}");
+        let closing = ttm(&plotter(relative(2.0)), 0.0);
+        assert!(!closing.contains(",,R,"), "{closing}");
+        // The moving example keeps its course.
+        let moving = ttm(&plotter(d), 0.0);
+        match nmea::parse_str(moving.trim()).unwrap() {
+            nmea::ParseResult::TTM(p) => assert!(p.target_course.is_some(), "{moving}"),
+            other => panic!("{other:?}"),
+        }
     }
 
     #[test]

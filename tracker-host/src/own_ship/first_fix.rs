@@ -35,13 +35,15 @@ pub fn first_live_fix(spec: &InSpec, wait: Duration) -> anyhow::Result<(Option<O
     let mut fix = None;
     // Ctrl-C ends the wait (and then the run, with its summary).
     'wait: while Instant::now() < until && !crate::app::interrupt::interrupted() {
+        // The whole batch is kept (the heading after the fix's sentence, AIS), then the fix
+        // looked for.
         for line in live.available() {
             nav.feed(&line);
             read.push(line);
-            if let Some(&(_, lat_deg, lon_deg)) = nav.fixes().first() {
-                fix = Some(Origin { lat_deg, lon_deg });
-                break 'wait;
-            }
+        }
+        if let Some(&(_, lat_deg, lon_deg)) = nav.fixes().first() {
+            fix = Some(Origin { lat_deg, lon_deg });
+            break 'wait;
         }
         // Bounded while waiting, too.
         let over = read.len().saturating_sub(MAX_GIVEN_BACK_LINES);
@@ -104,23 +106,23 @@ mod tests {
         use std::io::Write;
         let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
         let port = listener.local_addr().unwrap().port();
+        let (asked, ask) = std::sync::mpsc::channel::<()>();
         let server = std::thread::spawn(move || {
             let (mut client, _) = listener.accept().unwrap();
             // One client only: a second connection is refused.
             drop(listener);
-            for _ in 0..40 {
-                let s = crate::utc::now_s() % crate::own_ship::clock::DAY_S;
-                let gga = sentence(&format!(
-                    "GPGGA,{:02}{:02}{:05.2},3331.800,S,15100.600,E,1,08,0.9,10.0,M,,M,,",
-                    (s / 3600.0) as u32,
-                    (s % 3600.0 / 60.0) as u32,
-                    s % 60.0
-                ));
-                if client.write_all(gga.as_bytes()).is_err() {
-                    break;
-                }
-                std::thread::sleep(Duration::from_millis(50));
-            }
+            // One fix and a heading in one write, then nothing until the run has asked for
+            // own ship: what it has then is what the wait read and gave back.
+            let s = crate::utc::now_s() % crate::own_ship::clock::DAY_S;
+            let gga = sentence(&format!(
+                "GPGGA,{:02}{:02}{:05.2},3331.800,S,15100.600,E,1,08,0.9,10.0,M,,M,,",
+                (s / 3600.0) as u32,
+                (s % 3600.0 / 60.0) as u32,
+                s % 60.0
+            ));
+            let hdt = sentence("HEHDT,123.4,T");
+            client.write_all((gga + &hdt).as_bytes()).unwrap();
+            let _ = ask.recv();
         });
         let options = OwnShipOptions {
             nmea_in: Some(InSpec::Tcp(format!("127.0.0.1:{port}"))),
@@ -139,7 +141,14 @@ mod tests {
             ..Default::default()
         };
         let first = own.own_ship(&scan).unwrap();
+        drop(asked);
         assert!(!first.quality.no_fix_yet, "{:?}", first.quality);
+        // The heading sent after the fix, in the same read.
+        let heading_deg = first.heading_rad.map(f32::to_degrees);
+        assert!(
+            heading_deg.is_some_and(|h| (h - 123.4).abs() < 0.01),
+            "{heading_deg:?}"
+        );
         assert!(
             first.position_m[0].hypot(first.position_m[1]) < 1.0,
             "{:?}",

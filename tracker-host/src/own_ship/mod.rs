@@ -500,7 +500,8 @@ impl NmeaOwnShip {
                     .chain(next.map(|t| at("its next", t)))
                     .collect();
                 self.clock_events.push(format!(
-                    "the recording does not cover the scans' time ({}): {}",
+                    "the recording has no time within {:.0} min of the scan at {} (told once; another voyage's log, or a gap): {}",
+                    nav::MAX_DEAD_RECKONING_S / 60.0,
                     crate::utc::date_time_label(time_s),
                     around.join(", ")
                 ));

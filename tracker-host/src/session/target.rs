@@ -75,8 +75,9 @@ pub const ALARM_CLEAR_FACTOR: f32 = 1.2;
 /// target is abeam does not end the alarm).
 pub const ALARM_PASSED_S: f32 = 60.0;
 
-/// CPA and TCPA of a target at `target` moving at `target_v`, seen from own ship at `own`
-/// moving at `own_v` ([`geo::cpa`]), as shown and sent: below [`NO_RELATIVE_MOTION_MPS`]
+/// CPA (m) and TCPA (s) of a target at `target` moving at `target_v`, seen from own ship at
+/// `own` moving at `own_v` (positions m, velocities m/s, east and north; [`geo::cpa`]), as
+/// shown and sent: below [`NO_RELATIVE_MOTION_MPS`]
 /// the target keeps its range, so its CPA is its present range and its TCPA 0 (the
 /// relative velocity's noise made a moored boat's CPA 0.00 NM and its TCPA −177 min, on the
 /// display and in `TTM`, in a new user's trial).
