@@ -94,6 +94,9 @@ pub struct Outputs {
     pub record_tracks: Option<PathBuf>,
     /// A PNG of the last scan (echoes, plots, targets, AIS) when the run ends.
     pub snapshot: Option<PathBuf>,
+    /// The snapshot's range, NM (by default the radar's, else the range scale holding
+    /// every plot and target).
+    pub snapshot_range_nm: Option<f64>,
     /// How the snapshot draws a ship with a radar target and an AIS target associated.
     pub associated_symbol: crate::session::ais::AssociatedSymbol,
 }
@@ -207,11 +210,10 @@ pub fn sinks(
         sinks.push(Box::new(TracksRecorder::create(p)?));
     }
     if let Some(p) = &o.snapshot {
-        sinks.push(Box::new(crate::record::snapshot::Snapshot::new(
-            p.clone(),
-            alarms,
-            o.associated_symbol,
-        )));
+        sinks.push(Box::new(
+            crate::record::snapshot::Snapshot::new(p.clone(), alarms, o.associated_symbol)
+                .with_range_nm(o.snapshot_range_nm),
+        ));
     }
     Ok(sinks)
 }

@@ -172,6 +172,11 @@ pub struct RunArgs {
     /// ends in `.png` (or `.jpg`, `.bmp`: the drawing's other formats).
     #[arg(long, value_name = "PATH")]
     pub snapshot: Option<PathBuf>,
+    /// The snapshot's range, NM, from own ship to its edge (by default the radar's range,
+    /// else the display's range scale holding every plot and target): a harbour's
+    /// targets within half a mile are drawn apart, not in the middle of a 12 NM picture.
+    #[arg(long, value_name = "NM", requires = "snapshot", allow_negative_numbers = true, value_parser = snapshot_range_nm)]
+    pub snapshot_range_nm: Option<f64>,
     /// Write the end-of-run summary to this file as one JSON object.
     #[arg(long, value_name = "PATH")]
     pub summary_json: Option<PathBuf>,
@@ -183,6 +188,18 @@ pub(crate) fn number(s: &str, ok: impl Fn(f64) -> bool, what: &str) -> Result<f6
         Ok(v) if v.is_finite() && ok(v) => Ok(v),
         _ => Err(format!("`{s}`: expected {what}")),
     }
+}
+
+/// `--snapshot-range-nm`: 0.05 to 100 NM.
+///
+/// # Errors
+/// Anything else, in words.
+pub fn snapshot_range_nm(s: &str) -> Result<f64, String> {
+    number(
+        s,
+        |v| (0.05..=100.0).contains(&v),
+        "a range from 0.05 to 100 NM",
+    )
 }
 
 /// A positive, finite number.
@@ -371,6 +388,7 @@ impl RunArgs {
             record_truth,
             record_tracks: self.record_tracks.clone(),
             snapshot: self.snapshot.clone(),
+            snapshot_range_nm: self.snapshot_range_nm,
             associated_symbol: self.associated_symbol.into(),
         }
     }

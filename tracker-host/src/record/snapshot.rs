@@ -100,6 +100,8 @@ pub struct Snapshot {
     path: PathBuf,
     limits: AlarmLimits,
     symbol: AssociatedSymbol,
+    /// The range drawn, NM, when the operator chose one.
+    range_nm: Option<f64>,
     last: Option<Last>,
 }
 
@@ -110,8 +112,15 @@ impl Snapshot {
             path,
             limits,
             symbol,
+            range_nm: None,
             last: None,
         }
+    }
+
+    /// Drawn to `range_nm` (NM, own ship to the edge) rather than the automatic scale.
+    pub fn with_range_nm(mut self, range_nm: Option<f64>) -> Self {
+        self.range_nm = range_nm;
+        self
     }
 }
 
@@ -125,7 +134,7 @@ impl ScanSink for Snapshot {
         let Some(last) = &self.last else {
             return Ok(());
         };
-        draw(&self.path, last, &self.limits)
+        draw(&self.path, last, &self.limits, self.range_nm)
             .map_err(plain)
             .with_context(|| format!("writing the snapshot {}", self.path.display()))
     }
@@ -161,6 +170,7 @@ fn draw(
     path: &std::path::Path,
     last: &Last,
     limits: &AlarmLimits,
+    range_nm: Option<f64>,
 ) -> Result<(), DrawingAreaErrorKind<BitMapBackendError>> {
     crate::font::register();
     let root = BitMapBackend::new(path, (SIZE, SIZE)).into_drawing_area();
@@ -194,7 +204,7 @@ fn draw(
         .filter(|e| e.range_m > 1.0)
         .map_or(farthest, |e| f64::from(e.range_m));
     // On the display's range scale that holds it (a radar's scales), in NM.
-    let scale_nm = scale_holding_nm(reach);
+    let scale_nm = range_nm.unwrap_or_else(|| scale_holding_nm(reach));
     let r = scale_nm * f64::from(tracker_core::geo::METRES_PER_NM);
     // A 20 kn ship's vector reaches about a quarter of the range: the display's vector
     // length nearest that.
@@ -207,8 +217,12 @@ fn draw(
             ("sans-serif", 22).into_font().color(&WHITE),
         )
         .build_cartesian_2d(-r..r, -r..r)?;
+    // Nothing beyond the range is drawn, as on a radar display (plotters would put it on
+    // the frame's edge; a range the operator chose may be short of the radar's).
+    let within = |(x, y): (f64, f64)| x.hypot(y) <= r;
     if let Some(e) = &last.echoes {
-        chart.draw_series(e.echoes(0.1).map(|(b, range, level)| {
+        let inside = move |&(_, range, _): &(f32, f32, f32)| f64::from(range) <= r;
+        chart.draw_series(e.echoes(0.1).filter(inside).map(|(b, range, level)| {
             let (x, y) = (f64::from(range * b.sin()), f64::from(range * b.cos()));
             let g = (60.0 + 195.0 * level.min(1.0)) as u8;
             Circle::new((x, y), 2, RGBColor(0, g, 0).filled())
@@ -228,13 +242,14 @@ fn draw(
     chart.draw_series(
         last.plots_m
             .iter()
-            .map(|p| Circle::new(rel(*p), 4, YELLOW.stroke_width(2))),
+            .map(|p| rel(*p))
+            .filter(|p| within(*p))
+            .map(|p| Circle::new(p, 4, YELLOW.stroke_width(2))),
     )?;
     for (a, radar) in &last.ais {
         let (x, y) = rel(a.position_m);
-        // Off the range scale: not drawn (as a radar display does; AIS is heard far beyond
-        // a harbour radar's range, and plotters would draw it over the frame's edge).
-        if x.hypot(y) > r {
+        // Off the range scale: not drawn (AIS is heard far beyond a harbour radar's range).
+        if !within((x, y)) {
             continue;
         }
         let c = a
@@ -287,6 +302,9 @@ fn draw(
     for t in &last.targets {
         let colour = if t.dangerous(limits) { RED } else { CYAN };
         let (x, y) = rel(t.position_m);
+        if !within((x, y)) {
+            continue;
+        }
         // No vector before the motion's trend is known, as on the display.
         if t.trend_known {
             let v = if last.motion_known {
@@ -441,10 +459,50 @@ mod tests {
             let dir = tempfile::tempdir().unwrap();
             for (last, name) in [(&ais, "ais.png"), (&radar, "radar.png")] {
                 let path = dir.path().join(name);
-                draw(&path, last, &AlarmLimits::default()).unwrap();
+                draw(&path, last, &AlarmLimits::default(), None).unwrap();
                 assert!(std::fs::metadata(&path).unwrap().len() > 0);
             }
         }
+    }
+
+    /// `--snapshot-range-nm` shorter than the farthest plot: the plot beyond it is not
+    /// drawn (the first version drew it on the frame's edge, as plotters clamps points).
+    #[test]
+    fn a_chosen_range_draws_nothing_beyond_it() {
+        let last = Last {
+            scan: 1,
+            echoes: None,
+            // 0.5 NM and 1.6 NM east of own ship.
+            plots_m: vec![[926.0, 0.0], [3000.0, 0.0]],
+            own_m: [0.0, 0.0],
+            targets: Vec::new(),
+            ais: Vec::new(),
+            own_alarms: Vec::new(),
+            motion_known: true,
+            frame_velocity_mps: [0.0, 0.0],
+        };
+        // Yellow pixels (the plots' circles) of the picture drawn to `range_nm`, read from
+        // an uncompressed 24-bit BMP: pixels from the offset at byte 10, rows padded to 4.
+        let yellow = |range_nm: f64| -> usize {
+            let dir = tempfile::tempdir().unwrap();
+            let path = dir.path().join("s.bmp");
+            draw(&path, &last, &AlarmLimits::default(), Some(range_nm)).unwrap();
+            let b = std::fs::read(&path).unwrap();
+            let u32_at = |i: usize| u32::from_le_bytes(b[i..i + 4].try_into().unwrap()) as usize;
+            let (start, width, height) = (u32_at(10), u32_at(18), u32_at(22));
+            let row = (width * 3).div_ceil(4) * 4;
+            (0..height)
+                .flat_map(|y| (0..width).map(move |x| start + y * row + x * 3))
+                .filter(|&i| b[i..i + 3] == [0, 255, 255])
+                .count()
+        };
+        let both = yellow(2.0);
+        let near_only = yellow(1.0);
+        assert!(near_only > 0, "the near plot drawn");
+        assert!(
+            2 * near_only < both + both / 4,
+            "{near_only} yellow pixels at 1 NM against {both} at 2 NM"
+        );
     }
 
     #[test]
@@ -472,7 +530,7 @@ mod tests {
         for ext in EXTENSIONS.iter().chain(&["PNG"]) {
             let path = dir.path().join(format!("s.{ext}"));
             check_path(&path).unwrap();
-            draw(&path, &last, &AlarmLimits::default()).unwrap();
+            draw(&path, &last, &AlarmLimits::default(), None).unwrap();
             assert!(std::fs::metadata(&path).unwrap().len() > 0, "{ext}");
         }
         for name in ["s.txt", "s.svg", "s"] {
