@@ -122,8 +122,8 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     // the capture's day's, not today's: today's put a log of the capture's own voyage
     // years after its scans, and own ship had no fix on any.
     let mut own_ship_dated = o.own_ship.clone();
-    if let (Some(t), Some(InSpec::File(_))) = (capture_s, &o.own_ship.nmea_in) {
-        own_ship_dated.nmea.provisional_day = crate::own_ship::clock::day_of_s(t);
+    if let (Some(t), Some(InSpec::File(path))) = (capture_s, &o.own_ship.nmea_in) {
+        own_ship_dated.nmea.provisional_day = undated_day(path, &o.own_ship.nmea, t);
     }
     let own_ship = own_ship_source(&own_ship_dated, origin)?;
     let config = SessionConfig {
@@ -134,4 +134,70 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     let session = Session::start(client, config)?;
     let sinks = sinks(&o.outputs, origin, origin_known, o.alarms)?;
     Ok(Run::new(source, own_ship, session, sinks).with_origin(origin))
+}
+
+/// The day (days since 1970) an NMEA recording's times before its first date fall on when
+/// it is played with a capture whose first spoke is at `capture_s` (s since 1970): the
+/// capture's day, or the day either side of it when that puts the recording's first fix
+/// nearer the capture (a capture begun at 23:58 and a log at 00:01). A recording that has
+/// a date, or no fix, is not moved by it.
+fn undated_day(path: &std::path::Path, nmea: &crate::own_ship::NmeaOptions, capture_s: f64) -> i64 {
+    use crate::own_ship::clock::{day_of_s, DAY_S};
+    let day = day_of_s(capture_s);
+    let on_day = crate::own_ship::NmeaOptions {
+        provisional_day: day,
+        ..nmea.clone()
+    };
+    // Only across midnight: a recording days apart (another voyage, dated) is not moved.
+    let across = |d: f64| (DAY_S / 2.0..1.5 * DAY_S).contains(&d);
+    match crate::own_ship::recording::RecordedTrack::read(path, &on_day) {
+        Ok(track) if across(track.start_s() - capture_s) => day - 1,
+        Ok(track) if across(capture_s - track.start_s()) => day + 1,
+        _ => day,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::nmea::sentence;
+
+    #[test]
+    fn undated_times_fall_on_the_day_that_puts_them_nearest_the_capture() {
+        let dir = tempfile::tempdir().unwrap();
+        let log = |name: &str, hhmmss: &str| {
+            let path = dir.path().join(name);
+            let gga = |s: &str| {
+                sentence(&format!(
+                    "GPGGA,{s},5310.812,N,00525.706,E,1,08,0.9,3.5,M,45.7,M,,"
+                ))
+            };
+            std::fs::write(&path, gga(hhmmss) + &gga(hhmmss)).unwrap();
+            path
+        };
+        let nmea = crate::own_ship::NmeaOptions::default();
+        let day = 16_726; // 2015-10-18
+        let at = |d: i64, h: f64| d as f64 * 86_400.0 + h * 3600.0;
+        // A capture begun at 23:58, a log at 00:01: the next day.
+        let after = log("after.log", "000100");
+        assert_eq!(undated_day(&after, &nmea, at(day, 23.97)), day + 1);
+        // A capture begun at 00:02, a log at 23:59: the day before.
+        let before = log("before.log", "235900");
+        assert_eq!(undated_day(&before, &nmea, at(day, 0.03)), day - 1);
+        // Within the day: the capture's.
+        assert_eq!(undated_day(&after, &nmea, at(day, 0.5)), day);
+        assert_eq!(undated_day(&before, &nmea, at(day, 14.3)), day);
+        // A dated log of another year, and no log at all: the capture's day.
+        let dated = dir.path().join("dated.log");
+        std::fs::write(
+            &dated,
+            sentence("GPRMC,094737,A,5251.0093,N,00518.8170,E,5.6,230.5,200818,1.4,E,A"),
+        )
+        .unwrap();
+        assert_eq!(undated_day(&dated, &nmea, at(day, 23.97)), day);
+        assert_eq!(
+            undated_day(&dir.path().join("none.log"), &nmea, at(day, 1.0)),
+            day
+        );
+    }
 }
