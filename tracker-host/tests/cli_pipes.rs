@@ -5,6 +5,7 @@
 
 use std::io::{BufRead, BufReader};
 use std::process::{Command, Stdio};
+use std::time::Duration;
 
 #[test]
 fn a_closed_pipe_is_not_a_panic() {
@@ -50,35 +51,51 @@ fn ctrl_c(child: &std::process::Child) {
     assert!(sent.success());
 }
 
-#[test]
-fn ctrl_c_ends_a_run_with_its_summary() {
-    let dir = tempfile::tempdir().unwrap();
-    let json = dir.path().join("s.json");
-    // Paced at real time: ten minutes, stopped after its first scans.
-    let mut child = spawn_piped(&[
+/// A ten-minute demo paced at `speedup` (`more` arguments added), stopped by Ctrl-C once
+/// it has printed the line of scan `after`: ends successfully with its summary, within
+/// `within` of the Ctrl-C.
+fn paced_demo_ends_on_ctrl_c(speedup: &str, after: u32, more: &[&str], within: Duration) {
+    let mut args = vec![
         "--link",
         "inproc",
         "demo",
         "--plain",
         "--speedup",
-        "1",
+        speedup,
         "--duration",
         "600",
-        "--summary-json",
-        &json.display().to_string(),
-    ]);
+    ];
+    args.extend_from_slice(more);
+    let mut child = spawn_piped(&args);
     let mut out = BufReader::new(child.stdout.take().unwrap());
+    let line = format!("scan {after:>4}");
     read_until(
         &mut out,
-        |l| l.starts_with("scan    2"),
-        "ended before scan 2",
+        |l| l.starts_with(&line),
+        &format!("ended before {line}"),
     );
+    let started = std::time::Instant::now();
     ctrl_c(&child);
     let mut rest = String::new();
     std::io::Read::read_to_string(&mut out, &mut rest).unwrap();
     let status = child.wait().unwrap();
     assert!(status.success(), "{status:?}");
     assert!(rest.contains("== summary"), "{rest}");
+    assert!(started.elapsed() < within, "{:?}", started.elapsed());
+}
+
+#[test]
+fn ctrl_c_ends_a_run_with_its_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let json = dir.path().join("s.json");
+    // Paced at real time: ten minutes, stopped after its first scans.
+    let json_arg = json.display().to_string();
+    paced_demo_ends_on_ctrl_c(
+        "1",
+        2,
+        &["--summary-json", &json_arg],
+        Duration::from_secs(60),
+    );
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let scans = summary["scans"].as_u64().unwrap();
@@ -90,30 +107,7 @@ fn ctrl_c_ends_a_run_with_its_summary() {
 /// than allowed is refused (at 10⁻³⁰⁰ the wait's length overflowed the clock: a panic).
 #[test]
 fn ctrl_c_ends_a_slowly_paced_run_at_once_and_absurd_pacing_is_refused() {
-    let mut child = spawn_piped(&[
-        "--link",
-        "inproc",
-        "demo",
-        "--plain",
-        "--speedup",
-        "0.001",
-        "--duration",
-        "600",
-    ]);
-    let mut out = BufReader::new(child.stdout.take().unwrap());
-    read_until(
-        &mut out,
-        |l| l.starts_with("scan    0"),
-        "ended before scan 0",
-    );
-    let started = std::time::Instant::now();
-    ctrl_c(&child);
-    let mut rest = String::new();
-    std::io::Read::read_to_string(&mut out, &mut rest).unwrap();
-    let status = child.wait().unwrap();
-    assert!(status.success(), "{status:?}");
-    assert!(rest.contains("== summary"), "{rest}");
-    assert!(started.elapsed() < std::time::Duration::from_secs(10));
+    paced_demo_ends_on_ctrl_c("0.001", 0, &[], Duration::from_secs(10));
     for absurd in ["1e-9", "1e-300", "1e9", "0", "nan"] {
         let out = spawn_piped(&["--link", "inproc", "demo", "--speedup", absurd])
             .wait_with_output()
