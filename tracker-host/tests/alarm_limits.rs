@@ -47,13 +47,14 @@ fn limits_that_are_no_limits_are_refused() {
         &["--tcpa-min=inf"],
         &["--cpa-nm", "-1"],
         &["--tcpa-min", "-0.5"],
+        // Past any radar's range, or a day: `1e308` NM overflowed to an infinite limit.
+        &["--cpa-nm=1e308"],
+        &["--cpa-nm=101"],
+        &["--tcpa-min=1e9"],
     ] {
         let out = demo(bad);
         assert_eq!(out.status.code(), Some(2), "{bad:?}");
         let stderr = String::from_utf8_lossy(&out.stderr);
-        assert!(
-            stderr.contains("expected a positive number"),
-            "{bad:?}: {stderr}"
-        );
+        assert!(stderr.contains("limit above 0, up to"), "{bad:?}: {stderr}");
     }
 }

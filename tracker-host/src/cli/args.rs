@@ -121,10 +121,10 @@ pub struct RunArgs {
     /// The CPA/TCPA alarm's CPA limit, nautical miles: a target (radar or activated AIS)
     /// whose CPA is below it within the TCPA limit alarms (a bridge's open-water setting is
     /// 1 NM; in a harbour or a traffic separation scheme far less).
-    #[arg(long, allow_negative_numbers = true, value_name = "NM", default_value_t = 1.0, value_parser = positive)]
+    #[arg(long, allow_negative_numbers = true, value_name = "NM", default_value_t = 1.0, value_parser = cpa_limit_nm)]
     pub cpa_nm: f64,
     /// The CPA/TCPA alarm's TCPA limit, minutes.
-    #[arg(long, allow_negative_numbers = true, value_name = "MIN", default_value_t = 12.0, value_parser = positive)]
+    #[arg(long, allow_negative_numbers = true, value_name = "MIN", default_value_t = 12.0, value_parser = tcpa_limit_min)]
     pub tcpa_min: f64,
     /// Send every target to a chart plotter as NMEA 0183 `TTM` and `TLL` sentences each
     /// scan: `udp:HOST:PORT` or `tcp:PORT` (a server plotters connect to).
@@ -188,6 +188,31 @@ pub(crate) fn number(s: &str, ok: impl Fn(f64) -> bool, what: &str) -> Result<f6
         Ok(v) if v.is_finite() && ok(v) => Ok(v),
         _ => Err(format!("`{s}`: expected {what}")),
     }
+}
+
+/// `--cpa-nm`: above 0, up to 100 NM (past a radar's longest range, 96 NM; `1e308` was
+/// taken, and its metres overflowed to an infinite limit).
+///
+/// # Errors
+/// Anything else, in words.
+pub fn cpa_limit_nm(s: &str) -> Result<f64, String> {
+    number(
+        s,
+        |v| v > 0.0 && v <= 100.0,
+        "a CPA limit above 0, up to 100 NM",
+    )
+}
+
+/// `--tcpa-min`: above 0, up to 1,440 min (a day).
+///
+/// # Errors
+/// Anything else, in words.
+pub fn tcpa_limit_min(s: &str) -> Result<f64, String> {
+    number(
+        s,
+        |v| v > 0.0 && v <= 1440.0,
+        "a TCPA limit above 0, up to 1,440 min",
+    )
 }
 
 /// `--snapshot-range-nm`: 0.05 to 100 NM.
