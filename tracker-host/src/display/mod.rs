@@ -411,7 +411,10 @@ pub fn render_paused(
     // target, several to a line (an 80×24 terminal with ten alarms showed 2 of 40 targets).
     let narrow = columns[1].width < NARROW_ALARM_COLUMNS;
     let mut alarms = alarm_lines(state, latest, narrow, None);
-    if header_rows + TABLE_MIN_TARGET_ROWS + 3 + alarm_box_rows(&alarms, state, columns[1].width)
+    if header_rows
+        + TABLE_MIN_TARGET_ROWS
+        + 3
+        + alarm_box_rows(&alarms.lines, state, columns[1].width)
         > columns[1].height
     {
         let inner = usize::from(columns[1].width.saturating_sub(2));
@@ -422,7 +425,7 @@ pub fn render_paused(
         .constraints([
             Constraint::Length(header_rows),
             Constraint::Min(5),
-            Constraint::Length(alarm_box_rows(&alarms, state, columns[1].width)),
+            Constraint::Length(alarm_box_rows(&alarms.lines, state, columns[1].width)),
         ])
         .split(columns[1]);
     render_header(frame, right[0], state, view);
@@ -1015,7 +1018,7 @@ fn alarm_lines(
     view: &ScanReport,
     narrow: bool,
     grouped: Option<usize>,
-) -> Vec<Line<'static>> {
+) -> AlarmLines {
     // In a narrow pane the words go, not the figures.
     let head = if narrow { "ALARM" } else { "CPA/TCPA ALARM:" };
     let (of, cpa, within) = if narrow {
@@ -1080,15 +1083,27 @@ fn alarm_lines(
         ))
     }));
     approaching.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // A list by target: its head, then the labels, wrapped to the box.
-    let listed = |head: &str, labels: Vec<String>, width: usize| -> Vec<String> {
+    // A list by target: its head, then the labels (one word each), wrapped to the box;
+    // each line with the number of targets it names.
+    let listed = |head: &str, labels: Vec<String>, width: usize| -> Vec<(String, usize)> {
         let head = format!("{head} ({}):", labels.len());
+        let head_words = head.split(' ').count();
         wrap(
             std::iter::once(head.as_str()).chain(labels.iter().map(String::as_str)),
             " ",
             width,
         )
+        .into_iter()
+        .enumerate()
+        .map(|(i, l)| {
+            let words = l.split(' ').count();
+            let n = if i == 0 { words - head_words } else { words };
+            (l, n)
+        })
+        .collect()
     };
+    // Lines that name several alarms: (index in `lines`, how many).
+    let mut several: Vec<(usize, usize)> = Vec::new();
     // Grouped, the radar targets are listed by label (their CPA and TCPA are in the
     // table); an AIS target, which has no row there, keeps its line.
     let (labels, lines_of): (Vec<String>, Vec<String>) = match grouped {
@@ -1106,11 +1121,10 @@ fn alarm_lines(
         ),
     };
     if let (Some(width), false) = (grouped, labels.is_empty()) {
-        lines.extend(
-            listed("CPA/TCPA ALARM, soonest first", labels, width)
-                .into_iter()
-                .map(|text| Line::styled(text, alarm)),
-        );
+        for (text, n) in listed("CPA/TCPA ALARM, soonest first", labels, width) {
+            several.push((lines.len(), n));
+            lines.push(Line::styled(text, alarm));
+        }
     }
     lines.extend(lines_of.into_iter().map(|text| Line::styled(text, alarm)));
     if let Some(silence) = &state.silence {
@@ -1123,15 +1137,13 @@ fn alarm_lines(
     }
     let lost = Style::default().fg(Color::Magenta);
     match grouped {
-        Some(width) if !state.lost.is_empty() => lines.extend(
-            listed(
-                "LOST TARGETS",
-                state.lost.iter().map(ToString::to_string).collect(),
-                width,
-            )
-            .into_iter()
-            .map(|text| Line::styled(text, lost)),
-        ),
+        Some(width) if !state.lost.is_empty() => {
+            let ids = state.lost.iter().map(ToString::to_string).collect();
+            for (text, n) in listed("LOST TARGETS", ids, width) {
+                several.push((lines.len(), n));
+                lines.push(Line::styled(text, lost));
+            }
+        }
         _ => {
             for id in &state.lost {
                 lines.push(Line::styled(format!("LOST TARGET {id}"), lost));
@@ -1154,12 +1166,24 @@ fn alarm_lines(
             Style::default().fg(Color::Yellow),
         ));
     }
-    lines
+    let mut held = vec![1; lines.len()];
+    for (i, n) in several {
+        held[i] = n;
+    }
+    AlarmLines { lines, held }
+}
+
+/// The alarm box's lines ([`alarm_lines`]) and how many alarms or notes each holds: one,
+/// or a grouped line's targets (what does not fit is counted by them).
+struct AlarmLines {
+    lines: Vec<Line<'static>>,
+    held: Vec<usize>,
 }
 
 /// Draws the alarm box: `lines` ([`alarm_lines`]), the answer to the operator's last
 /// command, and the key help while there is room.
-fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, mut lines: Vec<Line>) {
+fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, alarms: AlarmLines) {
+    let AlarmLines { mut lines, held } = alarms;
     if lines.is_empty() && state.message.is_none() {
         lines.push(Line::raw("no alarms"));
     }
@@ -1174,7 +1198,8 @@ fn render_alarms(frame: &mut Frame, area: Rect, state: &DisplayState, mut lines:
     let inner = usize::from(area.height.saturating_sub(2));
     let rows = inner.saturating_sub(message.len());
     if lines.len() > rows && rows > 0 {
-        let more = lines.len() - (rows - 1);
+        // Counted by what the lines hold (a grouped line names several targets).
+        let more: usize = held.iter().skip(rows - 1).sum();
         lines.truncate(rows - 1);
         lines.push(Line::styled(
             format!("+{more} more (alarms and notes not shown)"),
@@ -2152,7 +2177,7 @@ pub(crate) mod tests {
         let text = screen(&state, &view);
         assert!(!text.contains("NO RADAR DATA"), "{text}");
         state.radar_silent_s = Some(12);
-        let lines = alarm_lines(&state, &view, false, None);
+        let lines = alarm_lines(&state, &view, false, None).lines;
         assert!(
             lines[0].to_string().starts_with("NO RADAR DATA for 12 s"),
             "{lines:?}"
@@ -2177,6 +2202,7 @@ pub(crate) mod tests {
         state.observe(&view);
         assert_eq!(state.lost.len(), shown.len());
         let text: Vec<String> = alarm_lines(&state, &view, false, None)
+            .lines
             .iter()
             .map(|l| l.to_string())
             .collect();
@@ -2197,6 +2223,7 @@ pub(crate) mod tests {
             "{header}"
         );
         let narrow: Vec<String> = alarm_lines(&state, &view, true, None)
+            .lines
             .iter()
             .map(|l| l.to_string())
             .collect();
@@ -2208,11 +2235,13 @@ pub(crate) mod tests {
         state.observe(&view);
         assert_eq!(state.lost.len(), shown.len());
         assert!(alarm_lines(&state, &view, false, None)
+            .lines
             .iter()
             .any(|l| l.to_string().starts_with("RADAR SILENT")));
         assert_eq!(state.key('\n', Some(&view)), Action::None);
         assert!(state.lost.is_empty());
         assert!(!alarm_lines(&state, &view, false, None)
+            .lines
             .iter()
             .any(|l| l.to_string().starts_with("RADAR SILENT")));
         // Without a silence, ends the device did not call lost are no alarm.
@@ -2255,6 +2284,52 @@ pub(crate) mod tests {
             recorded.poll(std::time::Duration::ZERO).unwrap(),
             Polled::Scan(_)
         ));
+    }
+
+    /// A grouped list cut short counts the alarms it leaves out, not its lines.
+    #[test]
+    fn a_grouped_list_cut_short_counts_its_alarms() {
+        let (state, view) = alarming(20);
+        let dangerous = view
+            .targets
+            .iter()
+            .filter(|t| t.dangerous(&state.limits))
+            .count();
+        // 12 columns inside: the head on a line of its own, then four labels a line; three
+        // rows inside the borders: two lines and the count.
+        let alarms = alarm_lines(&state, &view, false, Some(12));
+        assert_eq!(alarms.held.len(), alarms.lines.len());
+        let lost = state.lost.len();
+        assert_eq!(alarms.held.iter().sum::<usize>(), dangerous + lost);
+        let mut terminal = Terminal::new(TestBackend::new(14, 5)).unwrap();
+        terminal
+            .draw(|f| render_alarms(f, f.area(), &state, alarms))
+            .unwrap();
+        let buffer = terminal.backend().buffer();
+        let rows: Vec<String> = (0..buffer.area.height)
+            .map(|y| {
+                (0..buffer.area.width)
+                    .map(|x| buffer[(x, y)].symbol())
+                    .collect()
+            })
+            .collect();
+        // Shown: the labels on the rows before the count.
+        let shown: usize = rows
+            .iter()
+            .take_while(|r| !r.contains('+'))
+            .map(|r| {
+                r.trim_matches(|c| c == '│' || c == ' ')
+                    .split_whitespace()
+                    .filter(|w| w.chars().all(|c| c.is_ascii_digit()) && w.len() == 2)
+                    .count()
+            })
+            .sum();
+        let more: usize = rows
+            .iter()
+            .find_map(|l| l.split_once('+')?.1.split_once(" more")?.0.parse().ok())
+            .unwrap_or_else(|| panic!("{rows:#?}"));
+        assert!(shown > 0, "{rows:#?}");
+        assert_eq!(shown + more, dangerous + lost, "{rows:#?}");
     }
 
     /// On an 80×24 terminal with many alarms (every target, limits wide open) the alarms
@@ -2323,7 +2398,7 @@ pub(crate) mod tests {
             .iter()
             .filter(|t| t.dangerous(&state.limits))
             .count();
-        let total = alarm_lines(&state, &view, false, None).len();
+        let total = alarm_lines(&state, &view, false, None).lines.len();
         // A box of 4 rows inside its borders, as on a short terminal.
         let draw = |state: &DisplayState| -> Vec<String> {
             let mut terminal = Terminal::new(TestBackend::new(90, 6)).unwrap();
