@@ -1491,15 +1491,20 @@ pub(crate) mod tests {
     fn screen_at(state: &DisplayState, view: &ScanReport, width: u16, height: u16) -> String {
         let mut terminal = Terminal::new(TestBackend::new(width, height)).unwrap();
         terminal.draw(|f| render(f, state, view)).unwrap();
-        let buffer = terminal.backend().buffer().clone();
-        let mut text = String::new();
-        for y in 0..buffer.area.height {
-            for x in 0..buffer.area.width {
-                text.push_str(buffer[(x, y)].symbol());
-            }
-            text.push('\n');
-        }
+        let mut text = buffer_rows(terminal.backend().buffer()).join("\n");
+        text.push('\n');
         text
+    }
+
+    /// A drawn buffer's rows as text.
+    fn buffer_rows(buffer: &ratatui::buffer::Buffer) -> Vec<String> {
+        (0..buffer.area.height)
+            .map(|y| {
+                (0..buffer.area.width)
+                    .map(|x| buffer[(x, y)].symbol())
+                    .collect()
+            })
+            .collect()
     }
 
     /// `view` cut to its nearest radar target, with an AIS target on it, paired with it
@@ -1865,14 +1870,7 @@ pub(crate) mod tests {
         assert!(view.targets.iter().any(|t| t.dangerous(&state.limits)));
         let mut terminal = Terminal::new(TestBackend::new(80, 24)).unwrap();
         terminal.draw(|f| render(f, &state, &view)).unwrap();
-        let buffer = terminal.backend().buffer().clone();
-        let rows: Vec<String> = (0..buffer.area.height)
-            .map(|y| {
-                (0..buffer.area.width)
-                    .map(|x| buffer[(x, y)].symbol())
-                    .collect()
-            })
-            .collect();
+        let rows = buffer_rows(terminal.backend().buffer());
         let text = rows.join("\n");
         // The compact table: whole degrees in three digits, every figure whole.
         assert!(text.contains("TGT ST"), "{text}");
@@ -2305,14 +2303,7 @@ pub(crate) mod tests {
         terminal
             .draw(|f| render_alarms(f, f.area(), &state, alarms))
             .unwrap();
-        let buffer = terminal.backend().buffer();
-        let rows: Vec<String> = (0..buffer.area.height)
-            .map(|y| {
-                (0..buffer.area.width)
-                    .map(|x| buffer[(x, y)].symbol())
-                    .collect()
-            })
-            .collect();
+        let rows = buffer_rows(terminal.backend().buffer());
         // Shown: the labels on the rows before the count.
         let shown: usize = rows
             .iter()
@@ -2405,14 +2396,7 @@ pub(crate) mod tests {
             terminal
                 .draw(|f| render_alarms(f, f.area(), state, alarm_lines(state, &view, false, None)))
                 .unwrap();
-            let buffer = terminal.backend().buffer();
-            (0..buffer.area.height)
-                .map(|y| {
-                    (0..buffer.area.width)
-                        .map(|x| buffer[(x, y)].symbol())
-                        .collect()
-                })
-                .collect()
+            buffer_rows(terminal.backend().buffer())
         };
         // The count of what is not shown, from the box's last line.
         let counted = |screen: &[String]| -> usize {
