@@ -155,9 +155,7 @@ impl Run {
         // One whose heading was lost is told so: the heading has changed source.
         if own.heading_rad.is_none() {
             if let Some(h) = scan.heading_sensor_rad {
-                own.heading_rad = Some(h);
-                own.quality.heading_from_radar = own.quality.heading_lost;
-                own.quality.heading_lost = false;
+                own.stand_in_heading(Some(h), true);
             }
         }
         // The plot source knows whether its plots wanted a heading, whoever gives own ship;

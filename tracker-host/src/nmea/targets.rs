@@ -56,8 +56,7 @@ pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     } else {
         (
             d.rel_speed_mps,
-            (d.rel_speed_mps >= crate::session::target::NO_RELATIVE_MOTION_MPS)
-                .then_some(d.rel_course_rad),
+            (!d.keeps_range()).then_some(d.rel_course_rad),
             'R',
         )
     };

@@ -117,6 +117,16 @@ impl OwnShip {
         }
     }
 
+    /// Own ship without a heading of its own takes `heading_rad` (rad, true) from another sensor
+    /// (`radar`: the radar's heading sensor): a lost heading's alarm gives way, told as the
+    /// radar's standing in when it is.
+    pub fn stand_in_heading(&mut self, heading_rad: Option<f32>, radar: bool) {
+        self.heading_rad = heading_rad;
+        self.quality.heading_from_radar =
+            self.quality.heading_lost && radar && heading_rad.is_some();
+        self.quality.heading_lost &= heading_rad.is_none();
+    }
+
     /// The velocity of the frame radar tracks are formed in, m/s (east, north): own ship's
     /// velocity over ground while own ship's position moves with it; zero while it does
     /// not (no fix yet: own ship at the origin; dead reckoning ended: the position held).

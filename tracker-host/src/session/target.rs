@@ -129,6 +129,12 @@ impl TargetData {
         }
     }
 
+    /// True for a target moving under [`NO_RELATIVE_MOTION_MPS`] relative to own ship: it
+    /// keeps its range, and has no relative course to show or send.
+    pub fn keeps_range(&self) -> bool {
+        self.rel_speed_mps < NO_RELATIVE_MOTION_MPS
+    }
+
     /// False for a target shown with no motion ([`super::stationary`]): it has no course
     /// over ground to show.
     pub fn moving(&self) -> bool {
@@ -266,12 +272,7 @@ pub fn table_with_ais(
             known(truth, 8, t.speed_mps / MPS_PER_KNOT, 1),
             known(trend, 7, t.cpa_m / METRES_PER_NM, 2),
             tcpa,
-            known(
-                trend && t.rel_speed_mps >= NO_RELATIVE_MOTION_MPS,
-                8,
-                deg(t.rel_course_rad),
-                1,
-            ),
+            known(trend && !t.keeps_range(), 8, deg(t.rel_course_rad), 1,),
             known(trend, 8, t.rel_speed_mps / MPS_PER_KNOT, 1),
             t.age_scans,
             name.unwrap_or_default(),

@@ -586,13 +586,10 @@ impl RadarPlotSource {
                 .radar_heading_rad
                 .map(|h| (h, false))
                 .or_else(|| self.heading_for(time_s));
-            own.heading_rad = found.map(|(h, _)| h);
             self.reported_fixed_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
             // A heading sensor lost and the radar's own standing in is told, as when own
             // ship comes from `--nmea-in` (`Run`): the heading has changed source.
-            own.quality.heading_from_radar =
-                own.quality.heading_lost && self.radar_heading_rad.is_some();
-            own.quality.heading_lost &= own.heading_rad.is_none();
+            own.stand_in_heading(found.map(|(h, _)| h), self.radar_heading_rad.is_some());
         }
         // Whether the alarm stands (no heading for own ship at all) is the run's to say.
         own.quality.heading_needed = self.counts.plots_without_heading > without_heading;
