@@ -129,21 +129,24 @@ fn real_traffic_is_tracked_and_paired_with_its_ais() {
             p.ships_paired * 10 >= p.ships_with_track_and_ais * 9,
             "{p:?}"
         );
-        // Moored boats shown moving: 5.5 % / 9.1 % of their target-scans since a target
-        // found standing still is also associated where it stands (6.3 % / 10.9 % before;
-        // 38 % / 61 % before it was shown still, the CV filter's velocity noise); ships
-        // under way shown still: 3.0 % / 3.0 % (0.5 % / 0.2 % before it was shown still: slow
-        // ships far off, and ships getting under way shown still for tens of seconds);
-        // alarms on targets that stand still and are not approaching: 3.9 % of the alarms
-        // (11.5 % before it was shown still). Own ship 234586000's alarms only (370869000
-        // raises none: 3 target-scans are due by the truth, all missed, at a turn's first
-        // scans at the run's end): of those due by the truth 12.4 % missed (14.0 % while a
-        // relative speed over 1 mm/s was taken as motion; 14.7 % before).
-        assert!(m.still_shown_moving * 10 <= m.still_target_scans, "{m:?}");
-        assert!(m.moving_shown_still * 20 <= m.moving_target_scans, "{m:?}");
+        // Moored boats shown moving: 3.4 % / 5.4 % of their target-scans since an
+        // associated ship is shown with its AIS target's data (5.5 % / 9.1 % before; 6.3 % /
+        // 10.9 % before a target found standing still was associated where it stands; 38 % /
+        // 61 % before it was shown still, the CV filter's velocity noise); ships under way
+        // shown still: 0.6 % / 0.8 % (3.0 % / 3.0 % before: slow ships far off, and ships
+        // getting under way shown still for tens of seconds). Own ship 234586000's alarms
+        // (370869000 raises 3, and misses none of the 3 due by the truth: all missed before,
+        // at a turn's first scans at the run's end): not borne out by the truth 6.7 % (10.6
+        // % on the radar's data), on targets that stand still 3.3 % (3.9 %; 11.5 % before
+        // they were shown still); of those due by the truth 9.4 % missed (12.4 %; 14.0 %
+        // while a relative speed over 1 mm/s was taken as motion; 14.7 % before). Seeds 1–3
+        // in docs/ais.md.
+        assert!(m.still_shown_moving * 15 <= m.still_target_scans, "{m:?}");
+        assert!(m.moving_shown_still * 50 <= m.moving_target_scans, "{m:?}");
         if own_mmsi == 234_586_000 {
+            assert!(m.alarms_false * 100 <= m.alarm_target_scans * 8, "{m:?}");
             assert!(m.alarms_false_still * 15 <= m.alarm_target_scans, "{m:?}");
-            assert!(m.alarms_missed * 100 <= m.alarms_due * 18, "{m:?}");
+            assert!(m.alarms_missed * 100 <= m.alarms_due * 11, "{m:?}");
         }
         let pair_scans = p.pairs_correct + p.pairs_wrong;
         assert!(p.pairs_wrong * 200 <= pair_scans, "{p:?}");

@@ -99,6 +99,8 @@ pub struct Outputs {
     pub snapshot_range_nm: Option<f64>,
     /// How the snapshot draws a ship with a radar target and an AIS target associated.
     pub associated_symbol: crate::session::ais::AssociatedSymbol,
+    /// Whose data such a ship is shown and sent with, and alarms on.
+    pub associated_data: crate::session::ais::AssociatedData,
 }
 
 /// The own-ship source `o` asks for, in the frame of `origin`.

@@ -45,6 +45,7 @@ pub struct Run {
     /// AIS targets and their pairing with radar targets, once AIS is heard.
     ais: Option<AisPicture>,
     origin: crate::origin::Origin,
+    associated_data: crate::session::ais::AssociatedData,
 }
 
 impl Run {
@@ -70,7 +71,15 @@ impl Run {
             target_scans_in_echo: 0,
             ais: None,
             origin: crate::origin::Origin::default(),
+            associated_data: crate::session::ais::AssociatedData::default(),
         }
+    }
+
+    /// A ship whose radar target is associated with an AIS target is shown with `data`'s
+    /// data (the AIS target's by default).
+    pub fn with_associated_data(mut self, data: crate::session::ais::AssociatedData) -> Self {
+        self.associated_data = data;
+        self
     }
 
     /// AIS heard by the sources is placed in the local frame of `origin`.
@@ -180,9 +189,11 @@ impl Run {
         let mut heard = self.plots.take_ais();
         heard.extend(self.own_ship.take_ais());
         if !heard.is_empty() || self.ais.is_some() {
-            let origin = self.origin;
+            let (origin, data) = (self.origin, self.associated_data);
             self.ais
-                .get_or_insert_with(|| AisPicture::new(origin, PairingGates::default()))
+                .get_or_insert_with(|| {
+                    AisPicture::new(origin, PairingGates::default()).with_associated_data(data)
+                })
                 .scan(&mut report, &heard);
         }
         for sink in &mut self.sinks {

@@ -133,7 +133,9 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     };
     let session = Session::start(client, config)?;
     let sinks = sinks(&o.outputs, origin, origin_known, o.alarms)?;
-    Ok(Run::new(source, own_ship, session, sinks).with_origin(origin))
+    Ok(Run::new(source, own_ship, session, sinks)
+        .with_origin(origin)
+        .with_associated_data(o.outputs.associated_data))
 }
 
 /// The day (days since 1970) an NMEA recording's times before its first date fall on when

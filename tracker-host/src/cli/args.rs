@@ -80,6 +80,24 @@ pub enum AssociatedSymbolArg {
     Radar,
 }
 
+/// `--associated-data`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum AssociatedDataArg {
+    /// The AIS target's (IEC 62388's default).
+    Ais,
+    /// The radar track's.
+    Radar,
+}
+
+impl From<AssociatedDataArg> for crate::session::ais::AssociatedData {
+    fn from(a: AssociatedDataArg) -> Self {
+        match a {
+            AssociatedDataArg::Ais => Self::Ais,
+            AssociatedDataArg::Radar => Self::Radar,
+        }
+    }
+}
+
 impl From<AssociatedSymbolArg> for crate::session::ais::AssociatedSymbol {
     fn from(a: AssociatedSymbolArg) -> Self {
         match a {
@@ -118,6 +136,12 @@ pub struct RunArgs {
     /// vector). The table and `TTM` keep the radar number and the AIS name either way.
     #[arg(long, value_enum, default_value_t = AssociatedSymbolArg::Ais)]
     pub associated_symbol: AssociatedSymbolArg,
+    /// Whose data a ship with its radar target associated with one AIS target is shown
+    /// with (position, course, speed, CPA, TCPA: in the table, `TTM` and `TLL`) and
+    /// alarms on, once: `ais` (the AIS target's, IEC 62388's default) or `radar` (the
+    /// radar track's).
+    #[arg(long, value_enum, default_value_t = AssociatedDataArg::Ais)]
+    pub associated_data: AssociatedDataArg,
     /// The CPA/TCPA alarm's CPA limit, nautical miles: a target (radar or activated AIS)
     /// whose CPA is below it within the TCPA limit alarms (a bridge's open-water setting is
     /// 1 NM; in a harbour or a traffic separation scheme far less).
@@ -415,6 +439,7 @@ impl RunArgs {
             snapshot: self.snapshot.clone(),
             snapshot_range_nm: self.snapshot_range_nm,
             associated_symbol: self.associated_symbol.into(),
+            associated_data: self.associated_data.into(),
         }
     }
 }

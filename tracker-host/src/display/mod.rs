@@ -345,14 +345,18 @@ pub fn ais_dangerous(a: &crate::ais::AisTargetData, limits: &AlarmLimits) -> boo
     }
 }
 
-/// The AIS targets that raise their own CPA/TCPA alarm: activated, dangerous, and paired
-/// with no radar target (a paired ship alarms as its radar target).
+/// The AIS targets that raise their own CPA/TCPA alarm: activated, dangerous, neither
+/// paired with a radar target nor shown by one with their data (such a ship alarms as its
+/// radar target, once: [`crate::session::ais::AssociatedData`]).
 pub fn ais_alarms<'a>(
     view: &'a ScanReport,
     limits: &'a AlarmLimits,
 ) -> impl Iterator<Item = &'a crate::ais::AisTargetData> + 'a {
     view.ais.iter().filter(move |a| {
-        a.active && ais_dangerous(a, limits) && !view.paired.iter().any(|p| p.mmsi == a.mmsi)
+        a.active
+            && ais_dangerous(a, limits)
+            && !view.paired.iter().any(|p| p.mmsi == a.mmsi)
+            && !view.targets.iter().any(|t| t.ais_data == Some(a.mmsi))
     })
 }
 

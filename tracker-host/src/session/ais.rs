@@ -143,6 +143,25 @@ pub enum AssociatedSymbol {
     Radar,
 }
 
+/// Whose data a ship is shown with when its radar target is associated with one AIS target
+/// (paired, or shown as that AIS target while their pair is confirmed): its position, course
+/// and speed, CPA and TCPA, in the target table, on plotters (`TTM`, `TLL`) and in the
+/// CPA/TCPA alarm. IEC 62388 §11.4 shows an associated target with the activated AIS
+/// target's alphanumeric data by default, the radar's on the operator's choice. Whichever
+/// it is, the ship raises one CPA/TCPA alarm, not one from each source: in a new user's
+/// trial a radar target shown as an AIS target (`NAME?`) kept its radar CPA and TCPA,
+/// receding, while the same ship's AIS target raised its own alarm (CPA 0.40 NM in 1.1
+/// min, the AIS right: the ship was turning and the track lagged).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum AssociatedData {
+    /// The AIS target's data ([`crate::session::target::TargetData::with_ais_data`]), its
+    /// alarm judged on them scan by scan as an AIS target's is.
+    #[default]
+    Ais,
+    /// The radar track's data and alarm.
+    Radar,
+}
+
 /// A radar target and the AIS target of the same ship.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Pairing {
@@ -237,6 +256,8 @@ pub struct AisPicture {
     /// The bridge's UTC less the scans' clock ([`ScanReport::utc_offset_s`]): the log's
     /// times are the bridge's, as the display's and the plotters' are.
     utc_offset_s: f64,
+    /// Whose data an associated ship is shown with.
+    data: AssociatedData,
 }
 
 impl AisPicture {
@@ -252,7 +273,15 @@ impl AisPicture {
             counts: PairingCounts::default(),
             clock_is_utc: true,
             utc_offset_s: 0.0,
+            data: AssociatedData::default(),
         }
+    }
+
+    /// The picture showing associated ships with `data`'s data (the AIS target's by
+    /// default).
+    pub fn with_associated_data(mut self, data: AssociatedData) -> Self {
+        self.data = data;
+        self
     }
 
     /// The AIS table.
@@ -513,6 +542,9 @@ impl AisPicture {
             })
             .collect();
         report.ais = ais;
+        if self.data == AssociatedData::Ais {
+            show_ais_data(report);
+        }
     }
 
     /// The radar targets shown as AIS targets this scan: among the unpaired within the
@@ -617,6 +649,40 @@ impl AisPicture {
                     p.mmsi
                 ));
             }
+        }
+    }
+}
+
+/// Shows each radar target associated with one AIS target (its pair, else the one AIS
+/// target it is shown as) with that AIS target's data ([`AssociatedData::Ais`]). A radar
+/// target shown as several AIS targets (ships in one resolution cell) keeps its own: which
+/// ship's data it would show cannot be told.
+fn show_ais_data(report: &mut ScanReport) {
+    let ScanReport {
+        targets,
+        paired,
+        merged,
+        ais,
+        own,
+        ..
+    } = report;
+    for t in targets.iter_mut() {
+        let mmsi = paired
+            .iter()
+            .find(|p| p.track == t.track)
+            .map(|p| p.mmsi)
+            .or_else(|| {
+                let mut shown = merged.iter().filter(|c| c.track == t.track);
+                match (shown.next(), shown.next()) {
+                    (Some(c), None) => Some(c.mmsi),
+                    _ => None,
+                }
+            });
+        let Some(a) = mmsi.and_then(|m| ais.iter().find(|a| a.mmsi == m)) else {
+            continue;
+        };
+        if let Some(d) = t.with_ais_data(own, a) {
+            *t = d;
         }
     }
 }
@@ -852,6 +918,83 @@ mod tests {
         let mut settled = AisPicture::new(origin, PairingGates::default());
         let r = scan_one(&mut settled, origin, 0, 20);
         assert!(r.merged.is_empty() && r.paired.is_empty(), "{r:?}");
+    }
+
+    #[test]
+    fn an_associated_ship_is_shown_with_its_ais_data_and_alarms_once() {
+        use crate::session::target::{AlarmLimits, TargetData};
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        let limits = AlarmLimits::default();
+        // A young radar target 20 m east of the AIS target, shown as it (on position), its
+        // velocity (8 m/s north) far off the ship's (10 kn east): by its own data it
+        // recedes from own ship (at the origin, stopped), by the AIS target's it passes
+        // 1,000 m off now, inside the 1 NM limit.
+        let scan = |data: AssociatedData| {
+            let mut picture =
+                AisPicture::new(origin, PairingGates::default()).with_associated_data(data);
+            scan_with(&mut picture, origin, 0, 3, [0.0, 8.0], true)
+        };
+        let r = scan(AssociatedData::Ais);
+        assert_eq!(r.merged.len(), 1, "{r:?}");
+        let (t, a) = (&r.targets[0], &r.ais[0]);
+        assert_eq!(t.ais_data, Some(a.mmsi));
+        assert_eq!((t.track, t.number), (7, None), "the track's own");
+        assert_eq!(
+            (t.position_m, t.velocity_mps),
+            (a.position_m, a.velocity_mps)
+        );
+        assert!((t.speed_mps - SHIP_EAST_MPS[0]).abs() < 1e-3, "{t:?}");
+        assert!((t.course_rad - core::f32::consts::FRAC_PI_2).abs() < 1e-3);
+        assert_eq!(Some(t.cpa_m), a.cpa.map(|c| c.cpa_m));
+        // One alarm, the radar target's on the AIS target's data; the AIS target raises
+        // none of its own.
+        assert!(t.dangerous(&limits), "{t:?}");
+        assert_eq!(crate::display::ais_alarms(&r, &limits).count(), 0);
+        // The radar's data on the operator's choice: the radar target recedes, and the AIS
+        // target raises its alarm as before.
+        let r = scan(AssociatedData::Radar);
+        let t = &r.targets[0];
+        assert_eq!(t.ais_data, None);
+        assert_eq!(t.velocity_mps, [0.0, 8.0]);
+        assert!(!t.dangerous(&limits), "{t:?}");
+        assert_eq!(crate::display::ais_alarms(&r, &limits).count(), 1);
+        // A pair shows the AIS target's data too.
+        let gates = PairingGates::default();
+        let mut picture = AisPicture::new(origin, gates);
+        let on_course = Radar {
+            track: 7,
+            east_m: 20.0,
+            velocity_mps: [SHIP_EAST_MPS[0], 0.3],
+            age_scans: 20,
+        };
+        for scan in 0..gates.scans_to_pair {
+            let r = scan_tracks(&mut picture, origin, scan, true, &[on_course]);
+            assert_eq!(
+                r.targets[0].ais_data,
+                Some(235_000_001),
+                "scan {scan}: {r:?}"
+            );
+            assert_eq!(r.targets[0].velocity_mps, r.ais[0].velocity_mps);
+        }
+        // Own ship's motion unknown: the AIS target has no CPA, and the radar's data stand.
+        let mut picture = AisPicture::new(origin, gates);
+        let mut r = scan_with(&mut picture, origin, 0, 3, [0.0, 8.0], true);
+        r.own.quality.motion_known = false;
+        r.targets = r
+            .tracks
+            .iter()
+            .map(|x| TargetData::new(&r.own, x))
+            .collect();
+        let r = {
+            let mut next = r.clone();
+            next.scan = 1;
+            next.time_s += 2.5;
+            let heard = [(next.time_s, ship_report(origin, (235_000_001, 0.0)))];
+            picture.scan(&mut next, &heard);
+            next
+        };
+        assert_eq!(r.merged.len(), 1, "{r:?}");
+        assert_eq!(r.targets[0].ais_data, None, "{r:?}");
     }
 
     #[test]

@@ -50,6 +50,9 @@ pub struct TargetData {
     /// [`ALARM_CLEAR_FACTOR`], or [`ALARM_PASSED_S`] past its CPA. Set by the session's
     /// numbering; `false` from [`TargetData::new`].
     pub alarm_held: bool,
+    /// The MMSI of the AIS target whose data this shows, an associated ship's
+    /// ([`TargetData::with_ais_data`]); `None`: the radar track's own.
+    pub ais_data: Option<u32>,
 }
 
 /// Below this relative speed, m/s (0.25 kn), a target keeps its range and is not
@@ -126,7 +129,42 @@ impl TargetData {
             true_motion_known: own.quality.motion_known,
             trend_known: true,
             alarm_held: false,
+            ais_data: None,
         }
+    }
+
+    /// This target shown with the data of `a`, the AIS target of the same ship (IEC 62388
+    /// §11.4: an associated target's alphanumeric data are the AIS target's by default,
+    /// [`super::ais::AssociatedData`]): its position, course and speed over ground, and its
+    /// relative motion, CPA and TCPA from own ship `own`, as the AIS target is shown; its
+    /// alarm judged on them scan by scan ([`TargetData::alarm_held`] false), as an AIS
+    /// target's is. Its number, status and age stay the track's. `None` while the AIS
+    /// target's CPA is not known (own ship's motion unknown, or no motion reported): the
+    /// radar's data stand.
+    pub fn with_ais_data(&self, own: &OwnShip, a: &crate::ais::AisTargetData) -> Option<Self> {
+        let c = a.cpa?;
+        let (course_rad, speed_mps) = geo::course_speed(a.velocity_mps);
+        // The AIS velocity is over ground: relative to own ship's (as the AIS target's CPA
+        // is, `AisTargets::picture`).
+        let rel = geo::relative_velocity(own.velocity_mps, a.velocity_mps);
+        let (rel_course_rad, rel_speed_mps) = geo::course_speed(rel);
+        Some(TargetData {
+            range_m: a.range_m,
+            bearing_rad: a.bearing_rad,
+            course_rad,
+            speed_mps,
+            rel_course_rad,
+            rel_speed_mps,
+            cpa_m: c.cpa_m,
+            tcpa_s: c.tcpa_s,
+            position_m: a.position_m,
+            velocity_mps: a.velocity_mps,
+            true_motion_known: true,
+            trend_known: true,
+            alarm_held: false,
+            ais_data: Some(a.mmsi),
+            ..*self
+        })
     }
 
     /// True for a target moving under [`NO_RELATIVE_MOTION_MPS`] relative to own ship: it
