@@ -8,6 +8,8 @@ use std::process::ExitCode;
 
 use tracker_host::cli;
 
+mod realdata;
+
 fn run(args: &[&str]) -> ExitCode {
     cli::run(std::iter::once("tracker-host").chain(args.iter().copied())).expect("runs")
 }
@@ -91,6 +93,79 @@ fn a_recorded_demo_tracks_the_same_through_track() {
     assert_eq!(sa["scans"], 120);
     assert!(sa["targets_confirmed"].as_u64().unwrap() >= 19, "{sa}");
     assert_eq!(sa["false_tracks"], 0, "{sa}");
+}
+
+#[test]
+fn a_recorded_radar_tracks_the_same_through_track() {
+    // A radar's plots are tracked at its range scale's accuracy (2 m on the HALO's 800 m,
+    // 4.1 then 8.2 m on the 3G's): recorded with them (`plot_sigma_m`), tracked again they
+    // give the same tracks. Taken at the file format's 40 m, the HALO's 30 targets were 1
+    // (a new user's trial).
+    let dir = tempfile::tempdir().unwrap();
+    for capture in [
+        "radar_pi-halo-velocitytrack-away.pcap.gz",
+        "radar_pi-3g-trueheading.pcap.gz",
+    ] {
+        let d = |n: &str| dir.path().join(format!("{capture}-{n}"));
+        let s = |p: &PathBuf| p.to_str().unwrap().to_string();
+        let radar = format!(
+            "pcap:{}",
+            realdata::file(&format!("radar/{capture}")).display()
+        );
+        let (plots, live, again) = (d("plots.csv"), d("live.csv"), d("again.csv"));
+        let code = run(&[
+            "--link",
+            "inproc",
+            "track",
+            "--plain",
+            "--radar",
+            &radar,
+            "--record-plots",
+            &s(&plots),
+            "--record-tracks",
+            &s(&live),
+        ]);
+        assert_eq!(code, ExitCode::SUCCESS);
+        let code = run(&[
+            "--link",
+            "inproc",
+            "track",
+            "--plain",
+            "--plots",
+            &s(&plots),
+            "--record-tracks",
+            &s(&again),
+        ]);
+        assert_eq!(code, ExitCode::SUCCESS);
+        let (a, b) = (
+            std::fs::read_to_string(&live).unwrap(),
+            std::fs::read_to_string(&again).unwrap(),
+        );
+        assert!(
+            a.lines().count() > 100,
+            "{capture}: {} rows",
+            a.lines().count()
+        );
+        for (k, (x, y)) in a.lines().zip(b.lines()).enumerate() {
+            assert_eq!(x, y, "{capture}: tracks line {}", k + 1);
+        }
+        assert_eq!(a.lines().count(), b.lines().count(), "{capture}");
+        // The operator's accuracy in place of the file's: other tracks.
+        let code = run(&[
+            "--link",
+            "inproc",
+            "track",
+            "--plain",
+            "--plots",
+            &s(&plots),
+            "--plot-sigma-m",
+            "40",
+            "--record-tracks",
+            &s(&again),
+        ]);
+        assert_eq!(code, ExitCode::SUCCESS);
+        assert_ne!(a, std::fs::read_to_string(&again).unwrap(), "{capture}");
+    }
 }
 
 #[test]
@@ -181,6 +256,7 @@ fn bad_plots_files_are_refused_with_their_line_and_column() {
     let good = "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m\n0,0,1000,10,0,0\n";
     let sigma =
         "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m,range_sigma_m,bearing_sigma_deg\n";
+    let head = "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m";
     let cases = [
         (
             "scan,t_s,range_m,bearing_deg,own_east_m\n0,0,1,1,0\n",
@@ -231,6 +307,15 @@ fn bad_plots_files_are_refused_with_their_line_and_column() {
         (
             &format!("{sigma}0,0,1000,10,0,0,37.6,0.1\n0,0,2000,10,0,0,37.6,0.2\n"),
             "line 3, column 7 (range_sigma_m): every plot of scan 0 must have the same accuracy",
+        ),
+        // The filters' accuracy: positive, one for a scan.
+        (
+            &format!("{head},plot_sigma_m\n0,0,1000,10,0,0,0\n"),
+            "line 2, column 7 (plot_sigma_m): 0: must be over 0 m",
+        ),
+        (
+            &format!("{head},plot_sigma_m\n0,0,1000,10,0,0,2\n0,0,900,10,0,0,4\n"),
+            "line 3, column 7 (plot_sigma_m): every row of scan 0 must have the same plot_sigma_m",
         ),
     ];
     for (i, (text, expected)) in cases.iter().enumerate() {

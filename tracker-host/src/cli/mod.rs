@@ -142,10 +142,11 @@ pub enum Command {
         /// picture (a moored ship swings); without any heading, plots are not tracked.
         #[arg(long, allow_negative_numbers = true, value_name = "DEG", requires = "radar", value_parser = args::heading_deg)]
         heading_deg: Option<f64>,
-        /// With --radar: the plots' accuracy, m (one axis), for the filters and gates; by
+        /// The plots' accuracy, m (one axis), for the filters and gates. With --radar by
         /// default 0.25 % of the range scale in use, 2 to 40 m (live: 40 m until the first
-        /// rotation).
-        #[arg(long, allow_negative_numbers = true, value_name = "M", requires = "radar", value_parser = args::positive_f32)]
+        /// rotation); with --plots the file's `plot_sigma_m` (which --record-plots writes),
+        /// else 40 m.
+        #[arg(long, allow_negative_numbers = true, value_name = "M", value_parser = args::positive_f32)]
         plot_sigma_m: Option<f32>,
         /// How the run is shown, own ship, outputs.
         #[command(flatten)]
@@ -460,6 +461,7 @@ where
                 (Some(plots), _) => track::TrackInput::Plots {
                     plots: plots.clone(),
                     truth: truth.clone(),
+                    plot_sigma_m: *plot_sigma_m,
                 },
                 (None, Some(spec)) => {
                     let mut o = RadarOptions::new(spec.clone());

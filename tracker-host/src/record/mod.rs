@@ -145,13 +145,15 @@ impl ScanSink for PlotsRecorder {
                 f64::from(a.bearing_sigma_rad).to_degrees()
             )
         });
+        // … and the one the filters took them at (a radar's follows its range scale).
+        let sigma = r.plot_sigma_m;
         if r.plots.is_empty() {
-            return self.0.line(&format!("{},{t},,,{own},,", r.scan));
+            return self.0.line(&format!("{},{t},,,{own},,,{sigma}", r.scan));
         }
         for p in &r.plots {
             let bearing_deg = f64::from(p.bearing_rad).to_degrees().rem_euclid(360.0);
             self.0.line(&format!(
-                "{},{t},{},{bearing_deg},{own},{accuracy}",
+                "{},{t},{},{bearing_deg},{own},{accuracy},{sigma}",
                 r.scan, p.range_m
             ))?;
         }

@@ -832,6 +832,7 @@ mod tests {
             association: Default::default(),
             in_echo: Vec::new(),
             plot_accuracy: None,
+            plot_sigma_m: crate::session::PLOT_SIGMA_M,
             host_time: Default::default(),
             skipped: None,
             ais: Vec::new(),

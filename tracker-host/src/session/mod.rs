@@ -150,6 +150,9 @@ pub struct ScanReport {
     /// The plots' range and bearing accuracy they were associated with, when the source
     /// knew it ([`Session::set_plot_accuracy`]).
     pub plot_accuracy: Option<associate::PolarAccuracy>,
+    /// The accuracy the device's filters and gates took the plots at, m (one axis:
+    /// [`Session::set_plot_sigma_m`]).
+    pub plot_sigma_m: f32,
     /// Host wall time for the scan, link included.
     pub host_time: Duration,
     /// Why the scan was not tracked, when it was not: the device refused it or reported
@@ -663,6 +666,7 @@ impl Session {
             in_echo,
             silence,
             plot_accuracy: self.config.plot_accuracy,
+            plot_sigma_m: self.config.tracker.plot_sigma_m,
             ..Self::report_of(radar, own, plots_m, host_time)
         })
     }
@@ -681,6 +685,7 @@ impl Session {
         ScanReport {
             skipped: Some(why),
             plot_accuracy: self.config.plot_accuracy,
+            plot_sigma_m: self.config.tracker.plot_sigma_m,
             ..Self::report_of(radar, own, plots_m, started.elapsed())
         }
     }
@@ -708,6 +713,7 @@ impl Session {
             association: Associated::default(),
             in_echo: Vec::new(),
             plot_accuracy: None,
+            plot_sigma_m: crate::session::PLOT_SIGMA_M,
             host_time,
             skipped: None,
             ais: Vec::new(),

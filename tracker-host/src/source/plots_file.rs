@@ -12,6 +12,7 @@
 //! | `own_vx_mps`, `own_vy_mps` | m/s | optional, both or neither: own ship's velocity over ground (without them: from successive positions) |
 //! | `heading_deg` | degrees true | optional: own ship's heading |
 //! | `range_sigma_m`, `bearing_sigma_deg` | m, degrees | optional, both or neither: the plot's accuracy (standard deviations) in range and bearing, the same on every row of a scan; empty on a row without it (`demo --record-plots` writes the simulator's) |
+//! | `plot_sigma_m` | m | optional: the accuracy (one axis) the filters and gates take the scan's plots at, the same on every row of a scan (`--record-plots` writes the one tracked with: a radar's follows its range scale); empty or absent: 40 m, or `--plot-sigma-m` |
 //!
 //! The file is read twice: once whole to check it (a bad file is refused before anything
 //! is tracked or written, with its line and column), then scan by scan, so memory does not
@@ -39,12 +40,13 @@ pub const REQUIRED: [&str; 6] = [
 ];
 
 /// Columns a plots file may have.
-pub const OPTIONAL: [&str; 5] = [
+pub const OPTIONAL: [&str; 6] = [
     "own_vx_mps",
     "own_vy_mps",
     "heading_deg",
     "range_sigma_m",
     "bearing_sigma_deg",
+    "plot_sigma_m",
 ];
 
 /// Longest plot range accepted, m (200 km: beyond any marine radar).
@@ -66,6 +68,8 @@ pub struct FileScan {
     pub heading_deg: Option<f64>,
     /// The plots' accuracy, when the file gives it.
     pub accuracy: Option<PolarAccuracy>,
+    /// The accuracy the filters take the plots at, m, when the file gives it.
+    pub plot_sigma_m: Option<f32>,
 }
 
 /// Reads scans one at a time.
@@ -145,6 +149,15 @@ impl ScanReader {
         } else {
             None
         };
+        let plot_sigma_m = row.number_f32("plot_sigma_m")?;
+        if let Some(s) = plot_sigma_m {
+            if !(s > 0.0 && f64::from(s) <= MAX_RANGE_M) {
+                return Err(row.error(
+                    "plot_sigma_m",
+                    &format!("{s}: must be over 0 m and at most {MAX_RANGE_M} m"),
+                ));
+            }
+        }
         let heading_deg = row.number("heading_deg")?;
         if let Some(h) = heading_deg {
             if !(0.0..360.0).contains(&h) {
@@ -164,6 +177,12 @@ impl ScanReader {
                 return Err(row.error(
                     "t_s",
                     &format!("every row of scan {scan} must have the same time ({t_s} s)"),
+                ));
+            }
+            if row.number_f32("plot_sigma_m")? != plot_sigma_m {
+                return Err(row.error(
+                    "plot_sigma_m",
+                    &format!("every row of scan {scan} must have the same plot_sigma_m"),
                 ));
             }
             match (row.number_f32("range_m")?, row.number("bearing_deg")?) {
@@ -214,6 +233,7 @@ impl ScanReader {
             own_velocity_mps: velocity,
             heading_deg,
             accuracy,
+            plot_sigma_m,
         }))
     }
 }
@@ -258,6 +278,11 @@ pub struct PlotsFileSource {
     previous: Option<FileScan>,
     /// The accuracy of the plots of the scan last given.
     accuracy: Option<PolarAccuracy>,
+    /// The file's `plot_sigma_m` of the scan last given, and of its first scan with one.
+    plot_sigma_m: Option<f32>,
+    first_plot_sigma_m: Option<f32>,
+    /// The operator's plot accuracy, m, in place of the file's.
+    plot_sigma_given_m: Option<f32>,
     truth: Option<TruthFile>,
     period_s: Option<f64>,
     /// Whether the times are UTC ([`UTC_FROM_S`] on).
@@ -278,8 +303,10 @@ impl PlotsFileSource {
         let mut check = ScanReader::open(path)?;
         let mut scans = 0u64;
         let (mut first_t, mut last_t) = (None, None);
+        let mut first_plot_sigma_m = None;
         while let Some(s) = check.next_scan()? {
             scans += 1;
+            first_plot_sigma_m = first_plot_sigma_m.or(s.plot_sigma_m);
             first_t.get_or_insert(s.radar.time_s);
             last_t = Some(s.radar.time_s);
         }
@@ -298,6 +325,9 @@ impl PlotsFileSource {
             ahead: None,
             previous: None,
             accuracy: None,
+            plot_sigma_m: None,
+            first_plot_sigma_m,
+            plot_sigma_given_m: None,
             truth: None,
             period_s,
             time_is_utc: first_t.is_some_and(|t| t >= UTC_FROM_S),
@@ -308,6 +338,19 @@ impl PlotsFileSource {
     pub fn with_truth(mut self, truth: TruthFile) -> Self {
         self.truth = Some(truth);
         self
+    }
+
+    /// Takes the plots at `sigma_m` (m, one axis) whatever the file's `plot_sigma_m` says
+    /// (`--plot-sigma-m`); `None` leaves the file's.
+    pub fn with_plot_sigma_m(mut self, sigma_m: Option<f32>) -> Self {
+        self.plot_sigma_given_m = sigma_m;
+        self
+    }
+
+    /// The accuracy the filters start at, m: the operator's, else the file's first
+    /// `plot_sigma_m`, else `None` (the default's).
+    pub fn first_plot_sigma_m(&self) -> Option<f32> {
+        self.plot_sigma_given_m.or(self.first_plot_sigma_m)
     }
 
     /// Scans in the file.
@@ -356,6 +399,7 @@ impl PlotSource for PlotsFileSource {
             None => None,
         };
         self.accuracy = scan.accuracy;
+        self.plot_sigma_m = scan.plot_sigma_m;
         let out = SourceScan {
             radar: scan.radar.clone(),
             own_ship: Some(own),
@@ -378,6 +422,12 @@ impl PlotSource for PlotsFileSource {
     /// The file's `range_sigma_m` and `bearing_sigma_deg` for the scan just given.
     fn plot_accuracy(&self) -> Option<PolarAccuracy> {
         self.accuracy
+    }
+
+    /// The operator's plot accuracy, else the file's `plot_sigma_m` for the scan just
+    /// given (a radar's changes with its range scale).
+    fn plot_sigma_m(&self) -> Option<f32> {
+        self.plot_sigma_given_m.or(self.plot_sigma_m)
     }
 }
 
