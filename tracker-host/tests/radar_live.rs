@@ -124,7 +124,10 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
     second.set_multicast_loop_v4(true).unwrap();
     let second: UdpSocket = second.into();
     let start = Instant::now();
-    for (t, dst, payload) in &datagrams {
+    // And junk on the spoke group now and then (another program's traffic): refused as
+    // spoke packets and counted, the picture unchanged.
+    let mut junk = 0;
+    for (k, (t, dst, payload)) in datagrams.iter().enumerate() {
         if let Some(wait) =
             (start + Duration::from_secs_f64(*t)).checked_duration_since(Instant::now())
         {
@@ -132,6 +135,12 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
         }
         sender.send_to(payload, dst).unwrap();
         second.send_to(payload, dst).unwrap();
+        if k % 20 == 0 && dst.port() == 6678 {
+            sender
+                .send_to(b"not a spoke: junk on the group", dst)
+                .unwrap();
+            junk += 1;
+        }
     }
     // Every whole rotation tracked (however far behind a slow machine is), the partial
     // last one's spokes read, then Ctrl-C: the run ends with its summary.
@@ -169,8 +178,14 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
     let spoke_datagrams = datagrams.iter().filter(|d| d.1.port() == 6678).count();
     assert_eq!(
         l["live"]["received"],
-        2 * spoke_datagrams,
-        "spoke datagrams sent by the two radars, received"
+        2 * spoke_datagrams + junk,
+        "spoke datagrams sent by the two radars, and the junk, received"
+    );
+    assert!(junk > 10, "{junk}");
+    assert_eq!(l["spoke_packets_refused"], junk, "{l}");
+    assert!(
+        stdout.contains(&format!("{junk} spoke packets refused")),
+        "{stdout}"
     );
     assert_eq!(l["other_radar"], "127.0.0.2");
     assert_eq!(l["other_radar_datagrams"], spoke_datagrams);

@@ -341,6 +341,7 @@ impl Run {
             nmea_out: self.sinks.iter().find_map(|s| s.nmea_out()),
             events: {
                 let mut e = self.session.events();
+                e.extend(self.plots.events());
                 e.extend(self.own_ship.events());
                 if let Some(a) = &self.ais {
                     e.extend(a.events().iter().cloned());

@@ -57,7 +57,7 @@ const POLL: Duration = Duration::from_millis(200);
 const INTERRUPT_POLL: Duration = Duration::from_millis(250);
 
 /// Silence on a live radar is told this often.
-const SILENCE_NOTE: Duration = Duration::from_secs(10);
+pub(crate) const SILENCE_NOTE: Duration = Duration::from_secs(10);
 /// Receive buffer asked of the kernel, bytes.
 const RECV_BUFFER: usize = 4 << 20;
 

@@ -113,6 +113,13 @@ pub struct SpokeSource {
     radar_changes: u64,
     last: Option<(RadarKind, SpokeMeta)>,
     live_deadline: Option<Instant>,
+    /// When the last spoke was given (or the source opened), and the notes of no spokes
+    /// told since: datagrams that are not spokes keep the receiver's own silence note
+    /// from being told (a new user's trial sent junk to the group and heard nothing).
+    spoke_at: Instant,
+    spokeless_notes: u32,
+    /// What happened worth telling: the radar tracked changed.
+    events: crate::event_log::EventLog,
 }
 
 impl std::fmt::Debug for SpokeSource {
@@ -174,7 +181,15 @@ impl SpokeSource {
             radar_changes: 0,
             last: None,
             live_deadline: None,
+            spoke_at: Instant::now(),
+            spokeless_notes: 0,
+            events: crate::event_log::EventLog::default(),
         }
+    }
+
+    /// The radar changes told (see [`RadarStats::radar_changes`]), oldest first.
+    pub fn events(&self) -> Vec<String> {
+        self.events.lines("radar")
     }
 
     /// How long [`next_spoke`](Self::next_spoke) may wait for live data, from now, before
@@ -209,6 +224,7 @@ impl SpokeSource {
                 break;
             }
             self.active = None;
+            let live = self.is_live();
             let datagram = match &mut self.input {
                 Input::Capture(c) => c.next_datagram()?,
                 Input::Live(l) => l.next_datagram(
@@ -221,6 +237,20 @@ impl SpokeSource {
                 return Ok(None);
             };
             self.datagrams += 1;
+            // Datagrams coming, none of them a spoke: told as the receiver tells silence,
+            // when waiting as long as it takes (plain output; the display shows the
+            // silence itself).
+            let silent = self.spoke_at.elapsed();
+            let note = super::live::SILENCE_NOTE * (self.spokeless_notes + 1);
+            if live && self.live_deadline.is_none() && silent >= note {
+                self.spokeless_notes += 1;
+                eprintln!(
+                    "no radar spokes for {} s though datagrams come ({} not a radar's spokes, {} spoke packets refused so far): is this the radar's spoke group, and is the radar transmitting?",
+                    silent.as_secs(),
+                    self.other_datagrams,
+                    self.navico.counts().frame_faults.total() + self.garmin.counts().faults.total()
+                );
+            }
             // Saturating: a time before 1970 becomes 0.
             let time_ms = (d.time_s * 1000.0).round() as u64;
             let kind = route(d.payload, d.dst.port());
@@ -238,6 +268,16 @@ impl SpokeSource {
                     other.1 += 1;
                     continue;
                 }
+                let change = format!(
+                    "the radar at {} silent {:.0} s: now tracking the radar at {from}",
+                    self.radar_address
+                        .map_or("?".to_string(), |a| a.to_string()),
+                    d.time_s - self.time_s
+                );
+                if self.live_deadline.is_none() && live {
+                    eprintln!("{change}");
+                }
+                self.events.push(change);
                 self.radar_address = None;
                 self.radar_changes += 1;
             }
@@ -273,6 +313,8 @@ impl SpokeSource {
             bail!("radar source: the {kind} decoder lost its spoke");
         };
         self.last = Some((kind, stream.observe(&spoke, self.time_s)));
+        self.spoke_at = Instant::now();
+        self.spokeless_notes = 0;
         Ok(Some((spoke, self.time_s)))
     }
 

@@ -106,6 +106,11 @@ pub trait PlotSource {
         None
     }
 
+    /// What happened worth telling (a live radar replaced by another), oldest first.
+    fn events(&self) -> Vec<String> {
+        Vec::new()
+    }
+
     /// What a radar source counted (scans, plots, extended returns), for the summary.
     fn radar_counts(&self) -> Option<radar::RadarCounts> {
         None

@@ -134,6 +134,11 @@ pub struct RadarCounts {
     /// A live radar's datagrams: received, dropped by the reader, dropped by the kernel.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub live: Option<crate::radar::live::LiveStats>,
+    /// Datagrams on the radar's groups that were neither brand's spokes (its state
+    /// reports, other traffic, junk).
+    pub not_spokes: u64,
+    /// Spoke packets refused (unknown, truncated or inconsistent), both brands.
+    pub spoke_packets_refused: u64,
     /// The plots against the truth, when the radar is the simulator's (`demo --video`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub plot_scores: Option<super::video::PlotScores>,
@@ -199,6 +204,13 @@ impl std::fmt::Display for RadarCounts {
         }
         if let Some(live) = &self.live {
             write!(f, "; live: {live}")?;
+        }
+        if self.spoke_packets_refused > 0 || self.live.is_some() {
+            write!(
+                f,
+                "; {} spoke packets refused (unknown, truncated or inconsistent), {} datagrams not a radar's spokes",
+                self.spoke_packets_refused, self.not_spokes
+            )?;
         }
         if self.capture_truncated {
             write!(
@@ -385,6 +397,8 @@ impl RadarPlotSource {
             c.other_radar_datagrams = n;
         }
         c.radar_changes = stats.radar_changes;
+        c.not_spokes = stats.other_datagrams;
+        c.spoke_packets_refused = stats.bad_packets();
         (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
         c
@@ -810,6 +824,10 @@ impl PlotSource for RadarPlotSource {
 
     fn radar_counts(&self) -> Option<RadarCounts> {
         Some(self.counts())
+    }
+
+    fn events(&self) -> Vec<String> {
+        self.spokes.events()
     }
 
     fn is_live(&self) -> bool {
