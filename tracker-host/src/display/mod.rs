@@ -414,15 +414,15 @@ pub fn render_paused(
     // the table fewer than [`TABLE_MIN_TARGET_ROWS`] targets: then the alarms are listed by
     // target, several to a line (an 80×24 terminal with ten alarms showed 2 of 40 targets).
     let narrow = columns[1].width < NARROW_ALARM_COLUMNS;
-    let mut alarms = alarm_lines(state, latest, narrow, None);
+    let inner = usize::from(columns[1].width.saturating_sub(2));
+    let mut alarms = alarm_lines(state, latest, narrow, None).wrapped(inner);
     if header_rows
         + TABLE_MIN_TARGET_ROWS
         + 3
         + alarm_box_rows(&alarms.lines, state, columns[1].width)
         > columns[1].height
     {
-        let inner = usize::from(columns[1].width.saturating_sub(2));
-        alarms = alarm_lines(state, latest, narrow, Some(inner));
+        alarms = alarm_lines(state, latest, narrow, Some(inner)).wrapped(inner);
     }
     let right = Layout::default()
         .direction(Direction::Vertical)
@@ -1182,6 +1182,41 @@ fn alarm_lines(
 struct AlarmLines {
     lines: Vec<Line<'static>>,
     held: Vec<usize>,
+}
+
+impl AlarmLines {
+    /// Each line wider than `width` wrapped at its spaces onto rows of its own, indented
+    /// by two (the first row holds what the line held, the others nothing), so that no
+    /// figure is cut at the box's edge: at 100 columns the box is 51 characters inside, and
+    /// "RADAR SILENT: no scan for 37.6 s (12 rotations missed): 29 targets lost, acquiring
+    /// again" lost its targets (a new user's trial).
+    fn wrapped(self, width: usize) -> Self {
+        let mut out = AlarmLines {
+            lines: Vec::with_capacity(self.lines.len()),
+            held: Vec::with_capacity(self.held.len()),
+        };
+        for (line, held) in self.lines.into_iter().zip(self.held) {
+            let text = line.to_string();
+            if width < 8 || text.chars().count() <= width {
+                out.lines.push(line);
+                out.held.push(held);
+                continue;
+            }
+            let style = line
+                .spans
+                .first()
+                .map_or(line.style, |s| line.style.patch(s.style));
+            for (i, row) in wrap(text.split(' '), " ", width - 2)
+                .into_iter()
+                .enumerate()
+            {
+                let row = if i == 0 { row } else { format!("  {row}") };
+                out.lines.push(Line::styled(row, style));
+                out.held.push(if i == 0 { held } else { 0 });
+            }
+        }
+        out
+    }
 }
 
 /// Draws the alarm box: `lines` ([`alarm_lines`]), the answer to the operator's last
@@ -2213,6 +2248,13 @@ pub(crate) mod tests {
             shown.len()
         );
         assert!(text.iter().any(|l| l.starts_with(&said)), "{text:?}");
+        // At 100 columns the box is 53 wide: the line is wrapped onto a second row, not cut
+        // (a new user's trial read "… (12 rotations missed" and no more).
+        let wide = screen_at(&state, &view, 100, 30);
+        assert!(
+            wide.contains(&format!("{} targets lost", shown.len())),
+            "{wide}"
+        );
         let label = shown[0].label();
         assert!(
             text.iter().any(|l| *l == format!("LOST TARGET {label}")),
