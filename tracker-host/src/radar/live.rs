@@ -181,6 +181,10 @@ impl LiveReceiver {
                 .context("starting a receiving thread")?;
             receiver.threads.push(thread);
         }
+        // Which groups, on which interface: left to the system, it is its default route's,
+        // which need not be the radar's network (a new user's trial heard nothing on the
+        // loopback, and nothing said where it listened).
+        eprintln!("{}", listening_text(endpoints, interface));
         Ok(receiver)
     }
 
@@ -257,6 +261,30 @@ impl Drop for LiveReceiver {
             let _ = t.join();
         }
     }
+}
+
+/// The start-up line saying what a live radar source listens to: `endpoints`' groups on the
+/// interface with address `interface`, or (unspecified) on the system's choice, with this
+/// computer's interfaces to choose from.
+pub fn listening_text(endpoints: &[Endpoint], interface: Ipv4Addr) -> String {
+    let groups: Vec<String> = endpoints
+        .iter()
+        .map(|e| format!("{}:{}", e.group, e.port))
+        .collect();
+    let on = if interface.is_unspecified() {
+        let here = crate::udp::ipv4_interfaces();
+        format!(
+            "the interface the system chooses for multicast (its default route's); if that is not the radar's network, give this computer's address on it as navico@ADDR or garmin@ADDR{}",
+            if here.is_empty() {
+                String::new()
+            } else {
+                format!(" (this computer's: {})", here.join(", "))
+            }
+        )
+    } else {
+        format!("the interface {interface}")
+    };
+    format!("radar: listening to {} on {on}", groups.join(", "))
 }
 
 fn join(e: &Endpoint, interface: Ipv4Addr) -> anyhow::Result<UdpSocket> {
@@ -353,6 +381,21 @@ mod tests {
             text.contains("203.0.113.77 is not an address of this computer's")
                 && text.contains(" 127.0.0.1"),
             "{text}"
+        );
+    }
+
+    #[test]
+    fn the_start_up_line_says_where_the_radar_is_listened_to() {
+        let on = listening_text(&NAVICO_SPOKE_GROUPS, Ipv4Addr::LOCALHOST);
+        assert!(
+            on.starts_with("radar: listening to 236.6.7.8:6678")
+                && on.ends_with("on the interface 127.0.0.1"),
+            "{on}"
+        );
+        let chosen = listening_text(&NAVICO_SPOKE_GROUPS, Ipv4Addr::UNSPECIFIED);
+        assert!(
+            chosen.contains("the system chooses") && chosen.contains(" 127.0.0.1"),
+            "{chosen}"
         );
     }
 }
