@@ -151,8 +151,10 @@ pub struct RunArgs {
     #[arg(long, allow_negative_numbers = true, value_name = "MIN", default_value_t = 12.0, value_parser = tcpa_limit_min)]
     pub tcpa_min: f64,
     /// Send every target to a chart plotter as NMEA 0183 `TTM` and `TLL` sentences each
-    /// scan: `udp:HOST:PORT` or `tcp:PORT` (a server plotters connect to).
-    #[arg(long, value_name = "udp:HOST:PORT|tcp:PORT")]
+    /// scan: `udp:HOST:PORT`, `tcp:PORT` (a server plotters connect to) or
+    /// `serial:DEVICE@BAUD` (38400 baud, IEC 61162-2, carries a scan of 40 targets; 4800
+    /// does not, and the oldest sentences are dropped, counted).
+    #[arg(long, value_name = "udp:HOST:PORT|tcp:PORT|serial:DEVICE@BAUD")]
     pub nmea_out: Option<OutSpec>,
     /// With --nmea-out, send own ship too (`RMC`, `HDT`, `OSD`), for a plotter that has no
     /// GNSS of its own.

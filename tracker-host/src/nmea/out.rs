@@ -1,7 +1,9 @@
-//! Where NMEA goes: datagrams to one listener (UDP), or a TCP server any number of chart
-//! plotters connect to. Nothing here ever holds up a scan: clients are written without
-//! blocking, each with a bounded queue, and a client that stops reading is dropped when its
-//! queue is full (counted) while the others go on.
+//! Where NMEA goes: datagrams to one listener (UDP), a TCP server any number of chart
+//! plotters connect to, or a serial port (the bridge's RS-422 to a plotter, IEC 61162-1/-2).
+//! Nothing here ever holds up a scan: clients are written without blocking, each with a
+//! bounded queue, and a client that stops reading is dropped when its queue is full
+//! (counted) while the others go on; a serial port's queue holds what its baud rate
+//! carries in [`SERIAL_QUEUE_S`], the oldest sentences dropped (counted) past it.
 
 use std::collections::VecDeque;
 use std::io::Write;
@@ -16,14 +18,20 @@ pub const MAX_CLIENT_QUEUE_BYTES: usize = 256 * 1024;
 /// Clients served at once at most; more are refused (closed on accept) and counted.
 pub const MAX_CLIENTS: usize = 32;
 
-/// Where NMEA goes: `udp:HOST:PORT` (datagrams to one listener) or `tcp:PORT` (a server any
-/// number of chart plotters connect to).
+/// A serial port's queue holds what its baud rate carries in this long, s: a scan's
+/// sentences that do not go out by then are stale (the next scan's say it again).
+pub const SERIAL_QUEUE_S: u32 = 2;
+
+/// Where NMEA goes: `udp:HOST:PORT` (datagrams to one listener), `tcp:PORT` (a server any
+/// number of chart plotters connect to) or `serial:DEVICE@BAUD` (a serial port).
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub enum OutSpec {
     /// Datagrams to this address.
     Udp(String),
     /// A TCP server on this port (all interfaces).
     Tcp(u16),
+    /// A serial port and its baud rate.
+    Serial(String, u32),
 }
 
 impl std::str::FromStr for OutSpec {
@@ -35,7 +43,19 @@ impl std::str::FromStr for OutSpec {
                 .parse()
                 .map(OutSpec::Tcp)
                 .map_err(|_| format!("{s}: tcp:PORT with a port number")),
-            _ => Err(format!("{s}: expected udp:HOST:PORT or tcp:PORT")),
+            Some(("serial", d)) => {
+                let bad = || format!("{s}: serial:DEVICE@BAUD, e.g. serial:/dev/ttyUSB0@38400");
+                let (device, baud) = d.rsplit_once('@').ok_or_else(bad)?;
+                match baud.parse::<u32>() {
+                    Ok(b) if b > 0 && !device.is_empty() => {
+                        Ok(OutSpec::Serial(device.to_string(), b))
+                    }
+                    _ => Err(bad()),
+                }
+            }
+            _ => Err(format!(
+                "{s}: expected udp:HOST:PORT, tcp:PORT or serial:DEVICE@BAUD"
+            )),
         }
     }
 }
@@ -59,19 +79,97 @@ pub struct ServerCounts {
     pub refused: u64,
 }
 
+/// What a serial port did with the sentences.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+pub struct SerialCounts {
+    /// The port's baud rate.
+    pub baud: u32,
+    /// Sentences dropped, oldest first, because the baud rate did not carry them in time.
+    pub sentences_dropped: u64,
+    /// Writes the port failed (a device unplugged: counted, tracking goes on).
+    pub write_errors: u64,
+}
+
+/// A serial port and the sentences waiting for it.
+pub struct SerialOut {
+    port: Box<dyn serialport::SerialPort>,
+    device: String,
+    /// Sentences waiting, oldest first; how much of the first has gone out; their bytes.
+    queue: VecDeque<String>,
+    written: usize,
+    queued_bytes: usize,
+    /// Bytes the queue holds at most: [`SERIAL_QUEUE_S`] of the baud rate (10 bits a byte).
+    max_bytes: usize,
+    counts: SerialCounts,
+}
+
+impl SerialOut {
+    /// Queues `sentences`, dropping the oldest whole sentences past the queue's bound (never
+    /// the one going out: a cut sentence would reach the plotter as garbage), and writes
+    /// what the port takes now.
+    fn send(&mut self, sentences: &[String]) {
+        for s in sentences {
+            self.queued_bytes += s.len();
+            self.queue.push_back(s.clone());
+        }
+        let first_dropped = self.counts.sentences_dropped == 0;
+        let keep_front = usize::from(self.written > 0);
+        while self.queued_bytes > self.max_bytes && self.queue.len() > keep_front {
+            let Some(old) = self.queue.remove(keep_front) else {
+                break;
+            };
+            self.queued_bytes -= old.len();
+            self.counts.sentences_dropped += 1;
+        }
+        if first_dropped && self.counts.sentences_dropped > 0 {
+            eprintln!(
+                "nmea out: {} at {} baud cannot carry every scan's sentences: the oldest are dropped (counted); 38400 baud (IEC 61162-2) carries about 3,800 bytes a second, 4800 about 480",
+                self.device, self.counts.baud
+            );
+        }
+        use std::io::ErrorKind::{Interrupted, TimedOut, WouldBlock};
+        while let Some(front) = self.queue.front() {
+            match self.port.write(&front.as_bytes()[self.written..]) {
+                Ok(0) => break,
+                Ok(n) => {
+                    self.written += n;
+                    if self.written >= front.len() {
+                        self.queued_bytes -= front.len();
+                        self.queue.pop_front();
+                        self.written = 0;
+                    }
+                }
+                Err(e) if matches!(e.kind(), WouldBlock | Interrupted | TimedOut) => break,
+                Err(e) => {
+                    if self.counts.write_errors == 0 {
+                        eprintln!(
+                            "nmea out: writing to {} failed: {e} (counted; tracking goes on)",
+                            self.device
+                        );
+                    }
+                    self.counts.write_errors += 1;
+                    break;
+                }
+            }
+        }
+    }
+}
+
 /// An open NMEA output.
 pub enum NmeaOut {
     /// UDP socket, destination, and datagrams the system refused to send.
     Udp(UdpSocket, std::net::SocketAddr, u64),
     /// Listening socket, the connected clients, and the counts.
     Tcp(TcpListener, Vec<Client>, ServerCounts),
+    /// A serial port.
+    Serial(SerialOut),
 }
 
 impl NmeaOut {
     /// Opens `spec`.
     ///
     /// # Errors
-    /// An address that does not resolve, a port in use.
+    /// An address that does not resolve, a port in use, a serial device that does not open.
     pub fn open(spec: &OutSpec) -> anyhow::Result<Self> {
         Ok(match spec {
             OutSpec::Udp(addr) => {
@@ -95,6 +193,28 @@ impl NmeaOut {
                 l.set_nonblocking(true)?;
                 NmeaOut::Tcp(l, Vec::new(), ServerCounts::default())
             }
+            OutSpec::Serial(device, baud) => {
+                // A zero timeout: a write takes what the port's buffer has room for now.
+                let port = serialport::new(device, *baud)
+                    .timeout(std::time::Duration::ZERO)
+                    .open()
+                    .with_context(|| format!("opening {device} at {baud} baud"))?;
+                let per_s = usize::try_from(*baud / 10).unwrap_or(usize::MAX);
+                NmeaOut::Serial(SerialOut {
+                    port,
+                    device: device.clone(),
+                    queue: VecDeque::new(),
+                    written: 0,
+                    queued_bytes: 0,
+                    max_bytes: per_s
+                        .saturating_mul(SERIAL_QUEUE_S as usize)
+                        .max(crate::nmea::sentence::MAX_LINE_CHARS),
+                    counts: SerialCounts {
+                        baud: *baud,
+                        ..SerialCounts::default()
+                    },
+                })
+            }
         })
     }
 
@@ -106,6 +226,10 @@ impl NmeaOut {
         match self {
             NmeaOut::Udp(s, ..) => s.local_addr(),
             NmeaOut::Tcp(l, _, _) => l.local_addr(),
+            NmeaOut::Serial(_) => Err(std::io::Error::new(
+                std::io::ErrorKind::Unsupported,
+                "a serial port has no network address",
+            )),
         }
     }
 
@@ -113,15 +237,23 @@ impl NmeaOut {
     pub fn udp_failures(&self) -> u64 {
         match self {
             NmeaOut::Udp(.., failed) => *failed,
-            NmeaOut::Tcp(..) => 0,
+            NmeaOut::Tcp(..) | NmeaOut::Serial(_) => 0,
         }
     }
 
-    /// What the TCP server did with its clients (`None` for UDP).
+    /// What the TCP server did with its clients (`None` for UDP and serial).
     pub fn counts(&self) -> Option<ServerCounts> {
         match self {
-            NmeaOut::Udp(..) => None,
+            NmeaOut::Udp(..) | NmeaOut::Serial(_) => None,
             NmeaOut::Tcp(_, _, c) => Some(*c),
+        }
+    }
+
+    /// What a serial port did (`None` for UDP and TCP).
+    pub fn serial_counts(&self) -> Option<SerialCounts> {
+        match self {
+            NmeaOut::Serial(s) => Some(s.counts),
+            _ => None,
         }
     }
 
@@ -179,21 +311,24 @@ impl NmeaOut {
                     alive
                 });
             }
+            NmeaOut::Serial(port) => port.send(sentences),
         }
     }
 
-    /// The run's end: over TCP, waits up to `within` for every client to take what is
-    /// queued for it (the targets' ends: nothing is sent after them that would carry the
-    /// rest out). UDP has nothing queued.
+    /// The run's end: over TCP and serial, waits up to `within` for every client (the
+    /// port) to take what is queued for it (the targets' ends: nothing is sent after them
+    /// that would carry the rest out). UDP has nothing queued.
     pub fn drain(&mut self, within: std::time::Duration) {
         let deadline = std::time::Instant::now() + within;
         loop {
             // Nothing new: the clients' queues written as far as they read.
             self.send(&[]);
-            let NmeaOut::Tcp(_, clients, _) = self else {
-                return;
+            let empty = match self {
+                NmeaOut::Tcp(_, clients, _) => clients.iter().all(|c| c.queue.is_empty()),
+                NmeaOut::Serial(s) => s.queue.is_empty() || s.counts.write_errors > 0,
+                NmeaOut::Udp(..) => true,
             };
-            if clients.iter().all(|c| c.queue.is_empty()) || std::time::Instant::now() >= deadline {
+            if empty || std::time::Instant::now() >= deadline {
                 return;
             }
             std::thread::sleep(std::time::Duration::from_millis(10));
@@ -222,6 +357,120 @@ fn flush(c: &mut Client) -> bool {
 mod tests {
     use super::*;
     use std::io::Read;
+
+    /// A pseudo-terminal pair: the master (the plotter's end) and the slave's path (the
+    /// port the tracker opens).
+    fn serial_line() -> (std::fs::File, String) {
+        let pty = nix::pty::openpty(None, None).unwrap();
+        let path = nix::unistd::ttyname(&pty.slave).unwrap();
+        // Raw: the line discipline would otherwise turn "\r\n" into "\n\n" and echo.
+        let mut t = nix::sys::termios::tcgetattr(&pty.slave).unwrap();
+        nix::sys::termios::cfmakeraw(&mut t);
+        nix::sys::termios::tcsetattr(&pty.slave, nix::sys::termios::SetArg::TCSANOW, &t).unwrap();
+        (
+            std::fs::File::from(pty.master),
+            path.to_string_lossy().into_owned(),
+        )
+    }
+
+    /// A scan of `n` targets' `TTM`s.
+    fn ttm_scan(n: usize) -> Vec<String> {
+        (0..n)
+            .map(|i| {
+                let body = format!(
+                    "RATTM,{:02},1.000,90.0,T,10.0,180.0,T,0.500,3.00,N,TGT,T,,000000.00,A",
+                    i % 99 + 1
+                );
+                let sum = crate::nmea::sentence::checksum(&body);
+                format!("${body}*{sum:02X}\r\n")
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_serial_plotter_gets_every_sentence_whole() {
+        assert_eq!(
+            "serial:/dev/ttyUSB0@38400".parse::<OutSpec>(),
+            Ok(OutSpec::Serial("/dev/ttyUSB0".into(), 38_400))
+        );
+        for bad in [
+            "serial:/dev/ttyUSB0",
+            "serial:/dev/ttyUSB0@0",
+            "serial:@4800",
+        ] {
+            assert!(bad.parse::<OutSpec>().is_err(), "{bad}");
+        }
+        let (mut plotter, path) = serial_line();
+        let mut out = NmeaOut::open(&OutSpec::Serial(path, 38_400)).unwrap();
+        let scan = ttm_scan(40);
+        let total = scan.concat().len() * 10;
+        let reading = std::thread::spawn(move || {
+            let mut got = Vec::new();
+            let mut buf = [0u8; 4096];
+            while got.len() < total {
+                match plotter.read(&mut buf) {
+                    Ok(0) | Err(_) => break,
+                    Ok(n) => got.extend_from_slice(&buf[..n]),
+                }
+            }
+            got
+        });
+        for _ in 0..10 {
+            out.send(&scan);
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        out.drain(std::time::Duration::from_secs(5));
+        let got = String::from_utf8(reading.join().unwrap()).unwrap();
+        assert_eq!(got, scan.concat().repeat(10));
+        let c = out.serial_counts().unwrap();
+        assert_eq!((c.sentences_dropped, c.write_errors), (0, 0), "{c:?}");
+    }
+
+    #[test]
+    fn a_serial_port_that_cannot_keep_up_drops_the_oldest_sentences_whole() {
+        // Nobody reads the line: the port's buffer fills, and the scans still go at once,
+        // the oldest sentences dropped (counted), never one cut in the middle.
+        let (mut plotter, path) = serial_line();
+        let mut out = NmeaOut::open(&OutSpec::Serial(path, 4_800)).unwrap();
+        let scan = ttm_scan(40);
+        let started = std::time::Instant::now();
+        for _ in 0..200 {
+            out.send(&scan);
+        }
+        assert!(
+            started.elapsed() < std::time::Duration::from_secs(20),
+            "it blocked"
+        );
+        let c = out.serial_counts().unwrap();
+        assert!(c.sentences_dropped > 0, "{c:?}");
+        // What the plotter then reads is whole sentences.
+        let reading = std::thread::spawn(move || {
+            let mut got = Vec::new();
+            let mut buf = [0u8; 4096];
+            let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
+            while std::time::Instant::now() < deadline {
+                match plotter.read(&mut buf) {
+                    Ok(0) | Err(_) => break,
+                    Ok(n) => got.extend_from_slice(&buf[..n]),
+                }
+                if got.ends_with(b"\r\n") && got.len() > 100_000 {
+                    break;
+                }
+            }
+            got
+        });
+        out.drain(std::time::Duration::from_secs(3));
+        drop(out);
+        let got = String::from_utf8(reading.join().unwrap()).unwrap();
+        let lines: Vec<&str> = got.split_terminator("\r\n").collect();
+        assert!(!lines.is_empty());
+        for l in &lines {
+            assert!(
+                scan.iter().any(|s| s.trim_end() == *l),
+                "a cut sentence: {l:?}"
+            );
+        }
+    }
 
     #[test]
     fn a_plotter_that_stops_reading_is_dropped_and_holds_up_nothing() {

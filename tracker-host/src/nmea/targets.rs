@@ -193,8 +193,12 @@ pub struct NmeaOutSummary {
     pub sent: TargetsOutCounts,
     /// UDP datagrams the system refused to send.
     pub udp_failures: u64,
-    /// A TCP server's clients (`None` over UDP): whether a plotter ever connected.
+    /// A TCP server's clients (`None` over UDP and serial): whether a plotter ever
+    /// connected.
     pub tcp: Option<crate::nmea::out::ServerCounts>,
+    /// A serial port's counts (`None` over UDP and TCP).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub serial: Option<crate::nmea::out::SerialCounts>,
 }
 
 impl std::fmt::Display for NmeaOutSummary {
@@ -204,13 +208,18 @@ impl std::fmt::Display for NmeaOutSummary {
             "{} target reports (TTM/TLL) and {} ends (L) sent",
             self.sent.targets_sent, self.sent.lost_sent
         )?;
-        match self.tcp {
-            Some(c) => write!(
+        match (self.tcp, self.serial) {
+            (Some(c), _) => write!(
                 f,
                 "; TCP: {} plotters connected ({} gone, {} dropped for not reading, {} refused)",
                 c.accepted, c.gone, c.dropped_slow, c.refused
             ),
-            None => write!(
+            (None, Some(s)) => write!(
+                f,
+                "; serial at {} baud: {} sentences dropped (the baud rate did not carry them in time), {} write errors",
+                s.baud, s.sentences_dropped, s.write_errors
+            ),
+            (None, None) => write!(
                 f,
                 "; UDP: {} datagrams refused by the system",
                 self.udp_failures
@@ -425,6 +434,7 @@ impl ScanSink for TargetsOut {
             sent: self.counts,
             udp_failures: self.out.udp_failures(),
             tcp: self.out.counts(),
+            serial: self.out.serial_counts(),
         })
     }
 }
