@@ -190,9 +190,12 @@ impl Run {
         heard.extend(self.own_ship.take_ais());
         if !heard.is_empty() || self.ais.is_some() {
             let (origin, data) = (self.origin, self.associated_data);
+            let limits = self.session.config().alarms;
             self.ais
                 .get_or_insert_with(|| {
-                    AisPicture::new(origin, PairingGates::default()).with_associated_data(data)
+                    AisPicture::new(origin, PairingGates::default())
+                        .with_associated_data(data)
+                        .with_alarm_limits(limits)
                 })
                 .scan(&mut report, &heard);
         }

@@ -139,9 +139,10 @@ pub struct RunArgs {
     /// Whose data a ship with its radar target associated with one AIS target is shown
     /// with (position, course, speed, CPA, TCPA: in the table, `TTM` and `TLL`) and
     /// alarms on, once: `ais` (the AIS target's, IEC 62388's default) or `radar` (the
-    /// radar track's).
-    #[arg(long, value_enum, default_value_t = AssociatedDataArg::Ais)]
-    pub associated_data: AssociatedDataArg,
+    /// radar track's). By default the source `--associated-symbol` draws (a radar symbol
+    /// on AIS data would be drawn off its echo).
+    #[arg(long, value_enum)]
+    pub associated_data: Option<AssociatedDataArg>,
     /// The CPA/TCPA alarm's CPA limit, nautical miles: a target (radar or activated AIS)
     /// whose CPA is below it within the TCPA limit alarms (a bridge's open-water setting is
     /// 1 NM; in a harbour or a traffic separation scheme far less).
@@ -441,7 +442,11 @@ impl RunArgs {
             snapshot: self.snapshot.clone(),
             snapshot_range_nm: self.snapshot_range_nm,
             associated_symbol: self.associated_symbol.into(),
-            associated_data: self.associated_data.into(),
+            associated_data: match (self.associated_data, self.associated_symbol) {
+                (Some(d), _) => d.into(),
+                (None, AssociatedSymbolArg::Ais) => crate::session::ais::AssociatedData::Ais,
+                (None, AssociatedSymbolArg::Radar) => crate::session::ais::AssociatedData::Radar,
+            },
         }
     }
 }

@@ -1186,8 +1186,9 @@ struct AlarmLines {
 
 impl AlarmLines {
     /// Each line wider than `width` wrapped at its spaces onto rows of its own, indented
-    /// by two (the first row holds what the line held, the others nothing), so that no
-    /// figure is cut at the box's edge: at 100 columns the box is 51 characters inside, and
+    /// by two (the last row holds what the line held, the others nothing: an alarm cut
+    /// between its rows by the box's `+N more` is counted there as not shown), so that no
+    /// figure is cut at the box's edge: at 100 columns the box is 53 characters inside, and
     /// "RADAR SILENT: no scan for 37.6 s (12 rotations missed): 29 targets lost, acquiring
     /// again" lost its targets (a new user's trial).
     fn wrapped(self, width: usize) -> Self {
@@ -1206,13 +1207,12 @@ impl AlarmLines {
                 .spans
                 .first()
                 .map_or(line.style, |s| line.style.patch(s.style));
-            for (i, row) in wrap(text.split(' '), " ", width - 2)
-                .into_iter()
-                .enumerate()
-            {
+            let rows = wrap(text.split(' '), " ", width - 2);
+            let last = rows.len().saturating_sub(1);
+            for (i, row) in rows.into_iter().enumerate() {
                 let row = if i == 0 { row } else { format!("  {row}") };
                 out.lines.push(Line::styled(row, style));
-                out.held.push(if i == 0 { held } else { 0 });
+                out.held.push(if i == last { held } else { 0 });
             }
         }
         out

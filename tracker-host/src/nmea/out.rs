@@ -103,23 +103,48 @@ pub struct SerialOut {
     counts: SerialCounts,
 }
 
+/// True for a target's end (`TTM` or `TLL` with status `L`): sent once, so never dropped
+/// (the plotter would keep the target as a ghost).
+fn is_end(sentence: &str) -> bool {
+    let fields: Vec<&str> = sentence.split(',').collect();
+    let status = match fields.first().map(|f| f.get(3..).unwrap_or("")) {
+        Some("TTM") => fields.get(12),
+        Some("TLL") => fields.get(8),
+        _ => None,
+    };
+    status.is_some_and(|s| *s == "L")
+}
+
 impl SerialOut {
-    /// Queues `sentences`, dropping the oldest whole sentences past the queue's bound (never
-    /// the one going out: a cut sentence would reach the plotter as garbage), and writes
-    /// what the port takes now.
+    /// Queues `sentences` (a scan's: the targets' ends first, then the targets nearest
+    /// first) and writes what the port takes now. Past the queue's bound, the sentences of
+    /// earlier scans still waiting go first, then the scan's own from its tail (the
+    /// farthest targets): never a target's end, which is sent once, nor the sentence going
+    /// out (cut, it would reach the plotter as garbage).
     fn send(&mut self, sentences: &[String]) {
+        let first_dropped = self.counts.sentences_dropped == 0;
+        let incoming: usize = sentences.iter().map(String::len).sum();
+        let mut at = usize::from(self.written > 0);
+        while self.queued_bytes + incoming > self.max_bytes && at < self.queue.len() {
+            // Ends too, past four times the bound (a port that never takes anything).
+            let hard = self.queued_bytes + incoming > 4 * self.max_bytes;
+            if is_end(&self.queue[at]) && !hard {
+                at += 1;
+                continue;
+            }
+            if let Some(old) = self.queue.remove(at) {
+                self.queued_bytes -= old.len();
+                self.counts.sentences_dropped += 1;
+            }
+        }
         for s in sentences {
+            let room = if is_end(s) { 4 } else { 1 } * self.max_bytes;
+            if self.queued_bytes + s.len() > room {
+                self.counts.sentences_dropped += 1;
+                continue;
+            }
             self.queued_bytes += s.len();
             self.queue.push_back(s.clone());
-        }
-        let first_dropped = self.counts.sentences_dropped == 0;
-        let keep_front = usize::from(self.written > 0);
-        while self.queued_bytes > self.max_bytes && self.queue.len() > keep_front {
-            let Some(old) = self.queue.remove(keep_front) else {
-                break;
-            };
-            self.queued_bytes -= old.len();
-            self.counts.sentences_dropped += 1;
         }
         if first_dropped && self.counts.sentences_dropped > 0 {
             eprintln!(
@@ -194,10 +219,7 @@ impl NmeaOut {
                 NmeaOut::Tcp(l, Vec::new(), ServerCounts::default())
             }
             OutSpec::Serial(device, baud) => {
-                // A zero timeout: a write takes what the port's buffer has room for now.
-                let port = serialport::new(device, *baud)
-                    .timeout(std::time::Duration::ZERO)
-                    .open()
+                let port = open_serial_out(device, *baud)
                     .with_context(|| format!("opening {device} at {baud} baud"))?;
                 let per_s = usize::try_from(*baud / 10).unwrap_or(usize::MAX);
                 NmeaOut::Serial(SerialOut {
@@ -325,7 +347,7 @@ impl NmeaOut {
             self.send(&[]);
             let empty = match self {
                 NmeaOut::Tcp(_, clients, _) => clients.iter().all(|c| c.queue.is_empty()),
-                NmeaOut::Serial(s) => s.queue.is_empty() || s.counts.write_errors > 0,
+                NmeaOut::Serial(s) => s.queue.is_empty(),
                 NmeaOut::Udp(..) => true,
             };
             if empty || std::time::Instant::now() >= deadline {
@@ -333,6 +355,29 @@ impl NmeaOut {
             }
             std::thread::sleep(std::time::Duration::from_millis(10));
         }
+    }
+}
+
+/// Opens a serial port whose writes never wait: non-blocking on Unix (the `serialport`
+/// crate's own write polls with the timeout, then writes blocking, and a line discipline
+/// with a little room waits for a whole sentence to fit), a zero timeout elsewhere.
+fn open_serial_out(device: &str, baud: u32) -> anyhow::Result<Box<dyn serialport::SerialPort>> {
+    let builder = serialport::new(device, baud).timeout(std::time::Duration::ZERO);
+    #[cfg(unix)]
+    {
+        use nix::fcntl::{fcntl, FcntlArg, OFlag};
+        use std::os::fd::{AsRawFd, BorrowedFd};
+        let port = builder.open_native()?;
+        // SAFETY: the descriptor is the port's own, open while `port` lives, and only
+        // borrowed for these two calls.
+        let fd = unsafe { BorrowedFd::borrow_raw(port.as_raw_fd()) };
+        let flags = OFlag::from_bits_truncate(fcntl(fd, FcntlArg::F_GETFL)?);
+        fcntl(fd, FcntlArg::F_SETFL(flags | OFlag::O_NONBLOCK))?;
+        Ok(Box::new(port))
+    }
+    #[cfg(not(unix))]
+    {
+        Ok(builder.open()?)
     }
 }
 
@@ -429,12 +474,17 @@ mod tests {
     #[test]
     fn a_serial_port_that_cannot_keep_up_drops_the_oldest_sentences_whole() {
         // Nobody reads the line: the port's buffer fills, and the scans still go at once,
-        // the oldest sentences dropped (counted), never one cut in the middle.
+        // the oldest sentences dropped (counted), never one cut in the middle, never a
+        // target's end (sent once), and the scan's nearest targets kept before its farthest.
         let (mut plotter, path) = serial_line();
-        let mut out = NmeaOut::open(&OutSpec::Serial(path, 4_800)).unwrap();
-        let scan = ttm_scan(40);
+        let mut out = NmeaOut::open(&OutSpec::Serial(path, 38_400)).unwrap();
+        let end = "$RATTM,99,1.000,90.0,T,10.0,180.0,T,0.500,3.00,N,TGT,L,,000000.00,A*00\r\n";
+        assert!(is_end(end) && !is_end(&ttm_scan(1)[0]));
+        let scan: Vec<String> = std::iter::once(end.to_string())
+            .chain(ttm_scan(200))
+            .collect();
         let started = std::time::Instant::now();
-        for _ in 0..200 {
+        for _ in 0..50 {
             out.send(&scan);
         }
         assert!(
@@ -470,6 +520,15 @@ mod tests {
                 "a cut sentence: {l:?}"
             );
         }
+        assert_eq!(
+            lines.iter().filter(|l| is_end(l)).count(),
+            50,
+            "every scan's end reached the plotter"
+        );
+        // The last scan's nearest target went out; its farthest did not.
+        let last = lines.iter().rposition(|l| is_end(l)).unwrap();
+        assert_eq!(lines.get(last + 1), Some(&scan[1].trim_end()));
+        assert_ne!(lines.last(), Some(&scan[200].trim_end()));
     }
 
     #[test]

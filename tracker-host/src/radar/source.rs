@@ -269,7 +269,8 @@ impl SpokeSource {
                     continue;
                 }
                 let change = format!(
-                    "the radar at {} silent {:.0} s: now tracking the radar at {from}",
+                    "{}: the radar at {} silent {:.0} s: now tracking the radar at {from}",
+                    crate::utc::date_time_label(d.time_s),
                     self.radar_address
                         .map_or("?".to_string(), |a| a.to_string()),
                     d.time_s - self.time_s

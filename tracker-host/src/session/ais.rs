@@ -146,16 +146,16 @@ pub enum AssociatedSymbol {
 /// Whose data a ship is shown with when its radar target is associated with one AIS target
 /// (paired, or shown as that AIS target while their pair is confirmed): its position, course
 /// and speed, CPA and TCPA, in the target table, on plotters (`TTM`, `TLL`) and in the
-/// CPA/TCPA alarm. IEC 62388 §11.4 shows an associated target with the activated AIS
-/// target's alphanumeric data by default, the radar's on the operator's choice. Whichever
-/// it is, the ship raises one CPA/TCPA alarm, not one from each source: in a new user's
+/// CPA/TCPA alarm. IEC 62388 §11.4 shows an associated target with the AIS target's
+/// alphanumeric data by default, the radar's on the operator's choice. With the AIS
+/// target's, the ship raises one CPA/TCPA alarm, not one from each source: in a new user's
 /// trial a radar target shown as an AIS target (`NAME?`) kept its radar CPA and TCPA,
 /// receding, while the same ship's AIS target raised its own alarm (CPA 0.40 NM in 1.1
 /// min, the AIS right: the ship was turning and the track lagged).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum AssociatedData {
     /// The AIS target's data ([`crate::session::target::TargetData::with_ais_data`]), its
-    /// alarm judged on them scan by scan as an AIS target's is.
+    /// alarm held on them as a radar target's is.
     #[default]
     Ais,
     /// The radar track's data and alarm.
@@ -258,6 +258,11 @@ pub struct AisPicture {
     utc_offset_s: f64,
     /// Whose data an associated ship is shown with.
     data: AssociatedData,
+    /// The alarm limits, and the targets whose alarm was on last scan on the data shown:
+    /// held on them ([`crate::session::target::TargetData::alarm_held`]) whichever source
+    /// the data came from, so an alarm does not drop or appear as a pair is made or parted.
+    limits: crate::session::target::AlarmLimits,
+    alarmed: std::collections::BTreeSet<u16>,
 }
 
 impl AisPicture {
@@ -274,7 +279,16 @@ impl AisPicture {
             clock_is_utc: true,
             utc_offset_s: 0.0,
             data: AssociatedData::default(),
+            limits: crate::session::target::AlarmLimits::default(),
+            alarmed: std::collections::BTreeSet::new(),
         }
+    }
+
+    /// The CPA/TCPA alarm limits the scans are shown with (to hold an alarm on the data
+    /// shown).
+    pub fn with_alarm_limits(mut self, limits: crate::session::target::AlarmLimits) -> Self {
+        self.limits = limits;
+        self
     }
 
     /// The picture showing associated ships with `data`'s data (the AIS target's by
@@ -544,6 +558,16 @@ impl AisPicture {
         report.ais = ais;
         if self.data == AssociatedData::Ais {
             show_ais_data(report);
+            // An alarm is held on what was shown last scan, AIS data or the track's.
+            for t in &mut report.targets {
+                t.alarm_held = self.alarmed.contains(&t.track);
+            }
+            self.alarmed = report
+                .targets
+                .iter()
+                .filter(|t| t.dangerous(&self.limits))
+                .map(|t| t.track)
+                .collect();
         }
     }
 
@@ -685,6 +709,8 @@ fn show_ais_data(report: &mut ScanReport) {
             *t = d;
         }
     }
+    // Nearest first, as the session gives them (the table's order, `TTM`'s).
+    targets.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
 }
 
 #[cfg(test)]

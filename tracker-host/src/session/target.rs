@@ -68,6 +68,15 @@ pub struct TargetData {
 /// 0.25 kn is inside the TCPA limit only within 93 m of own ship (12 minutes at 0.129 m/s).
 pub const NO_RELATIVE_MOTION_MPS: f32 = 0.25 * MPS_PER_KNOT;
 
+/// An associated ship moving on an AIS report older than this is shown with its radar
+/// track's data, s: a class A ship under way reports every 2–10 s and a class B one over 2 kn
+/// every 30 s (ITU-R M.1371-5, table 1); a report missed or two is within it.
+pub const AIS_DATA_MAX_AGE_S: f32 = 35.0;
+
+/// Below this speed an AIS target is taken as not moving (its reports every 3 minutes at
+/// anchor carry no course to go stale), m/s (1 kn).
+pub const AIS_STILL_MPS: f32 = MPS_PER_KNOT;
+
 /// An alarm once on stays on until the target's CPA or TCPA is this many times its limit.
 /// A CPA near the limit moves across it with the velocity's noise from scan to scan: on
 /// the Solent an alarm was raised again and again on one target (21 times in 20 minutes on
@@ -136,12 +145,17 @@ impl TargetData {
     /// This target shown with the data of `a`, the AIS target of the same ship (IEC 62388
     /// §11.4: an associated target's alphanumeric data are the AIS target's by default,
     /// [`super::ais::AssociatedData`]): its position, course and speed over ground, and its
-    /// relative motion, CPA and TCPA from own ship `own`, as the AIS target is shown; its
-    /// alarm judged on them scan by scan ([`TargetData::alarm_held`] false), as an AIS
-    /// target's is. Its number, status and age stay the track's. `None` while the AIS
-    /// target's CPA is not known (own ship's motion unknown, or no motion reported): the
-    /// radar's data stand.
+    /// relative motion, CPA and TCPA from own ship `own`, as the AIS target is shown. Its
+    /// number, status, age and held alarm stay the track's (the AIS picture holds the alarm
+    /// on the data shown). `None`, the radar's data standing, while the AIS target's CPA is
+    /// not known (own ship's motion unknown, or no motion reported), or while it moves on
+    /// a report older than [`AIS_DATA_MAX_AGE_S`]: a ship's last course and speed carried
+    /// that far are worse than its fresh track in a turn.
     pub fn with_ais_data(&self, own: &OwnShip, a: &crate::ais::AisTargetData) -> Option<Self> {
+        let moving = libm::hypotf(a.velocity_mps[0], a.velocity_mps[1]) >= AIS_STILL_MPS;
+        if moving && a.age_s > AIS_DATA_MAX_AGE_S {
+            return None;
+        }
         let c = a.cpa?;
         let (course_rad, speed_mps) = geo::course_speed(a.velocity_mps);
         // The AIS velocity is over ground: relative to own ship's (as the AIS target's CPA
@@ -161,7 +175,6 @@ impl TargetData {
             velocity_mps: a.velocity_mps,
             true_motion_known: true,
             trend_known: true,
-            alarm_held: false,
             ais_data: Some(a.mmsi),
             ..*self
         })

@@ -12,7 +12,7 @@
 //! | `own_vx_mps`, `own_vy_mps` | m/s | optional, both or neither: own ship's velocity over ground (without them: from successive positions) |
 //! | `heading_deg` | degrees true | optional: own ship's heading |
 //! | `range_sigma_m`, `bearing_sigma_deg` | m, degrees | optional, both or neither: the plot's accuracy (standard deviations) in range and bearing, the same on every row of a scan; empty on a row without it (`demo --record-plots` writes the simulator's) |
-//! | `plot_sigma_m` | m | optional: the accuracy (one axis) the filters and gates take the scan's plots at, the same on every row of a scan (`--record-plots` writes the one tracked with: a radar's follows its range scale); empty or absent: 40 m, or `--plot-sigma-m` |
+//! | `plot_sigma_m` | m | optional: the accuracy (one axis) the filters and gates take the scan's plots at, the same on every row of a scan (`--record-plots` writes the one tracked with: a radar's follows its range scale); empty: the last given (before the first, the first); absent: 40 m; `--plot-sigma-m` overrides it |
 //!
 //! The file is read twice: once whole to check it (a bad file is refused before anything
 //! is tracked or written, with its line and column), then scan by scan, so memory does not
