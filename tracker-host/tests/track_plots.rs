@@ -14,6 +14,13 @@ fn run(args: &[&str]) -> ExitCode {
     cli::run(std::iter::once("tracker-host").chain(args.iter().copied())).expect("runs")
 }
 
+/// `track` in process with plain output, `args` after it.
+fn track(args: &[&str]) -> ExitCode {
+    let mut all = vec!["--link", "inproc", "track", "--plain"];
+    all.extend_from_slice(args);
+    run(&all)
+}
+
 fn path(dir: &Path, name: &str) -> PathBuf {
     dir.join(name)
 }
@@ -61,11 +68,7 @@ fn a_recorded_demo_tracks_the_same_through_track() {
         &s(&demo_json),
     ]);
     assert_eq!(code, ExitCode::SUCCESS);
-    let code = run(&[
-        "--link",
-        "inproc",
-        "track",
-        "--plain",
+    let code = track(&[
         "--plots",
         &s(&plots),
         "--truth",
@@ -113,11 +116,7 @@ fn a_recorded_radar_tracks_the_same_through_track() {
             realdata::file(&format!("radar/{capture}")).display()
         );
         let (plots, live, again) = (d("plots.csv"), d("live.csv"), d("again.csv"));
-        let code = run(&[
-            "--link",
-            "inproc",
-            "track",
-            "--plain",
+        let code = track(&[
             "--radar",
             &radar,
             "--record-plots",
@@ -126,16 +125,7 @@ fn a_recorded_radar_tracks_the_same_through_track() {
             &s(&live),
         ]);
         assert_eq!(code, ExitCode::SUCCESS);
-        let code = run(&[
-            "--link",
-            "inproc",
-            "track",
-            "--plain",
-            "--plots",
-            &s(&plots),
-            "--record-tracks",
-            &s(&again),
-        ]);
+        let code = track(&["--plots", &s(&plots), "--record-tracks", &s(&again)]);
         assert_eq!(code, ExitCode::SUCCESS);
         let (a, b) = (
             std::fs::read_to_string(&live).unwrap(),
@@ -151,11 +141,7 @@ fn a_recorded_radar_tracks_the_same_through_track() {
         }
         assert_eq!(a.lines().count(), b.lines().count(), "{capture}");
         // The operator's accuracy in place of the file's: other tracks.
-        let code = run(&[
-            "--link",
-            "inproc",
-            "track",
-            "--plain",
+        let code = track(&[
             "--plots",
             &s(&plots),
             "--plot-sigma-m",
@@ -216,11 +202,7 @@ fn track_runs_on_a_plots_file_written_by_other_code() {
     }
     std::fs::write(&plots, text).unwrap();
     let tracks = dir.path().join("tracks.csv");
-    let code = run(&[
-        "--link",
-        "inproc",
-        "track",
-        "--plain",
+    let code = track(&[
         "--plots",
         plots.to_str().unwrap(),
         "--record-tracks",

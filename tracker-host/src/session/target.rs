@@ -113,17 +113,39 @@ pub fn cpa_shown(
 impl TargetData {
     /// Computes the target data of a track seen from own ship.
     pub fn new(own: &OwnShip, t: &TrackState) -> Self {
-        let (range_m, bearing_rad) = geo::range_bearing(own.position_m, t.position_m);
-        let (course_rad, speed_mps) = geo::course_speed(t.velocity_mps);
-        // Relative to the frame the track was formed in (own ship held: none).
-        let own_v = own.track_frame_velocity_mps();
-        let rel = geo::relative_velocity(own_v, t.velocity_mps);
-        let (rel_course_rad, rel_speed_mps) = geo::course_speed(rel);
-        let c = cpa_shown(own.position_m, own_v, t.position_m, t.velocity_mps);
-        TargetData {
+        let d = TargetData {
             track: t.track,
             number: None,
             status: t.status,
+            range_m: 0.0,
+            bearing_rad: 0.0,
+            course_rad: 0.0,
+            speed_mps: 0.0,
+            rel_course_rad: 0.0,
+            rel_speed_mps: 0.0,
+            cpa_m: 0.0,
+            tcpa_s: 0.0,
+            age_scans: t.age_scans,
+            position_m: t.position_m,
+            velocity_mps: t.velocity_mps,
+            true_motion_known: own.quality.motion_known,
+            trend_known: true,
+            alarm_held: false,
+            ais_data: None,
+        };
+        // Relative to the frame the track was formed in (own ship held: none).
+        d.seen_from(own.position_m, own.track_frame_velocity_mps())
+    }
+
+    /// This target's range, bearing, course and speed, relative motion, CPA and TCPA from
+    /// its position and velocity, seen from own ship at `own_m` moving at `own_v` (m, m/s).
+    fn seen_from(self, own_m: EastNorth, own_v: EastNorth) -> Self {
+        let (range_m, bearing_rad) = geo::range_bearing(own_m, self.position_m);
+        let (course_rad, speed_mps) = geo::course_speed(self.velocity_mps);
+        let rel = geo::relative_velocity(own_v, self.velocity_mps);
+        let (rel_course_rad, rel_speed_mps) = geo::course_speed(rel);
+        let c = cpa_shown(own_m, own_v, self.position_m, self.velocity_mps);
+        TargetData {
             range_m,
             bearing_rad,
             course_rad,
@@ -132,13 +154,7 @@ impl TargetData {
             rel_speed_mps,
             cpa_m: c.cpa_m,
             tcpa_s: c.tcpa_s,
-            age_scans: t.age_scans,
-            position_m: t.position_m,
-            velocity_mps: t.velocity_mps,
-            true_motion_known: own.quality.motion_known,
-            trend_known: true,
-            alarm_held: false,
-            ais_data: None,
+            ..self
         }
     }
 
@@ -156,28 +172,18 @@ impl TargetData {
         if moving && a.age_s > AIS_DATA_MAX_AGE_S {
             return None;
         }
-        let c = a.cpa?;
-        let (course_rad, speed_mps) = geo::course_speed(a.velocity_mps);
+        a.cpa?;
         // The AIS velocity is over ground: relative to own ship's (as the AIS target's CPA
         // is, `AisTargets::picture`).
-        let rel = geo::relative_velocity(own.velocity_mps, a.velocity_mps);
-        let (rel_course_rad, rel_speed_mps) = geo::course_speed(rel);
-        Some(TargetData {
-            range_m: a.range_m,
-            bearing_rad: a.bearing_rad,
-            course_rad,
-            speed_mps,
-            rel_course_rad,
-            rel_speed_mps,
-            cpa_m: c.cpa_m,
-            tcpa_s: c.tcpa_s,
+        let d = TargetData {
             position_m: a.position_m,
             velocity_mps: a.velocity_mps,
             true_motion_known: true,
             trend_known: true,
             ais_data: Some(a.mmsi),
             ..*self
-        })
+        };
+        Some(d.seen_from(own.position_m, own.velocity_mps))
     }
 
     /// True for a target moving under [`NO_RELATIVE_MOTION_MPS`] relative to own ship: it
