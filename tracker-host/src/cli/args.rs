@@ -71,38 +71,30 @@ impl From<AssociationArg> for crate::session::associate::Association {
     }
 }
 
-/// `--associated-symbol`.
+/// `--associated-symbol` and `--associated-data`: which source an associated ship is drawn
+/// by, and shown with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum AssociatedSymbolArg {
-    /// The AIS triangle with its heading line (IEC 62388's default).
-    Ais,
-    /// The radar target's symbol and vector.
-    Radar,
-}
-
-/// `--associated-data`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum AssociatedDataArg {
+pub enum AssociatedArg {
     /// The AIS target's (IEC 62388's default).
     Ais,
     /// The radar track's.
     Radar,
 }
 
-impl From<AssociatedDataArg> for crate::session::ais::AssociatedData {
-    fn from(a: AssociatedDataArg) -> Self {
+impl From<AssociatedArg> for crate::session::ais::AssociatedSymbol {
+    fn from(a: AssociatedArg) -> Self {
         match a {
-            AssociatedDataArg::Ais => Self::Ais,
-            AssociatedDataArg::Radar => Self::Radar,
+            AssociatedArg::Ais => Self::Ais,
+            AssociatedArg::Radar => Self::Radar,
         }
     }
 }
 
-impl From<AssociatedSymbolArg> for crate::session::ais::AssociatedSymbol {
-    fn from(a: AssociatedSymbolArg) -> Self {
+impl From<AssociatedArg> for crate::session::ais::AssociatedData {
+    fn from(a: AssociatedArg) -> Self {
         match a {
-            AssociatedSymbolArg::Ais => Self::Ais,
-            AssociatedSymbolArg::Radar => Self::Radar,
+            AssociatedArg::Ais => Self::Ais,
+            AssociatedArg::Radar => Self::Radar,
         }
     }
 }
@@ -134,15 +126,15 @@ pub struct RunArgs {
     /// associated (paired, or the radar target shown as the AIS target): once, as `ais`
     /// (the AIS triangle, IEC 62388's default) or `radar` (the radar target's symbol and
     /// vector). The table and `TTM` keep the radar number and the AIS name either way.
-    #[arg(long, value_enum, default_value_t = AssociatedSymbolArg::Ais)]
-    pub associated_symbol: AssociatedSymbolArg,
+    #[arg(long, value_enum, default_value_t = AssociatedArg::Ais)]
+    pub associated_symbol: AssociatedArg,
     /// Whose data a ship with its radar target associated with one AIS target is shown
     /// with (position, course, speed, CPA, TCPA: in the table, `TTM` and `TLL`) and
     /// alarms on, once: `ais` (the AIS target's, IEC 62388's default) or `radar` (the
     /// radar track's). By default the source `--associated-symbol` draws (a radar symbol
     /// on AIS data would be drawn off its echo).
     #[arg(long, value_enum)]
-    pub associated_data: Option<AssociatedDataArg>,
+    pub associated_data: Option<AssociatedArg>,
     /// The CPA/TCPA alarm's CPA limit, nautical miles: a target (radar or activated AIS)
     /// whose CPA is below it within the TCPA limit alarms (a bridge's open-water setting is
     /// 1 NM; in a harbour or a traffic separation scheme far less).
@@ -442,11 +434,10 @@ impl RunArgs {
             snapshot: self.snapshot.clone(),
             snapshot_range_nm: self.snapshot_range_nm,
             associated_symbol: self.associated_symbol.into(),
-            associated_data: match (self.associated_data, self.associated_symbol) {
-                (Some(d), _) => d.into(),
-                (None, AssociatedSymbolArg::Ais) => crate::session::ais::AssociatedData::Ais,
-                (None, AssociatedSymbolArg::Radar) => crate::session::ais::AssociatedData::Radar,
-            },
+            associated_data: self
+                .associated_data
+                .unwrap_or(self.associated_symbol)
+                .into(),
         }
     }
 }

@@ -36,6 +36,11 @@ use super::navico::{self, NavicoCounts, NavicoDecoder};
 use super::spec::{RadarKind, RadarSpec};
 use super::stats::{SpokeMeta, SpokeStats};
 
+/// Spoke packets the decoders refused (unknown, truncated or inconsistent), both brands.
+fn refused(navico: &NavicoCounts, garmin: &GarminCounts) -> u64 {
+    navico.frame_faults.total() + garmin.faults.total()
+}
+
 /// Everything a [`SpokeSource`] has counted.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct RadarStats {
@@ -69,7 +74,7 @@ pub struct RadarStats {
 impl RadarStats {
     /// Datagrams refused as spoke packets (unknown, truncated or inconsistent), both brands.
     pub fn bad_packets(&self) -> u64 {
-        self.navico.frame_faults.total() + self.garmin.faults.total()
+        refused(&self.navico, &self.garmin)
     }
 
     /// Spokes skipped inside accepted Navico frames (status 0x82, bad header, no range).
@@ -224,7 +229,9 @@ impl SpokeSource {
                 break;
             }
             self.active = None;
-            let live = self.is_live();
+            // Told on standard error as they happen: a live radar waited on as long as it
+            // takes (plain output; the display shows the silence itself).
+            let told = self.is_live() && self.live_deadline.is_none();
             let datagram = match &mut self.input {
                 Input::Capture(c) => c.next_datagram()?,
                 Input::Live(l) => l.next_datagram(
@@ -237,18 +244,15 @@ impl SpokeSource {
                 return Ok(None);
             };
             self.datagrams += 1;
-            // Datagrams coming, none of them a spoke: told as the receiver tells silence,
-            // when waiting as long as it takes (plain output; the display shows the
-            // silence itself).
-            let silent = self.spoke_at.elapsed();
+            // Datagrams coming, none of them a spoke: told as the receiver tells silence.
             let note = super::live::SILENCE_NOTE * (self.spokeless_notes + 1);
-            if live && self.live_deadline.is_none() && silent >= note {
+            if told && self.spoke_at.elapsed() >= note {
                 self.spokeless_notes += 1;
                 eprintln!(
                     "no radar spokes for {} s though datagrams come ({} not a radar's spokes, {} spoke packets refused so far): is this the radar's spoke group, and is the radar transmitting?",
-                    silent.as_secs(),
+                    self.spoke_at.elapsed().as_secs(),
                     self.other_datagrams,
-                    self.navico.counts().frame_faults.total() + self.garmin.counts().faults.total()
+                    refused(self.navico.counts(), self.garmin.counts())
                 );
             }
             // Saturating: a time before 1970 becomes 0.
@@ -275,7 +279,7 @@ impl SpokeSource {
                         .map_or("?".to_string(), |a| a.to_string()),
                     d.time_s - self.time_s
                 );
-                if self.live_deadline.is_none() && live {
+                if told {
                     eprintln!("{change}");
                 }
                 self.events.push(change);
@@ -314,8 +318,10 @@ impl SpokeSource {
             bail!("radar source: the {kind} decoder lost its spoke");
         };
         self.last = Some((kind, stream.observe(&spoke, self.time_s)));
-        self.spoke_at = Instant::now();
-        self.spokeless_notes = 0;
+        if matches!(self.input, Input::Live(_)) {
+            self.spoke_at = Instant::now();
+            self.spokeless_notes = 0;
+        }
         Ok(Some((spoke, self.time_s)))
     }
 

@@ -149,15 +149,7 @@ impl ScanReader {
         } else {
             None
         };
-        let plot_sigma_m = row.number_f32("plot_sigma_m")?;
-        if let Some(s) = plot_sigma_m {
-            if !(s > 0.0 && f64::from(s) <= MAX_RANGE_M) {
-                return Err(row.error(
-                    "plot_sigma_m",
-                    &format!("{s}: must be over 0 m and at most {MAX_RANGE_M} m"),
-                ));
-            }
-        }
+        let plot_sigma_m = sigma_m(&row, "plot_sigma_m")?;
         let heading_deg = row.number("heading_deg")?;
         if let Some(h) = heading_deg {
             if !(0.0..360.0).contains(&h) {
@@ -238,18 +230,28 @@ impl ScanReader {
     }
 }
 
+/// A row's standard deviation in metres in `column`: empty, or over 0 and at most
+/// [`MAX_RANGE_M`].
+fn sigma_m(row: &csv_input::Row<'_>, column: &str) -> anyhow::Result<Option<f32>> {
+    let s = row.number_f32(column)?;
+    match s {
+        Some(s) if !(s > 0.0 && f64::from(s) <= MAX_RANGE_M) => Err(row.error(
+            column,
+            &format!("{s}: must be over 0 m and at most {MAX_RANGE_M} m"),
+        )),
+        _ => Ok(s),
+    }
+}
+
 /// A row's `range_sigma_m` and `bearing_sigma_deg`: both or neither, each positive (the
 /// bearing's under 10°).
 fn plot_accuracy(row: &csv_input::Row<'_>) -> anyhow::Result<Option<PolarAccuracy>> {
     match (
-        row.number_f32("range_sigma_m")?,
+        sigma_m(row, "range_sigma_m")?,
         row.number("bearing_sigma_deg")?,
     ) {
         (None, None) => Ok(None),
         (Some(r), Some(b)) => {
-            if !(r > 0.0 && f64::from(r) <= MAX_RANGE_M) {
-                return Err(row.error("range_sigma_m", &format!("{r}: must be over 0 m")));
-            }
             if !(b > 0.0 && b < 10.0) {
                 return Err(row.error(
                     "bearing_sigma_deg",
@@ -276,10 +278,7 @@ pub struct PlotsFileSource {
     /// first scan).
     ahead: Option<FileScan>,
     previous: Option<FileScan>,
-    /// The accuracy of the plots of the scan last given.
-    accuracy: Option<PolarAccuracy>,
-    /// The file's `plot_sigma_m` of the scan last given, and of its first scan with one.
-    plot_sigma_m: Option<f32>,
+    /// The file's first `plot_sigma_m`.
     first_plot_sigma_m: Option<f32>,
     /// The operator's plot accuracy, m, in place of the file's.
     plot_sigma_given_m: Option<f32>,
@@ -324,8 +323,6 @@ impl PlotsFileSource {
             read: 0,
             ahead: None,
             previous: None,
-            accuracy: None,
-            plot_sigma_m: None,
             first_plot_sigma_m,
             plot_sigma_given_m: None,
             truth: None,
@@ -398,8 +395,6 @@ impl PlotSource for PlotsFileSource {
             Some(t) => Some(t.at(scan.radar.time_s, own, &self.path)?),
             None => None,
         };
-        self.accuracy = scan.accuracy;
-        self.plot_sigma_m = scan.plot_sigma_m;
         let out = SourceScan {
             radar: scan.radar.clone(),
             own_ship: Some(own),
@@ -421,13 +416,14 @@ impl PlotSource for PlotsFileSource {
 
     /// The file's `range_sigma_m` and `bearing_sigma_deg` for the scan just given.
     fn plot_accuracy(&self) -> Option<PolarAccuracy> {
-        self.accuracy
+        self.previous.as_ref().and_then(|s| s.accuracy)
     }
 
     /// The operator's plot accuracy, else the file's `plot_sigma_m` for the scan just
     /// given (a radar's changes with its range scale).
     fn plot_sigma_m(&self) -> Option<f32> {
-        self.plot_sigma_given_m.or(self.plot_sigma_m)
+        self.plot_sigma_given_m
+            .or(self.previous.as_ref().and_then(|s| s.plot_sigma_m))
     }
 }
 
