@@ -960,3 +960,53 @@ fn a_recording_without_dates_falls_on_the_captures_day_and_one_apart_is_told() {
     assert_eq!(told.len(), 1, "{events:?}");
     assert!(told[0].contains("its next at 2018-08-20"), "{told:?}");
 }
+
+/// A moored radar without GNSS (the Garmin's: no NMEA, no heading in its spokes), its
+/// position given (`--origin … --fixed-position`): own ship stands at the origin, stopped
+/// and known, every scan; no "no fix" alarm; the plots and tracks are those of the run
+/// without it (only what is told of own ship changes), and targets' vectors are true.
+#[test]
+fn a_moored_radar_without_gnss_stands_at_its_fixed_position() {
+    let name = "radar_pi-garmin_xhd.pcap.gz";
+    let unknown = track(name, Some(0.0));
+    let fixed = track_with(
+        name,
+        Some(0.0),
+        OwnShipOptions {
+            origin: Some(tracker_host::origin::Origin {
+                lat_deg: 50.8,
+                lon_deg: -1.3,
+            }),
+            fixed_position: true,
+            ..OwnShipOptions::default()
+        },
+    );
+    assert_eq!(unknown.reports.len(), fixed.reports.len());
+    assert!(unknown.reports.len() >= 30);
+    for (u, f) in unknown.reports.iter().zip(&fixed.reports) {
+        assert!(u.own.quality.no_fix_yet && !u.own.quality.motion_known);
+        assert!(
+            u.own.alarms().iter().any(|a| a.contains("no position fix")),
+            "{:?}",
+            u.own.alarms()
+        );
+        let q = f.own.quality;
+        assert!(q.fixed_position && q.motion_known && !q.no_fix_yet, "{q:?}");
+        assert_eq!(f.own.position_m, [0.0, 0.0]);
+        assert_eq!(f.own.sog_kn(), Some(0.0));
+        assert!(f.own.alarms().is_empty(), "{:?}", f.own.alarms());
+        assert_eq!(u.plots_m, f.plots_m, "scan {}", u.scan);
+        assert_eq!(u.tracks, f.tracks, "scan {}", u.scan);
+    }
+    // Someone's target is shown with its motion, and the same with or without.
+    let speeds = |t: &Tracked| -> Vec<(u16, u32)> {
+        t.reports
+            .last()
+            .unwrap()
+            .targets
+            .iter()
+            .map(|x| (x.track, (x.speed_mps * 100.0).round() as u32))
+            .collect()
+    };
+    assert_eq!(speeds(&unknown), speeds(&fixed));
+}

@@ -36,6 +36,9 @@ pub struct OwnShipOptions {
     /// The local frame's origin on the globe; by default an NMEA recording's first fix, else
     /// 50°40′N 001°00′W.
     pub origin: Option<Origin>,
+    /// Own ship stands at the origin, stopped, while no fix comes (a shore radar, a ship
+    /// moored without GNSS; [`crate::own_ship::fixed`]).
+    pub fixed_position: bool,
     /// How NMEA is read (talker priority, magnetic variation).
     pub nmea: NmeaOptions,
     /// `nmea_in` opened already, when the run waited on it for the origin
@@ -111,7 +114,7 @@ pub fn own_ship_source(
     o: &OwnShipOptions,
     origin: Origin,
 ) -> anyhow::Result<Box<dyn OwnShipSource>> {
-    Ok(match (&o.nmea_in, &o.nmea_record) {
+    let source: Box<dyn OwnShipSource> = match (&o.nmea_in, &o.nmea_record) {
         (Some(_), Some(_)) => {
             anyhow::bail!("own ship from NMEA input or a recording of the simulation, not both")
         }
@@ -130,6 +133,11 @@ pub fn own_ship_source(
         }
         (None, Some(path)) => Box::new(SimulatedBridge::create(path, origin)?),
         (None, None) => Box::new(FromPlotSource),
+    };
+    Ok(if o.fixed_position {
+        Box::new(crate::own_ship::fixed::FixedPosition::new(source))
+    } else {
+        source
     })
 }
 

@@ -178,6 +178,12 @@ pub struct RunArgs {
     /// and own-ship positions), e.g. `--origin -33.9,151.2`.
     #[arg(long, value_name = "LAT,LON", value_parser = Origin::parse, allow_hyphen_values = true)]
     pub origin: Option<Origin>,
+    /// Own ship stands at --origin, stopped, while no position fix comes: a shore radar, or
+    /// a ship moored without GNSS. Targets' vectors are then true and no "no fix" alarm
+    /// stands; plotters get the position as manual input (`RMC` mode `M`, status `V`, as
+    /// NMEA 0183 requires for it). A GNSS on --nmea-in takes over from its first fix.
+    #[arg(long, requires = "origin")]
+    pub fixed_position: bool,
     /// Write the scans' plots to this file (the plots file format `track` reads).
     #[arg(long, value_name = "PATH")]
     pub record_plots: Option<PathBuf>,
@@ -334,6 +340,7 @@ impl RunArgs {
             nmea_in_more: self.nmea_in.iter().skip(1).cloned().collect(),
             nmea_record: self.nmea_record.clone(),
             origin: self.origin,
+            fixed_position: self.fixed_position,
             nmea: NmeaOptions {
                 priority: self.nmea_source.iter().cloned().collect(),
                 variation_deg: self.magnetic_variation,

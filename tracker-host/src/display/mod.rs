@@ -571,6 +571,8 @@ fn own_ship_words(own: &crate::own_ship::OwnShip, narrow: bool) -> String {
     });
     let state = if q.no_fix_yet {
         "NO FIX".to_string()
+    } else if q.fixed_position {
+        "FIXED".to_string()
     } else if let Some(age) = q.dead_reckoning_s {
         format!("DR {age:.0} s")
     } else {

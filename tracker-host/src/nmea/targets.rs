@@ -128,15 +128,17 @@ pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64)
 }
 
 /// Own ship for a plotter without GNSS: `RMC` (position, SOG, COG, UTC and date; status
-/// `V` while own ship is dead reckoning or has no fix yet; speed and course empty while
+/// `V` while own ship is dead reckoning, has no fix yet or stands at a fixed position, mode
+/// `E`, `N` or `M` then, NMEA 0183 4.10; speed and course empty while
 /// its motion is unknown, the course also at 0.0 kn), `HDT` when a heading is
 /// known, and `OSD` (own ship data: heading, course, speed, and their references).
 pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<String> {
     let p = [f64::from(own.position_m[0]), f64::from(own.position_m[1])];
     let (lat, lon) = origin.to_lat_lon(p);
     let q = own.quality;
-    // The position's validity: a fix whose motion is not measured yet is still a fix.
-    let status = if q.dead_reckoning_s.is_none() && !q.no_fix_yet {
+    // The position's validity: a fix whose motion is not measured yet is still a fix; a
+    // position entered by hand is not (NMEA 0183 4.10: status V for every mode but A and D).
+    let status = if q.dead_reckoning_s.is_none() && !q.no_fix_yet && !q.fixed_position {
         'A'
     } else {
         'V'
@@ -155,9 +157,12 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
         "RARMC,{},{status},{lat},{lon},{sog_kn},{cog},{},,,{}",
         utc(time_s),
         date(time_s),
-        // NMEA 0183 4.x mode: N no fix, E estimated (dead reckoning), A autonomous.
+        // NMEA 0183 4.x mode: N no fix, M manual input (a fixed position), E estimated
+        // (dead reckoning), A autonomous.
         if q.no_fix_yet {
             'N'
+        } else if q.fixed_position {
+            'M'
         } else if status == 'A' {
             'A'
         } else {
@@ -523,6 +528,13 @@ mod tests {
         assert!(
             none.starts_with("$RARMC,000000.00,V,,,,,,,010170,,,N*"),
             "{none}"
+        );
+        // A fixed position (`--fixed-position`): the position, stopped, entered by hand.
+        let fixed = crate::own_ship::fixed::fixed_at_origin(own);
+        let manual = rmc(&fixed);
+        assert!(
+            manual.starts_with("$RARMC,000000.00,V,5040.00000,N,00100.00000,W,0.0,,010170,,,M*"),
+            "{manual}"
         );
     }
 

@@ -8,6 +8,7 @@
 //! | [`FromPlotSource`] | what the plot source knows: the simulator's truth, a plots file's own-ship columns |
 //! | [`NmeaOwnShip`] | NMEA 0183 from the bridge (a recording, UDP, TCP, serial) through the dead-reckoning filter ([`nav`]) |
 //! | [`SimulatedBridge`] | the plot source's own ship sent through the same sentences and filter, and recorded |
+//! | [`fixed::FixedPosition`] | another source's own ship, placed at the origin and stopped while it has no fix (a shore radar, a ship moored without GNSS) |
 //!
 //! [`sentences`] says what each sentence means, [`clock`] keeps the bridge's UTC, [`select`]
 //! chooses one talker per quantity, [`recording`] reads a whole recording ahead (its start,
@@ -15,6 +16,7 @@
 
 pub mod clock;
 pub mod first_fix;
+pub mod fixed;
 pub mod nav;
 pub mod recording;
 pub mod select;
@@ -61,6 +63,9 @@ pub struct OwnShipQuality {
     /// heading sentences of its capture) stands in: the heading has changed source, which
     /// the navigator is told.
     pub heading_from_radar: bool,
+    /// Own ship stands at a position given, not measured (`--fixed-position`: a shore
+    /// radar, a ship moored without GNSS), stopped ([`fixed`]).
+    pub fixed_position: bool,
 }
 
 impl Default for OwnShipQuality {
@@ -74,6 +79,7 @@ impl Default for OwnShipQuality {
             implausible_fix: false,
             heading_needed: false,
             heading_from_radar: false,
+            fixed_position: false,
         }
     }
 }

@@ -802,6 +802,7 @@ impl OwnShipNav {
                     .is_some_and(|t| (0.0..=IMPLAUSIBLE_ALARM_S).contains(&(time_s - t))),
                 heading_needed: false,
                 heading_from_radar: false,
+                fixed_position: false,
             },
         })
     }
