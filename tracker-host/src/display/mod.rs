@@ -1357,6 +1357,37 @@ fn next_key(wait: std::time::Duration) -> anyhow::Result<Option<char>> {
     })
 }
 
+/// A key pressed before a live radar's first rotation: the display's own settings (range
+/// scale, vectors, echoes, AIS table, pause) are taken and said so, as later; a command on
+/// targets is answered that there are none yet (a new user's `p` and `-` went unanswered).
+fn waiting_key(state: &mut DisplayState, c: char) {
+    let before = (
+        state.range_scale,
+        state.vectors,
+        state.vector_length,
+        state.paused,
+        state.ais_table,
+    );
+    // No view: a command on targets (acquire, cancel, select) has nothing to act on.
+    let _ = state.key(c, None);
+    if state.message.is_some() {
+        return;
+    }
+    let taken = before
+        != (
+            state.range_scale,
+            state.vectors,
+            state.vector_length,
+            state.paused,
+            state.ais_table,
+        );
+    state.message = Some(if taken {
+        format!("`{c}` taken: the picture shows it from the radar's first rotation")
+    } else {
+        format!("`{c}`: no picture yet, nothing to act on until the radar's first rotation")
+    });
+}
+
 /// The screen before a live radar's first rotation has come.
 fn render_waiting(frame: &mut Frame, state: &DisplayState, silent_s: u64) {
     let text = vec![
@@ -1373,6 +1404,7 @@ fn render_waiting(frame: &mut Frame, state: &DisplayState, silent_s: u64) {
         ),
         Line::raw("(--radar navico@ADDR, garmin@ADDR)?"),
         Line::raw(""),
+        Line::raw(state.message.clone().unwrap_or_default()),
         Line::styled("q quit", Style::default().fg(Color::DarkGray)),
     ];
     frame.render_widget(
@@ -1423,8 +1455,10 @@ pub fn run_tui(
             }
             let silent_s = started.elapsed().as_secs();
             terminal.draw(|f| render_waiting(f, state, silent_s))?;
-            if next_key(Duration::from_millis(1))? == Some('q') {
-                return Ok(0);
+            match next_key(Duration::from_millis(1))? {
+                Some('q') => return Ok(0),
+                Some(c) => waiting_key(state, c),
+                None => {}
             }
         };
         let mut shown = shown::Shown::new(state, view);
@@ -1490,6 +1524,27 @@ pub fn run_tui(
 pub(crate) mod tests {
     use super::*;
     use crate::app::demo::{self, DemoOptions};
+
+    /// Before a live radar's first rotation every key is answered: a setting taken, a
+    /// command on targets told there are none yet.
+    #[test]
+    fn keys_before_the_first_rotation_are_answered() {
+        let mut state = DisplayState::new("test".into());
+        let scale = state.range_scale;
+        waiting_key(&mut state, '-');
+        assert_eq!(state.range_scale, scale.saturating_sub(1));
+        assert!(
+            state.message.as_deref().unwrap().contains("taken"),
+            "{:?}",
+            state.message
+        );
+        waiting_key(&mut state, 'p');
+        assert!(state.paused && state.message.as_deref().unwrap().contains("taken"));
+        waiting_key(&mut state, 'x');
+        assert!(state.message.as_deref().unwrap().contains("no picture yet"));
+        waiting_key(&mut state, 'a');
+        assert!(state.message.as_deref().unwrap().starts_with("acquire:"));
+    }
 
     /// A course or heading a hair under 360° shows as 000.0, not 360.0 (rounded first,
     /// then wrapped, as NMEA out sends it).

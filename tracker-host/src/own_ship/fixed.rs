@@ -98,7 +98,10 @@ mod tests {
             alarms.iter().all(|a| !a.contains("fix")),
             "no 'no fix' alarm: {alarms:?}"
         );
-        assert!(alarms.iter().any(|a| a.contains("heading lost")), "{alarms:?}");
+        assert!(
+            alarms.iter().any(|a| a.contains("heading lost")),
+            "{alarms:?}"
+        );
     }
 
     #[test]

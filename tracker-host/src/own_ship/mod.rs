@@ -322,6 +322,8 @@ pub struct NmeaOwnShip {
     untimed_told: bool,
     /// Whether the recording was told not to cover the scans' time.
     apart_told: bool,
+    /// Whether the recording was told to have ended before the run.
+    ended_told: bool,
     clock_events: crate::event_log::EventLog,
 }
 
@@ -368,6 +370,7 @@ impl NmeaOwnShip {
             first_timed_read_s: None,
             untimed_told: false,
             apart_told: false,
+            ended_told: false,
             clock_events: crate::event_log::EventLog::default(),
         }
     }
@@ -525,6 +528,19 @@ impl NmeaOwnShip {
         }
         // Read to its end with no time in it: played at once, not on its own clock.
         let ended = file.peek(0).is_none();
+        // Read to its end before the run's (a `--duration` past it): own ship is dead
+        // reckoned, then lost, and the alarms alone did not say why.
+        if let Some(last) = self.nav.newest_s().filter(|_| ended && !self.ended_told) {
+            if time_s - last > nav::POSITION_LOST_S && !self.apart_told {
+                self.ended_told = true;
+                self.clock_events.push(format!(
+                    "the recording ended at {}, {} the scan at {}: own ship is dead reckoned from its last fix, then lost",
+                    crate::utc::date_time_label(last),
+                    crate::utc::offset_label(last - time_s),
+                    crate::utc::date_time_label(time_s),
+                ));
+            }
+        }
         if ended && self.nav.newest_s().is_none() && !self.untimed_told {
             self.untimed_told = true;
             self.clock_events.push(
@@ -874,6 +890,56 @@ mod tests {
                 .count();
             assert_eq!(told, usize::from(!timed), "{:?}", own.events());
         }
+    }
+
+    /// A run past its recording's end (`--duration` longer) is told once why own ship
+    /// is dead reckoned: the recording ended, at its last time.
+    #[test]
+    fn a_run_past_the_recordings_end_is_told_once() {
+        use std::io::Write as _;
+        let origin = Origin::default();
+        let t0 = 1_767_225_600.0 + 10.0 * 3600.0;
+        let mut file = tempfile::NamedTempFile::new().unwrap();
+        for k in 0..10 {
+            for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t0 + f64::from(k)) {
+                file.write_all(l.as_bytes()).unwrap();
+            }
+        }
+        file.flush().unwrap();
+        let spec = InSpec::File(file.path().to_path_buf());
+        // The first GGA, before a date, on the recording's day (as `demo` reads one ahead).
+        let o = NmeaOptions {
+            provisional_day: clock::day_of_s(t0),
+            ..NmeaOptions::default()
+        };
+        let mut own = NmeaOwnShip::open(&spec, origin, &o).unwrap();
+        let ended = |own: &NmeaOwnShip| {
+            own.events()
+                .iter()
+                .filter(|e| e.contains("the recording ended at"))
+                .count()
+        };
+        for scan in 0..20u32 {
+            let time_s = t0 + 2.5 * f64::from(scan);
+            let got = own
+                .own_ship(&SourceScan {
+                    radar: crate::source::RadarScan {
+                        scan,
+                        time_s,
+                        plots: Vec::new(),
+                    },
+                    ..SourceScan::default()
+                })
+                .unwrap();
+            // Told once dead reckoning has begun, not while the recording still reaches.
+            let reckoned = got.quality.dead_reckoning_s.is_some();
+            assert_eq!(ended(&own), usize::from(reckoned), "scan {scan}: {got:?}");
+        }
+        assert!(
+            own.events().iter().any(|e| e.contains("10:00:09Z")),
+            "{:?}",
+            own.events()
+        );
     }
 
     #[test]
