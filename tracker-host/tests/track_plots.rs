@@ -140,6 +140,23 @@ fn a_recorded_radar_tracks_the_same_through_track() {
             assert_eq!(x, y, "{capture}: tracks line {}", k + 1);
         }
         assert_eq!(a.lines().count(), b.lines().count(), "{capture}");
+        // The plots file itself round-trips, own ship's heading (from the spokes) with it.
+        let replotted = d("replotted.csv");
+        let code = track(&["--plots", &s(&plots), "--record-plots", &s(&replotted)]);
+        assert_eq!(code, ExitCode::SUCCESS);
+        let recorded = std::fs::read_to_string(&plots).unwrap();
+        assert_eq!(
+            recorded,
+            std::fs::read_to_string(&replotted).unwrap(),
+            "{capture}"
+        );
+        let mut rows = recorded.lines();
+        let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+        let heading = header.iter().position(|c| *c == "heading_deg").unwrap();
+        assert!(
+            rows.all(|r| !r.split(',').nth(heading).unwrap().is_empty()),
+            "{capture}: a row without own ship's heading"
+        );
         // The operator's accuracy in place of the file's: other tracks.
         let code = track(&[
             "--plots",

@@ -117,10 +117,10 @@ impl PlotsRecorder {
     /// # Errors
     /// The file cannot be created.
     pub fn create(path: &Path) -> anyhow::Result<Self> {
-        // Every column but own ship's heading, which the session's own ship may not have.
+        // Every column (own ship's heading empty while it has none).
         let header: Vec<&str> = plots_file::REQUIRED
             .iter()
-            .chain(plots_file::OPTIONAL.iter().filter(|c| **c != "heading_deg"))
+            .chain(plots_file::OPTIONAL.iter())
             .copied()
             .collect();
         Ok(PlotsRecorder(
@@ -133,8 +133,15 @@ impl PlotsRecorder {
 impl ScanSink for PlotsRecorder {
     fn scan(&mut self, _: &SourceScan, r: &ScanReport) -> anyhow::Result<()> {
         let t = self.1.t_s(r, r.time_s);
+        // Own ship's heading, degrees in [0, 360) (a head-up radar's plots were placed
+        // with it, and the display and plotters show it).
+        let heading = r.own.heading_rad.map_or(String::new(), |h| {
+            let deg = f64::from(h).to_degrees().rem_euclid(360.0);
+            // A hair under 0 wraps to 360.0 in f64, which the file refuses.
+            if deg < 360.0 { deg } else { 0.0 }.to_string()
+        });
         let own = format!(
-            "{},{},{},{}",
+            "{},{},{},{},{heading}",
             r.own.position_m[0], r.own.position_m[1], r.own.velocity_mps[0], r.own.velocity_mps[1]
         );
         // The accuracy the plots were associated with, so that `track` weighs them alike.
