@@ -1792,7 +1792,7 @@ pub(crate) mod tests {
     }
 
     /// The demo's eleventh scan: targets confirmed, with courses and speeds.
-    fn eleventh_scan() -> ScanReport {
+    pub(crate) fn eleventh_scan() -> ScanReport {
         let mut d = demo();
         let mut view = step(&mut d);
         for _ in 0..10 {

@@ -181,6 +181,19 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
     out
 }
 
+/// The AIS name (or MMSI) of the ship radar track `track` is paired with. Not a
+/// candidate's, shown as an AIS target while their pair is confirmed: measured on the
+/// Solent, naming single candidates too sent 228 changes from one ship's name to another's
+/// (docs/ais.md, "The plotter's name for a target"), and a label naming another ship is
+/// worse than `TGTnn`.
+fn ais_name(report: &ScanReport, track: u16) -> Option<&str> {
+    report
+        .paired
+        .iter()
+        .find(|p| p.track == track)
+        .map(|p| p.label.as_str())
+}
+
 /// What the plotter output sent.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
 pub struct TargetsOutCounts {
@@ -324,16 +337,22 @@ impl TargetsOut {
                 if status == 'L' && !self.on_plotter.contains_key(&number) {
                     continue;
                 }
-                let name = report
-                    .paired
-                    .iter()
-                    .find(|p| p.track == d.track)
-                    .map(|p| p.label.as_str());
+                // An end goes under the name last sent: a pair is parted when its track
+                // ends, and the plotter would see the ship renamed `TGTnn` as it goes.
+                let last_name = (status == 'L')
+                    .then(|| self.on_plotter.get(&number))
+                    .flatten()
+                    .map(|(name, _)| name.clone());
+                let name = match &last_name {
+                    Some(name) => name.as_deref(),
+                    None => ais_name(report, d.track),
+                };
+                let data = *d;
                 let t = PlotterTarget {
                     number,
                     name,
-                    status: plotter_status(status, d),
-                    data: *d,
+                    status: plotter_status(status, &data),
+                    data,
                 };
                 self.push_target(
                     &mut out,
@@ -348,7 +367,7 @@ impl TargetsOut {
                 } else {
                     self.counts.targets_sent += 1;
                     self.on_plotter
-                        .insert(number, (name.map(str::to_string), *d));
+                        .insert(number, (name.map(str::to_string), data));
                 }
             }
         }
@@ -536,6 +555,33 @@ mod tests {
             manual.starts_with("$RARMC,000000.00,V,5040.00000,N,00100.00000,W,0.0,,010170,,,M*"),
             "{manual}"
         );
+    }
+
+    /// A radar target paired with an AIS target goes to the plotter with the AIS name; one
+    /// shown as an AIS target while their pair is confirmed with its number alone
+    /// ([`ais_name`]); a paired one's end under its name.
+    #[test]
+    fn an_associated_target_is_sent_with_its_ais_name() {
+        use crate::display::tests::{eleventh_scan, one_associated_ship};
+        let rx = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        let spec = crate::nmea::OutSpec::Udp(rx.local_addr().unwrap().to_string());
+        let name_of = |view: &ScanReport| {
+            let mut out = TargetsOut::open(&spec, Origin::default(), false).unwrap();
+            let ttm = out.scan_sentences(view).remove(0);
+            ttm.split(',').nth(11).unwrap().to_string()
+        };
+        assert_eq!(name_of(&one_associated_ship(eleventh_scan(), true)), "SHIP");
+        let candidate = name_of(&one_associated_ship(eleventh_scan(), false));
+        assert!(candidate.starts_with("TGT"), "{candidate}");
+        // Its end (the pair parted with its track) goes under the name it had.
+        let mut out = TargetsOut::open(&spec, Origin::default(), false).unwrap();
+        let mut view = one_associated_ship(eleventh_scan(), true);
+        out.scan_sentences(&view);
+        view.ended = std::mem::take(&mut view.targets);
+        view.paired.clear();
+        let end = out.scan_sentences(&view).remove(0);
+        let f: Vec<&str> = end.split(',').collect();
+        assert_eq!((f[11], f[12]), ("SHIP", "L"), "{end}");
     }
 
     #[test]
