@@ -964,7 +964,7 @@ fn a_recording_without_dates_falls_on_the_captures_day_and_one_apart_is_told() {
 /// A moored radar without GNSS (the Garmin's: no NMEA, no heading in its spokes), its
 /// position given (`--origin … --fixed-position`): own ship stands at the origin, stopped
 /// and known, every scan; no "no fix" alarm; the plots and tracks are those of the run
-/// without it (only what is told of own ship changes), and targets' vectors are true.
+/// without it (only what is told of own ship changes), and targets' true motion is known.
 #[test]
 fn a_moored_radar_without_gnss_stands_at_its_fixed_position() {
     let name = "radar_pi-garmin_xhd.pcap.gz";
@@ -997,7 +997,11 @@ fn a_moored_radar_without_gnss_stands_at_its_fixed_position() {
         assert!(f.own.alarms().is_empty(), "{:?}", f.own.alarms());
         assert_eq!(u.plots_m, f.plots_m, "scan {}", u.scan);
         assert_eq!(u.tracks, f.tracks, "scan {}", u.scan);
+        // True motion: known at the fixed position, not without it.
+        assert!(f.targets.iter().all(|t| t.true_motion_known));
+        assert!(u.targets.iter().all(|t| !t.true_motion_known));
     }
+    assert!(!fixed.reports.last().unwrap().targets.is_empty());
     // Someone's target is shown with its motion, and the same with or without.
     let speeds = |t: &Tracked| -> Vec<(u16, u32)> {
         t.reports

@@ -178,10 +178,12 @@ pub struct RunArgs {
     /// and own-ship positions), e.g. `--origin -33.9,151.2`.
     #[arg(long, value_name = "LAT,LON", value_parser = Origin::parse, allow_hyphen_values = true)]
     pub origin: Option<Origin>,
-    /// Own ship stands at --origin, stopped, while no position fix comes: a shore radar, or
-    /// a ship moored without GNSS. Targets' vectors are then true and no "no fix" alarm
-    /// stands; plotters get the position as manual input (`RMC` mode `M`, status `V`, as
-    /// NMEA 0183 requires for it). A GNSS on --nmea-in takes over from its first fix.
+    /// With `track --radar`: own ship stands at --origin (the antenna's position), stopped,
+    /// until a position fix comes: a shore radar, or a ship moored without GNSS. True
+    /// vectors may then be shown and are sent, and no "no fix" alarm stands; with
+    /// --nmea-out-own-ship plotters get the position as manual input (`RMC` mode `M`,
+    /// status `V`, as NMEA 0183 requires for it). A GNSS on --nmea-in takes over from its
+    /// first fix (an event says how far from --origin) and is followed from then on.
     #[arg(long, requires = "origin")]
     pub fixed_position: bool,
     /// Write the scans' plots to this file (the plots file format `track` reads).

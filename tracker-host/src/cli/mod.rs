@@ -392,6 +392,9 @@ where
             moored_gap,
             run,
         } => {
+            if run.fixed_position {
+                anyhow::bail!("--fixed-position is for a radar that does not move (track --radar): the demo's own ship moves on its own track");
+            }
             if let Some(d) = duration {
                 if !(d.is_finite() && *d > 0.0) {
                     anyhow::bail!("--duration {d}: must be a positive number of seconds");
@@ -458,6 +461,9 @@ where
             run,
         } => {
             let input = match (plots, radar) {
+                (Some(_), _) if run.fixed_position => anyhow::bail!(
+                    "--fixed-position is for a radar that does not move (track --radar): a plots file gives own ship's position in its own_east_m and own_north_m"
+                ),
                 (Some(plots), _) => track::TrackInput::Plots {
                     plots: plots.clone(),
                     truth: truth.clone(),
@@ -708,6 +714,31 @@ mod tests {
         let c = Cli::try_parse_from(["t", "track", "--plots", "p.csv", "--filter", "sswt"]);
         assert!(c.is_ok());
         assert!(Cli::try_parse_from(["t", "demo", "--filter", "kalman"]).is_err());
+    }
+
+    /// `--fixed-position` needs `--origin` (the position it fixes), and is refused where own
+    /// ship's position comes with the plots (`demo`, a plots file).
+    #[test]
+    fn a_fixed_position_needs_an_origin_and_a_radar() {
+        let radar = ["t", "track", "--radar", "pcap:x.pcap", "--fixed-position"];
+        let e = Cli::try_parse_from(radar).unwrap_err().to_string();
+        assert!(e.contains("--origin"), "{e}");
+        assert!(Cli::try_parse_from([&radar[..], &["--origin", "50.8,-1.3"]].concat()).is_ok());
+        for args in [
+            &["t", "demo", "--fixed-position", "--origin", "50.8,-1.3"][..],
+            &[
+                "t",
+                "track",
+                "--plots",
+                "p.csv",
+                "--fixed-position",
+                "--origin",
+                "50.8,-1.3",
+            ],
+        ] {
+            let e = super::run(args).unwrap_err().to_string();
+            assert!(e.contains("--fixed-position is for a radar"), "{e}");
+        }
     }
 
     #[test]

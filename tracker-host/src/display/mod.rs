@@ -1358,13 +1358,15 @@ fn next_key(wait: std::time::Duration) -> anyhow::Result<Option<char>> {
 }
 
 /// A key pressed before a live radar's first rotation: the display's own settings (range
-/// scale, vectors, echoes, AIS table, pause) are taken and said so, as later; a command on
-/// targets is answered that there are none yet (a new user's `p` and `-` went unanswered).
+/// scale, true or relative vectors, echoes, AIS table, pause) are taken and said so; a
+/// command on targets gets its own answer (`acquire: no plot without a track`), any other
+/// key that there is nothing to act on yet (a new user's `p` and `-` went unanswered). The
+/// vector length is not said to be taken: the first picture sets it with the scale unless
+/// `+` or `-` chose one.
 fn waiting_key(state: &mut DisplayState, c: char) {
     let before = (
         state.range_scale,
         state.vectors,
-        state.vector_length,
         state.paused,
         state.ais_table,
     );
@@ -1377,7 +1379,6 @@ fn waiting_key(state: &mut DisplayState, c: char) {
         != (
             state.range_scale,
             state.vectors,
-            state.vector_length,
             state.paused,
             state.ais_table,
         );
@@ -1449,7 +1450,11 @@ pub fn run_tui(
                 return Ok(0);
             }
             match run.poll(LIVE_POLL)? {
-                Polled::Scan(report) => break *report,
+                Polled::Scan(report) => {
+                    // An answer to a key pressed while waiting is not the picture's.
+                    state.message = None;
+                    break *report;
+                }
                 Polled::Ended => return Ok(0),
                 Polled::Waiting => {}
             }

@@ -129,7 +129,7 @@ pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64)
 
 /// Own ship for a plotter without GNSS: `RMC` (position, SOG, COG, UTC and date; status
 /// `V` while own ship is dead reckoning, has no fix yet or stands at a fixed position, mode
-/// `E`, `N` or `M` then, NMEA 0183 4.10; speed and course empty while
+/// `E`, `N` or `M` then, NMEA 0183 2.30 and later; speed and course empty while
 /// its motion is unknown, the course also at 0.0 kn), `HDT` when a heading is
 /// known, and `OSD` (own ship data: heading, course, speed, and their references).
 pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<String> {
@@ -137,7 +137,8 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
     let (lat, lon) = origin.to_lat_lon(p);
     let q = own.quality;
     // The position's validity: a fix whose motion is not measured yet is still a fix; a
-    // position entered by hand is not (NMEA 0183 4.10: status V for every mode but A and D).
+    // position entered by hand is not (NMEA 0183 2.30 and later: status V for every mode
+    // but A and D).
     let status = if q.dead_reckoning_s.is_none() && !q.no_fix_yet && !q.fixed_position {
         'A'
     } else {
@@ -157,7 +158,7 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
         "RARMC,{},{status},{lat},{lon},{sog_kn},{cog},{},,,{}",
         utc(time_s),
         date(time_s),
-        // NMEA 0183 4.x mode: N no fix, M manual input (a fixed position), E estimated
+        // NMEA 0183 (2.30 and later) mode: N no fix, M manual input (a fixed position), E estimated
         // (dead reckoning), A autonomous.
         if q.no_fix_yet {
             'N'
@@ -173,8 +174,11 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
     if let Some(h) = &heading {
         out.push(sentence(&format!("RAHDT,{h},T")));
     }
+    // Course and speed referenced to the positioning system, or entered by hand (a fixed
+    // position, stopped).
+    let reference = if q.fixed_position { 'M' } else { 'P' };
     out.push(sentence(&format!(
-        "RAOSD,{},{},{cog},P,{sog_kn},P,,,N",
+        "RAOSD,{},{},{cog},{reference},{sog_kn},{reference},,,N",
         heading.as_deref().unwrap_or(""),
         if heading.is_some() { 'A' } else { 'V' }
     )));

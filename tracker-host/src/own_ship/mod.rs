@@ -497,7 +497,9 @@ impl NmeaOwnShip {
         // of another voyage gave own ship no fix on any scan, and said nothing): told once,
         // when its sentences before the scan (if any) are older, and those after it (if
         // any) newer, than dead reckoning reaches.
-        if !self.apart_told {
+        // (A recording told ended, below, is not told apart too when the run goes on past
+        // dead reckoning's reach: it is the same news.)
+        if !self.apart_told && !self.ended_told {
             let next = file.peek(0).and_then(|l| self.nav.time_of(l));
             let last = self.nav.newest_s();
             let far = |at: f64| (at - time_s).abs() > nav::MAX_DEAD_RECKONING_S;
@@ -531,10 +533,10 @@ impl NmeaOwnShip {
         // Read to its end before the run's (a `--duration` past it): own ship is dead
         // reckoned, then lost, and the alarms alone did not say why.
         if let Some(last) = self.nav.newest_s().filter(|_| ended && !self.ended_told) {
-            if time_s - last > nav::POSITION_LOST_S && !self.apart_told {
+            if time_s - last > nav::POSITION_LOST_S {
                 self.ended_told = true;
                 self.clock_events.push(format!(
-                    "the recording ended at {}, {} the scan at {}: own ship is dead reckoned from its last fix, then lost",
+                    "the recording ended at {}, {} the scan at {}: own ship's data end with it (dead reckoned from a last fix, then lost)",
                     crate::utc::date_time_label(last),
                     crate::utc::offset_label(last - time_s),
                     crate::utc::date_time_label(time_s),
@@ -566,6 +568,7 @@ impl OwnShipSource for NmeaOwnShip {
         Ok(self
             .nav
             .own_ship_at(bridge_s)
+            .or_else(|| self.nav.heading_only_at(bridge_s))
             .unwrap_or_else(OwnShip::unknown))
     }
 
@@ -919,7 +922,8 @@ mod tests {
                 .filter(|e| e.contains("the recording ended at"))
                 .count()
         };
-        for scan in 0..20u32 {
+        // Past dead reckoning's reach too (5 min): told ended, not also "apart".
+        for scan in 0..140u32 {
             let time_s = t0 + 2.5 * f64::from(scan);
             let got = own
                 .own_ship(&SourceScan {
@@ -937,6 +941,11 @@ mod tests {
         }
         assert!(
             own.events().iter().any(|e| e.contains("10:00:09Z")),
+            "{:?}",
+            own.events()
+        );
+        assert!(
+            !own.events().iter().any(|e| e.contains("no time within")),
             "{:?}",
             own.events()
         );

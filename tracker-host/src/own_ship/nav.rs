@@ -757,6 +757,22 @@ impl OwnShipNav {
         }
     }
 
+    /// Own ship at `time_s` (s since 1970) before its first position (or after the filter
+    /// started again) with a heading sensor heard: unknown, at the origin, stopped, with
+    /// the heading while it comes (a moored ship's gyro without a GNSS: a head-up radar's
+    /// plots are placed with it, and `--fixed-position` shows it); `None` with no heading
+    /// heard.
+    pub fn heading_only_at(&self, time_s: f64) -> Option<OwnShip> {
+        let age = time_s - self.last_heading_s?;
+        let mut own = OwnShip::unknown();
+        own.heading_rad = self
+            .heading_deg
+            .filter(|_| age <= HEADING_LOST_S)
+            .map(|h| h.to_radians() as f32);
+        own.quality.heading_lost = age > HEADING_LOST_S;
+        Some(own)
+    }
+
     /// Own ship at `time_s` (s since 1970), predicted from the last sentence, with what is
     /// known of its quality; `None` before the first position.
     pub fn own_ship_at(&self, time_s: f64) -> Option<OwnShip> {
@@ -965,6 +981,28 @@ mod tests {
                 assert!((hdg - 65.0).abs() < 1e-3, "{hdg}");
             }
         }
+    }
+
+    /// A gyro without a GNSS (a ship moored, `--fixed-position`): no own ship from a fix,
+    /// but its heading while it comes, then the heading lost.
+    #[test]
+    fn a_heading_without_a_fix_is_own_ships_heading() {
+        let mut nav = OwnShipNav::new(Origin::default(), DAY0, None);
+        assert!(nav.heading_only_at(T0).is_none(), "nothing heard");
+        nav.feed_heard(&sentence("HEHDT,123.4,T"), T0);
+        assert!(nav.own_ship_at(T0 + 1.0).is_none());
+        let own = nav.heading_only_at(T0 + 1.0).unwrap();
+        assert!(
+            own.quality.no_fix_yet && !own.quality.heading_lost,
+            "{own:?}"
+        );
+        let hdg = own.heading_rad.unwrap().to_degrees();
+        assert!((hdg - 123.4).abs() < 1e-3, "{hdg}");
+        let later = nav.heading_only_at(T0 + 1.0 + HEADING_LOST_S).unwrap();
+        assert!(
+            later.heading_rad.is_none() && later.quality.heading_lost,
+            "{later:?}"
+        );
     }
 
     #[test]
