@@ -365,8 +365,11 @@ fn every_capture_is_tracked_to_its_end() {
         // their mean under half what it was with the fixed heading alone (10.7 m median); the
         // HALO harbour's none over 1 kn, at least 9 under. The plot σ (0.25 % of the range)
         // was chosen on these captures: the bounds guard what was reached, no more.
+        // Since a heading sensor heard before the first fix places the first scans' plots
+        // (2026-12-06), the 4G's stationary echoes all have a settled track under 1 kn (6
+        // and 1 over at 1.61 kn before).
         if name.starts_with("radar_pi-4g") {
-            assert!(s.fast <= 1 && s.slow + 1 >= s.echoes, "{name}: {s:?}");
+            assert!(s.fast == 0 && s.slow == s.echoes, "{name}: {s:?}");
         }
         // A target found standing still is shown so (`session::stationary`): the settled
         // tracks' median speed on the 4G's, the Garmin's and the HALO harbour's stationary
