@@ -159,6 +159,12 @@ impl Run {
         };
         before(scan.radar.time_s);
         let mut own = self.own_ship.own_ship(&scan)?;
+        // Own ship found far from where its tracks were placed about (a fixed position's
+        // first fix): they are wrong, and go; this scan's plots start them again.
+        if self.own_ship.take_moved() {
+            self.session
+                .command(tracker_core::icd::TrackCommand::CancelAll)?;
+        }
         // An own-ship source without a heading (NMEA with no HDT/HDG): the radar's heading
         // sensor, when its spokes carried one this rotation (the plots were placed with it).
         // One whose heading was lost is told so: the heading has changed source.
@@ -642,6 +648,88 @@ mod tests {
                 .any(|a| a.contains("the radar's heading in use"));
             assert_eq!(told, changed, "{:?}", report.own.alarms());
         }
+    }
+
+    /// One echo 1 km north of the radar, every 2.5 s, for 14 scans.
+    struct OneEcho(u32);
+    impl PlotSource for OneEcho {
+        fn next_scan(&mut self) -> anyhow::Result<Option<crate::source::SourceScan>> {
+            self.0 += 1;
+            if self.0 > 14 {
+                return Ok(None);
+            }
+            let mut own = crate::own_ship::OwnShip::unknown();
+            own.heading_rad = Some(0.0);
+            Ok(Some(crate::source::SourceScan {
+                radar: crate::source::RadarScan {
+                    scan: self.0,
+                    time_s: 2.5 * f64::from(self.0),
+                    plots: vec![tracker_core::icd::Plot {
+                        range_m: 1000.0,
+                        bearing_rad: 0.0,
+                    }],
+                },
+                own_ship: Some(own),
+                ..Default::default()
+            }))
+        }
+        fn scan_period_s(&self) -> Option<f64> {
+            Some(2.5)
+        }
+        fn scans_left(&self) -> Option<u64> {
+            None
+        }
+    }
+    /// No fix until scan `.0`, then one 5 km north of the origin.
+    struct FixFrom(u32);
+    impl OwnShipSource for FixFrom {
+        fn own_ship(
+            &mut self,
+            scan: &crate::source::SourceScan,
+        ) -> anyhow::Result<crate::own_ship::OwnShip> {
+            Ok(if scan.radar.scan >= self.0 {
+                crate::own_ship::OwnShip::at([0.0, 5000.0], [0.0, 0.0])
+            } else {
+                crate::own_ship::OwnShip::unknown()
+            })
+        }
+    }
+
+    /// A fixed position whose first fix is 5 km off: the target tracked about the fixed
+    /// position is cancelled (told as lost), not left coasting 5 km from own ship with the
+    /// echo tracked again beside it.
+    #[test]
+    fn tracks_placed_about_a_wrong_fixed_position_go_at_the_first_fix() {
+        let client = Client::new(Box::new(InprocTransport::new()));
+        let config = crate::session::SessionConfig::tracking_plots_of(FilterKind::KalmanCv, 40.0);
+        let mut run = Run::new(
+            Box::new(OneEcho(0)),
+            Box::new(crate::own_ship::fixed::FixedPosition::new(Box::new(
+                FixFrom(8),
+            ))),
+            Session::start(client, config).unwrap(),
+            Vec::new(),
+        );
+        let mut ended = 0;
+        while let Some(r) = run.step().unwrap() {
+            if r.scan < 8 {
+                assert!(r.own.quality.fixed_position);
+            }
+            if r.scan == 7 {
+                assert_eq!(r.targets.len(), 1, "tracked at the fixed position");
+            }
+            if r.scan >= 8 {
+                assert!(
+                    r.targets.iter().all(|t| t.range_m < 1500.0),
+                    "scan {}: {:?}",
+                    r.scan,
+                    r.targets
+                );
+                ended += r.ended.len();
+            }
+        }
+        assert_eq!(ended, 1, "the old target told ended once");
+        assert_eq!(run.report("inproc").targets_seen, 2);
     }
 
     #[test]

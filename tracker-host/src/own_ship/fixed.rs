@@ -17,7 +17,9 @@
 //! requires for every mode but autonomous and differential; `OSD` references its course and
 //! speed `M`, manually entered. A plotter may draw no own ship from a void `RMC`. A source that does give fixes (`--nmea-in` with a GNSS) takes over from its
 //! first fix, told as an event with its distance from the fixed position (over
-//! [`FAR_FROM_FIXED_M`] the origin given is likely not the antenna's position): from then on
+//! [`FAR_FROM_FIXED_M`] the origin given is likely not the antenna's position, and every
+//! track, placed about it, is cancelled: the trial's 600 km slip left targets coasting at
+//! 293 NM on the plotter, with CPA alarms, until they were lost): from then on
 //! its own ship passes unchanged, a lost fix dead reckoned and then lost with its alarms,
 //! as without `--fixed-position` (a ship with a GNSS is not known to stay put), and never
 //! fixed again.
@@ -33,6 +35,8 @@ pub struct FixedPosition {
     inner: Box<dyn OwnShipSource>,
     /// A fix has come: `inner`'s own ship is passed unchanged from then on.
     fix_came: bool,
+    /// … over [`FAR_FROM_FIXED_M`] from the fixed position, not yet taken.
+    moved: bool,
     events: Vec<String>,
 }
 
@@ -42,6 +46,7 @@ impl FixedPosition {
         FixedPosition {
             inner,
             fix_came: false,
+            moved: false,
             events: Vec::new(),
         }
     }
@@ -74,8 +79,9 @@ impl OwnShipSource for FixedPosition {
         }
         self.fix_came = true;
         let off_m = own.position_m[0].hypot(own.position_m[1]);
-        let check = if off_m > FAR_FROM_FIXED_M {
-            " (is --origin the antenna's position?)"
+        self.moved = off_m > FAR_FROM_FIXED_M;
+        let check = if self.moved {
+            " (is --origin the antenna's position?); the targets tracked about the fixed position are cancelled and acquired again"
         } else {
             ""
         };
@@ -102,6 +108,10 @@ impl OwnShipSource for FixedPosition {
 
     fn take_ais(&mut self) -> Vec<(f64, crate::ais::AisReport)> {
         self.inner.take_ais()
+    }
+
+    fn take_moved(&mut self) -> bool {
+        std::mem::take(&mut self.moved) || self.inner.take_moved()
     }
 
     fn utc_offset_s(&self) -> f64 {
@@ -184,6 +194,7 @@ mod tests {
         assert!(!second.quality.fixed_position);
         assert_eq!(second.position_m, [5.0, 5.0]);
         s.own_ship(&scan).unwrap();
+        assert!(!s.take_moved(), "7 m: the tracks stand");
         assert_eq!(s.events().len(), 1, "{:?}", s.events());
         assert!(
             s.events()[0].contains(" 7 m from the fixed position:"),
@@ -195,6 +206,7 @@ mod tests {
         s.own_ship(&scan).unwrap();
         s.own_ship(&scan).unwrap();
         assert!(s.events()[0].contains("500 m from the fixed position (is --origin"));
+        assert!(s.take_moved() && !s.take_moved(), "taken once");
         let lost = s.own_ship(&scan).unwrap();
         assert!(lost.quality.no_fix_yet && !lost.quality.fixed_position);
     }

@@ -243,6 +243,13 @@ pub trait OwnShipSource {
         Vec::new()
     }
 
+    /// Own ship was found, at the last call of [`OwnShipSource::own_ship`], to be far
+    /// from where it had been taken to be (a fixed position's first fix, [`fixed`]): every
+    /// track, placed about the old position, is wrong and is to be cancelled. Once.
+    fn take_moved(&mut self) -> bool {
+        false
+    }
+
     /// The bridge's UTC less the scans' clock, s: added to a scan's time for the UTC shown
     /// and sent to plotters, so that they carry the time own ship is on. Non-zero only
     /// for a live NMEA source whose UTC is more than [`CLOCK_APPLIED_S`] from this
