@@ -1364,24 +1364,14 @@ fn next_key(wait: std::time::Duration) -> anyhow::Result<Option<char>> {
 /// vector length is not said to be taken: the first picture sets it with the scale unless
 /// `+` or `-` chose one.
 fn waiting_key(state: &mut DisplayState, c: char) {
-    let before = (
-        state.range_scale,
-        state.vectors,
-        state.paused,
-        state.ais_table,
-    );
+    let settings = |s: &DisplayState| (s.range_scale, s.vectors, s.paused, s.ais_table);
+    let before = settings(state);
     // No view: a command on targets (acquire, cancel, select) has nothing to act on.
     let _ = state.key(c, None);
     if state.message.is_some() {
         return;
     }
-    let taken = before
-        != (
-            state.range_scale,
-            state.vectors,
-            state.paused,
-            state.ais_table,
-        );
+    let taken = before != settings(state);
     state.message = Some(if taken {
         format!("`{c}` taken: the picture shows it from the radar's first rotation")
     } else {

@@ -15,8 +15,8 @@
 //! `FIXED`, and plotters (with `--nmea-out-own-ship`) get it in `RMC` with mode `M`, manual
 //! input, and status `V`, as NMEA 0183 (2.30 and later, the `RMC` mode indicator's note)
 //! requires for every mode but autonomous and differential; `OSD` references its course and
-//! speed `M`, manually entered. A plotter may draw no own ship from a void `RMC`. A source that does give fixes (`--nmea-in` with a GNSS) takes over from its
-//! first fix, told as an event with its distance from the fixed position (over
+//! speed `M`, manually entered. A plotter may draw no own ship from a void `RMC`. A source
+//! that does give fixes (`--nmea-in` with a GNSS) takes over from its first fix, told as an event with its distance from the fixed position (over
 //! [`FAR_FROM_FIXED_M`] the origin given is likely not the antenna's position, and every
 //! track, placed about it, is cancelled: the trial's 600 km slip left targets coasting at
 //! 293 NM on the plotter, with CPA alarms, until they were lost): from then on

@@ -574,8 +574,7 @@ impl OwnShipSource for NmeaOwnShip {
         let bridge_s = t + self.clock_offset_s();
         Ok(self
             .nav
-            .own_ship_at(bridge_s)
-            .or_else(|| self.nav.heading_only_at(bridge_s))
+            .own_ship_or_heading_at(bridge_s)
             .unwrap_or_else(OwnShip::unknown))
     }
 

@@ -762,7 +762,7 @@ impl OwnShipNav {
     /// the heading while it comes (a moored ship's gyro without a GNSS: a head-up radar's
     /// plots are placed with it, and `--fixed-position` shows it); `None` with no heading
     /// heard.
-    pub fn heading_only_at(&self, time_s: f64) -> Option<OwnShip> {
+    fn heading_only_at(&self, time_s: f64) -> Option<OwnShip> {
         let age = time_s - self.last_heading_s?;
         let mut own = OwnShip::unknown();
         own.heading_rad = self
@@ -771,6 +771,13 @@ impl OwnShipNav {
             .map(|h| h.to_radians() as f32);
         own.quality.heading_lost = age > HEADING_LOST_S;
         Some(own)
+    }
+
+    /// [`OwnShipNav::own_ship_at`], else, before a first position, own ship unknown with the
+    /// heading a heading sensor gives; `None` with neither.
+    pub fn own_ship_or_heading_at(&self, time_s: f64) -> Option<OwnShip> {
+        self.own_ship_at(time_s)
+            .or_else(|| self.heading_only_at(time_s))
     }
 
     /// Own ship at `time_s` (s since 1970), predicted from the last sentence, with what is
@@ -988,17 +995,19 @@ mod tests {
     #[test]
     fn a_heading_without_a_fix_is_own_ships_heading() {
         let mut nav = OwnShipNav::new(Origin::default(), DAY0, None);
-        assert!(nav.heading_only_at(T0).is_none(), "nothing heard");
+        assert!(nav.own_ship_or_heading_at(T0).is_none(), "nothing heard");
         nav.feed_heard(&sentence("HEHDT,123.4,T"), T0);
         assert!(nav.own_ship_at(T0 + 1.0).is_none());
-        let own = nav.heading_only_at(T0 + 1.0).unwrap();
+        let own = nav.own_ship_or_heading_at(T0 + 1.0).unwrap();
         assert!(
             own.quality.no_fix_yet && !own.quality.heading_lost,
             "{own:?}"
         );
         let hdg = own.heading_rad.unwrap().to_degrees();
         assert!((hdg - 123.4).abs() < 1e-3, "{hdg}");
-        let later = nav.heading_only_at(T0 + 1.0 + HEADING_LOST_S).unwrap();
+        let later = nav
+            .own_ship_or_heading_at(T0 + 1.0 + HEADING_LOST_S)
+            .unwrap();
         assert!(
             later.heading_rad.is_none() && later.quality.heading_lost,
             "{later:?}"

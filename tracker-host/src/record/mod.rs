@@ -107,6 +107,17 @@ impl CsvOut {
     }
 }
 
+/// An angle, rad, as a plots file's degrees in [0, 360) (its bearing and heading columns).
+fn file_degrees(rad: f32) -> f64 {
+    let deg = f64::from(rad).to_degrees().rem_euclid(360.0);
+    // A hair under 0 wraps to 360.0 in f64, which the file refuses.
+    if deg < 360.0 {
+        deg
+    } else {
+        0.0
+    }
+}
+
 /// Writes the scans' plots as a plots file ([`plots_file`]'s format), with own ship as the
 /// session used it (position and velocity).
 pub struct PlotsRecorder(CsvOut, RecordClock);
@@ -135,11 +146,10 @@ impl ScanSink for PlotsRecorder {
         let t = self.1.t_s(r, r.time_s);
         // Own ship's heading, degrees in [0, 360) (a head-up radar's plots were placed
         // with it, and the display and plotters show it).
-        let heading = r.own.heading_rad.map_or(String::new(), |h| {
-            let deg = f64::from(h).to_degrees().rem_euclid(360.0);
-            // A hair under 0 wraps to 360.0 in f64, which the file refuses.
-            if deg < 360.0 { deg } else { 0.0 }.to_string()
-        });
+        let heading = r
+            .own
+            .heading_rad
+            .map_or(String::new(), |h| file_degrees(h).to_string());
         let own = format!(
             "{},{},{},{},{heading}",
             r.own.position_m[0], r.own.position_m[1], r.own.velocity_mps[0], r.own.velocity_mps[1]
@@ -158,7 +168,7 @@ impl ScanSink for PlotsRecorder {
             return self.0.line(&format!("{},{t},,,{own},,,{sigma}", r.scan));
         }
         for p in &r.plots {
-            let bearing_deg = f64::from(p.bearing_rad).to_degrees().rem_euclid(360.0);
+            let bearing_deg = file_degrees(p.bearing_rad);
             self.0.line(&format!(
                 "{},{t},{},{bearing_deg},{own},{accuracy},{sigma}",
                 r.scan, p.range_m

@@ -417,10 +417,8 @@ impl RadarPlotSource {
     /// Own ship from the capture's NMEA at capture time `time_s`, if it has a fix or a
     /// heading sensor (without a fix: unknown, with the heading).
     fn nmea_own_ship(&self, time_s: f64) -> Option<OwnShip> {
-        let t = time_s + self.nmea_offset_s.unwrap_or(0.0);
         self.nav
-            .own_ship_at(t)
-            .or_else(|| self.nav.heading_only_at(t))
+            .own_ship_or_heading_at(time_s + self.nmea_offset_s.unwrap_or(0.0))
     }
 
     /// Feeds the capture's NMEA lines due by capture time `time_s`.
