@@ -840,6 +840,58 @@ fn a_heading_in_the_capture_is_own_ships_with_nmea_in_too() {
     );
 }
 
+/// A moored radar's given heading (`--heading-deg`, the Garmin's spokes having none) with
+/// own ship from `--nmea-in` whose GNSS gives no heading: own ship shows the heading its
+/// plots were placed with, as without `--nmea-in` (it showed `HDG ---` every scan). And an
+/// NMEA log of another voyage beside it (the 4G's, two years older, with its transponder's
+/// untimed `AIVDO`s) does not flip own ship's position between its GNSS and the
+/// transponder every scan (two events a scan before).
+#[test]
+fn a_given_heading_is_own_ships_with_a_gnss_on_nmea_in() {
+    let name = "radar_pi-garmin_xhd.pcap.gz";
+    let dir = tempfile::tempdir().unwrap();
+    let gnss = dir.path().join("gnss.log");
+    // RMC every second over the capture (2017-10-19 16:04:50Z on), stopped, no heading.
+    let mut log = String::new();
+    for k in 0..120 {
+        let body = format!(
+            "GPRMC,16{:02}{:02}.00,A,5048.30720,N,00117.90400,W,0.0,,191017,,,A",
+            4 + (50 + k) / 60,
+            (50 + k) % 60
+        );
+        let sum = body.bytes().fold(0u8, |a, b| a ^ b);
+        log.push_str(&format!("${body}*{sum:02X}\r\n"));
+    }
+    std::fs::write(&gnss, log).unwrap();
+    let nmea_in = |path: PathBuf| OwnShipOptions {
+        nmea_in: Some(tracker_host::nmea::input::InSpec::File(path)),
+        ..OwnShipOptions::default()
+    };
+    let alone = track(name, Some(0.0));
+    let with = track_with(name, Some(0.0), nmea_in(gnss));
+    assert_eq!(alone.reports.len(), with.reports.len());
+    assert!(with.reports.len() >= 30);
+    for (a, w) in alone.reports.iter().zip(&with.reports) {
+        assert!(!w.own.quality.no_fix_yet, "scan {}", w.scan);
+        let (x, y) = (a.own.heading_rad, w.own.heading_rad);
+        let (Some(x), Some(y)) = (x, y) else {
+            panic!("scan {}: headings {x:?} and {y:?}", w.scan)
+        };
+        assert!((x - y).abs() < 1e-3, "scan {}: {x} against {y}", w.scan);
+        assert_eq!(a.plots_m.len(), w.plots_m.len(), "scan {}", w.scan);
+    }
+    let other = track_with(
+        name,
+        Some(0.0),
+        nmea_in(realdata::file(
+            "nmea/radar_pi-4g-noheading-merrimac-tcp2000.log",
+        )),
+    );
+    let events = other.run.report("inproc").events;
+    let sources = events.iter().filter(|e| e.contains(" source: ")).count();
+    assert!(sources <= 4, "{sources} changes of source: {events:?}");
+}
+
 /// A heading sensor lost mid-run while the radar's own heading (flagged true in the 3G's
 /// spokes) goes on: the plots stay placed, and own ship says the radar's heading is in use
 /// (it took over in silence when own ship came from the capture's own NMEA). The capture's

@@ -249,6 +249,52 @@ fn track_runs_on_a_plots_file_written_by_other_code() {
     }
 }
 
+/// Scans recorded without a fix (`own_fix` 0) are tracked again without one: own ship
+/// stood, its motion unknown, and so written again (it read as a fix at 0 kn before).
+#[test]
+fn scans_without_a_fix_stay_without_one_tracked_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let plots = dir.path().join("plots.csv");
+    let again = dir.path().join("again.csv");
+    let mut text =
+        "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m,own_vx_mps,own_vy_mps,own_fix\n"
+            .to_string();
+    for k in 0..8 {
+        // No fix for four scans (own ship stood at the origin), then a fix moving north.
+        let (north, vy, fix) = if k < 4 {
+            (0.0, 0.0, 0)
+        } else {
+            (5.0 * f64::from(k - 4) * 2.5, 5.0, 1)
+        };
+        let t = 1_000.0 + 2.5 * f64::from(k);
+        text.push_str(&format!("{k},{t},1500,45,0,{north},0,{vy},{fix}\n"));
+    }
+    std::fs::write(&plots, &text).unwrap();
+    let code = track(&[
+        "--plots",
+        plots.to_str().unwrap(),
+        "--record-plots",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(code, ExitCode::SUCCESS);
+    let written = std::fs::read_to_string(&again).unwrap();
+    let mut rows = written.lines();
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
+    let (fix, vy) = (col("own_fix"), col("own_vy_mps"));
+    let fixes: Vec<(String, String)> = rows
+        .map(|r| {
+            let cells: Vec<&str> = r.split(',').collect();
+            (cells[fix].to_string(), cells[vy].to_string())
+        })
+        .collect();
+    assert_eq!(fixes.len(), 8, "{written}");
+    for (k, (f, v)) in fixes.iter().enumerate() {
+        let expected = if k < 4 { ("0", "0") } else { ("1", "5") };
+        assert_eq!((f.as_str(), v.as_str()), expected, "scan {k}: {written}");
+    }
+}
+
 #[test]
 fn bad_plots_files_are_refused_with_their_line_and_column() {
     let dir = tempfile::tempdir().unwrap();
@@ -315,6 +361,10 @@ fn bad_plots_files_are_refused_with_their_line_and_column() {
         (
             &format!("{head},plot_sigma_m\n0,0,1000,10,0,0,2\n0,0,900,10,0,0,4\n"),
             "line 3, column 7 (plot_sigma_m): every row of scan 0 must have the same plot_sigma_m",
+        ),
+        (
+            &format!("{head},own_fix\n0,0,1000,10,0,0,2\n"),
+            "line 2, column 7 (own_fix): 2: must be 1 or 0",
         ),
     ];
     for (i, (text, expected)) in cases.iter().enumerate() {

@@ -171,6 +171,13 @@ impl Run {
         if own.heading_rad.is_none() {
             if let Some(h) = scan.heading_sensor_rad {
                 own.stand_in_heading(Some(h), true);
+            } else if !own.quality.heading_lost && scan.echoes.is_some() {
+                // … else the heading a radar placed them with (a moored ship's
+                // `--heading-deg`, turned by its yaw): shown and sent as own ship's, as
+                // without `--nmea-in` (it was `HDG ---` with a GNSS giving no heading). A
+                // heading sensor lost keeps its alarm; a simulator's own ship is its truth,
+                // not taken.
+                own.heading_rad = scan.own_ship.and_then(|o| o.heading_rad);
             }
         }
         // The plot source knows whether its plots wanted a heading, whoever gives own ship;

@@ -251,6 +251,16 @@ impl DisplayState {
                 self.vectors = match self.vectors {
                     VectorMode::Relative => VectorMode::True,
                     VectorMode::True => VectorMode::Relative,
+                };
+                // True vectors add own ship's velocity over ground: without it they stay
+                // relative, and the operator is told why rather than see nothing change.
+                if self.vectors == VectorMode::True
+                    && view.is_some_and(|v| !v.own.quality.motion_known)
+                {
+                    self.message = Some(
+                        "true vectors need own ship's course and speed over ground (no fix yet): relative until then"
+                            .into(),
+                    );
                 }
             }
             ']' => self.vector_length = (self.vector_length + 1).min(VECTOR_MINUTES.len() - 1),
@@ -2176,6 +2186,15 @@ pub(crate) mod tests {
         lost.own.quality.motion_known = false;
         let text = screen(&state, &lost);
         assert!(text.contains("relative vectors 12 min"), "{text}");
+        // … and `v` asking for true vectors then is told why they stay relative.
+        state.key('v', Some(&lost));
+        assert!(state.message.is_none(), "{:?}", state.message);
+        state.key('v', Some(&lost));
+        assert!(
+            state.message.as_deref().unwrap().contains("no fix yet"),
+            "{:?}",
+            state.message
+        );
         // … drawn as the tracks' velocities where own ship's position is held (dead
         // reckoning stopped): own ship's last velocity is not taken off them again.
         lost.own.velocity_mps = [3.0, 0.0];

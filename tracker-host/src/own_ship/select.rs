@@ -180,7 +180,11 @@ impl Selector {
             Some((c, _)) if c == talker => true,
             // A talker heard once and then silent would flip the choice back and forth with
             // a steady transponder: it must be delivering.
-            Some((c, _)) if c == AIS_TALKER && delivering => {
+            // … and delivering now: readings dated well before the transponder's last (a
+            // log of another voyage beside a capture's untimed `VDO`s, a receiver's clock
+            // a GPS week rollover behind) took the choice back every scan, and lost it to
+            // the transponder's next, two events a scan.
+            Some((c, last_s)) if c == AIS_TALKER && delivering && now_s + SILENT_S >= last_s => {
                 let event = format!(
                     "{} source: {talker} (not the AIS transponder's {c})",
                     q.name()
@@ -357,6 +361,24 @@ mod tests {
         assert!(!s.admit("GP", &sog(5.1), None, 2.0 + SILENT_S));
         assert!(s.admit("GP", &sog(5.1), None, 3.0 + SILENT_S));
         assert!(!s.admit("AI", &sog(5.0), None, 3.5 + SILENT_S));
+    }
+
+    /// A talker whose readings are dated long before the transponder's (another voyage's
+    /// log, a clock a GPS week rollover behind) does not take the choice back from it.
+    #[test]
+    fn a_talker_dated_long_before_the_transponder_does_not_take_over() {
+        let mut s = Selector::default();
+        let now = 63_000_000.0;
+        assert!(s.admit("AI", &sog(5.0), None, now));
+        for k in 0..5 {
+            let t = f64::from(k);
+            assert!(!s.admit("GP", &sog(5.1), None, t), "reading at {t} s");
+            assert!(s.admit("AI", &sog(5.0), None, now + 2.5 * t));
+        }
+        assert_eq!(s.events().len(), 1, "{:?}", s.events());
+        // Dated with the transponder, it takes over as before.
+        assert!(!s.admit("GP", &sog(5.1), None, now + 11.0));
+        assert!(s.admit("GP", &sog(5.1), None, now + 12.0));
     }
 
     /// A talker that reports less often than every [`SILENT_S`] does not flip the choice

@@ -164,13 +164,18 @@ impl ScanSink for PlotsRecorder {
         });
         // … and the one the filters took them at (a radar's follows its range scale).
         let sigma = r.plot_sigma_m;
+        // Whether own ship had a fix, its motion known: without, the plots were placed
+        // about a ship standing where it is written, and tracked again they are relative.
+        let fix = u8::from(r.own.quality.motion_known && !r.own.quality.no_fix_yet);
         if r.plots.is_empty() {
-            return self.0.line(&format!("{},{t},,,{own},,,{sigma}", r.scan));
+            return self
+                .0
+                .line(&format!("{},{t},,,{own},,,{sigma},{fix}", r.scan));
         }
         for p in &r.plots {
             let bearing_deg = file_degrees(p.bearing_rad);
             self.0.line(&format!(
-                "{},{t},{},{bearing_deg},{own},{accuracy},{sigma}",
+                "{},{t},{},{bearing_deg},{own},{accuracy},{sigma},{fix}",
                 r.scan, p.range_m
             ))?;
         }

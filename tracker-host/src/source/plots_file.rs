@@ -12,6 +12,7 @@
 //! | `own_vx_mps`, `own_vy_mps` | m/s | optional, both or neither: own ship's velocity over ground (without them: from successive positions) |
 //! | `heading_deg` | degrees true | optional: own ship's heading |
 //! | `range_sigma_m`, `bearing_sigma_deg` | m, degrees | optional, both or neither: the plot's accuracy (standard deviations) in range and bearing, the same on every row of a scan; empty on a row without it (`demo --record-plots` writes the simulator's) |
+//! | `own_fix` | `1` or `0` | optional: `0` on a scan own ship had no fix, or its motion over ground was not known (it stood where the file places it; the plots' and tracks' motion is relative to it: no true vectors, no own course or speed); `1`, empty or absent: a fix |
 //! | `plot_sigma_m` | m | optional: the accuracy (one axis) the filters and gates take the scan's plots at, the same on every row of a scan (`--record-plots` writes the one tracked with: a radar's follows its range scale); empty: the last given (before the first, the first); absent: 40 m; `--plot-sigma-m` overrides it |
 //!
 //! The file is read twice: once whole to check it (a bad file is refused before anything
@@ -40,13 +41,14 @@ pub const REQUIRED: [&str; 6] = [
 ];
 
 /// Columns a plots file may have.
-pub const OPTIONAL: [&str; 6] = [
+pub const OPTIONAL: [&str; 7] = [
     "own_vx_mps",
     "own_vy_mps",
     "heading_deg",
     "range_sigma_m",
     "bearing_sigma_deg",
     "plot_sigma_m",
+    "own_fix",
 ];
 
 /// Longest plot range accepted, m (200 km: beyond any marine radar).
@@ -66,6 +68,8 @@ pub struct FileScan {
     pub own_velocity_mps: Option<[f32; 2]>,
     /// Own ship's heading, degrees true.
     pub heading_deg: Option<f64>,
+    /// Own ship had a fix and its motion was known (`own_fix`; absent: true).
+    pub own_fix: bool,
     /// The plots' accuracy, when the file gives it.
     pub accuracy: Option<PolarAccuracy>,
     /// The accuracy the filters take the plots at, m, when the file gives it.
@@ -156,6 +160,12 @@ impl ScanReader {
                 return Err(row.error("heading_deg", &format!("{h}: must be 0 ≤ h < 360")));
             }
         }
+        let own_fix = match row.number("own_fix")? {
+            None => true,
+            Some(1.0) => true,
+            Some(0.0) => false,
+            Some(f) => return Err(row.error("own_fix", &format!("{f}: must be 1 or 0"))),
+        };
         let mut plots = Vec::new();
         let mut accuracy = None;
         let mut record = Some(first);
@@ -224,6 +234,7 @@ impl ScanReader {
             own_position_m: own,
             own_velocity_mps: velocity,
             heading_deg,
+            own_fix,
             accuracy,
             plot_sigma_m,
         }))
@@ -387,10 +398,17 @@ impl PlotSource for PlotsFileSource {
                     .map_or([0.0, 0.0], |next| finite_difference(&scan, next))
             }
         };
-        let own = OwnShip {
+        let mut own = OwnShip {
             heading_rad: scan.heading_deg.map(|h| h.to_radians() as f32),
             ..OwnShip::at(scan.own_position_m, velocity)
         };
+        if !scan.own_fix {
+            // Recorded without a fix: own ship stood where the file places it, its motion
+            // unknown (a run tracked again showed `fix` and `SOG 0.0`, and true vectors).
+            own.velocity_mps = [0.0, 0.0];
+            own.quality.no_fix_yet = true;
+            own.quality.motion_known = false;
+        }
         let truth = match self.truth.as_mut() {
             Some(t) => Some(t.at(scan.radar.time_s, own, &self.path)?),
             None => None,
