@@ -190,6 +190,7 @@ fn the_tracks_recording_marks_the_held_track() {
             truth: None,
             echoes: None,
             heading_sensor_rad: None,
+            placed_heading_rad: None,
         };
         recorder.scan(&source, &r).unwrap();
         held_rows += r.in_echo.len();

@@ -888,8 +888,14 @@ fn a_given_heading_is_own_ships_with_a_gnss_on_nmea_in() {
         )),
     );
     let events = other.run.report("inproc").events;
+    assert!(
+        !events
+            .iter()
+            .any(|e| e.contains("not the AIS transponder's")),
+        "{events:?}"
+    );
     let sources = events.iter().filter(|e| e.contains(" source: ")).count();
-    assert!(sources <= 4, "{sources} changes of source: {events:?}");
+    assert!(sources <= 6, "{sources} events of source: {events:?}");
 }
 
 /// A heading sensor lost mid-run while the radar's own heading (flagged true in the 3G's

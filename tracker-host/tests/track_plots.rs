@@ -250,7 +250,8 @@ fn track_runs_on_a_plots_file_written_by_other_code() {
 }
 
 /// Scans recorded without a fix (`own_fix` 0) are tracked again without one: own ship
-/// stood, its motion unknown, and so written again (it read as a fix at 0 kn before).
+/// stood, its motion unknown, and so written again (it read as a fix at 0 kn before); a
+/// position given (`M`) stays given, stopped; a fix is a fix.
 #[test]
 fn scans_without_a_fix_stay_without_one_tracked_again() {
     let dir = tempfile::tempdir().unwrap();
@@ -259,12 +260,14 @@ fn scans_without_a_fix_stay_without_one_tracked_again() {
     let mut text =
         "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m,own_vx_mps,own_vy_mps,own_fix\n"
             .to_string();
-    for k in 0..8 {
-        // No fix for four scans (own ship stood at the origin), then a fix moving north.
-        let (north, vy, fix) = if k < 4 {
-            (0.0, 0.0, 0)
-        } else {
-            (5.0 * f64::from(k - 4) * 2.5, 5.0, 1)
+    for k in 0..10 {
+        // No fix for four scans (own ship stood at the origin), a position given for two,
+        // then a fix moving north. The velocity given beside no fix, or a position given,
+        // is not taken.
+        let (north, vy, fix) = match k {
+            0..4 => (0.0, 3.0, "0"),
+            4..6 => (0.0, 3.0, "M"),
+            _ => (5.0 * f64::from(k - 6) * 2.5, 5.0, "1"),
         };
         let t = 1_000.0 + 2.5 * f64::from(k);
         text.push_str(&format!("{k},{t},1500,45,0,{north},0,{vy},{fix}\n"));
@@ -288,9 +291,13 @@ fn scans_without_a_fix_stay_without_one_tracked_again() {
             (cells[fix].to_string(), cells[vy].to_string())
         })
         .collect();
-    assert_eq!(fixes.len(), 8, "{written}");
+    assert_eq!(fixes.len(), 10, "{written}");
     for (k, (f, v)) in fixes.iter().enumerate() {
-        let expected = if k < 4 { ("0", "0") } else { ("1", "5") };
+        let expected = match k {
+            0..4 => ("0", "0"),
+            4..6 => ("M", "0"),
+            _ => ("1", "5"),
+        };
         assert_eq!((f.as_str(), v.as_str()), expected, "scan {k}: {written}");
     }
 }
@@ -364,7 +371,15 @@ fn bad_plots_files_are_refused_with_their_line_and_column() {
         ),
         (
             &format!("{head},own_fix\n0,0,1000,10,0,0,2\n"),
-            "line 2, column 7 (own_fix): 2: must be 1 or 0",
+            "line 2, column 7 (own_fix): `2`: must be 1, 0 or M",
+        ),
+        (
+            &format!("{head},own_fix\n0,0,1000,10,0,0,1\n0,0,900,10,0,0,yes\n"),
+            "line 3, column 7 (own_fix): `yes`: must be 1, 0 or M",
+        ),
+        (
+            &format!("{head},own_fix\n0,0,1000,10,0,0,1\n0,0,900,10,0,0,0\n"),
+            "line 3, column 7 (own_fix): every row of scan 0 must have the same own_fix",
         ),
     ];
     for (i, (text, expected)) in cases.iter().enumerate() {

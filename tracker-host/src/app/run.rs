@@ -171,13 +171,12 @@ impl Run {
         if own.heading_rad.is_none() {
             if let Some(h) = scan.heading_sensor_rad {
                 own.stand_in_heading(Some(h), true);
-            } else if !own.quality.heading_lost && scan.echoes.is_some() {
-                // … else the heading a radar placed them with (a moored ship's
-                // `--heading-deg`, turned by its yaw): shown and sent as own ship's, as
-                // without `--nmea-in` (it was `HDG ---` with a GNSS giving no heading). A
-                // heading sensor lost keeps its alarm; a simulator's own ship is its truth,
-                // not taken.
-                own.heading_rad = scan.own_ship.and_then(|o| o.heading_rad);
+            } else if !own.quality.heading_lost {
+                // … else the heading the source placed them with, when not a sensor's (a
+                // moored ship's `--heading-deg` turned by its yaw): shown and sent as own
+                // ship's, as without `--nmea-in` (it was `HDG ---` with a GNSS giving no
+                // heading). A heading sensor lost keeps its alarm.
+                own.heading_rad = scan.placed_heading_rad;
             }
         }
         // The plot source knows whether its plots wanted a heading, whoever gives own ship;
@@ -591,6 +590,7 @@ mod tests {
     /// source that knows only a position (NMEA without a heading sentence).
     struct Radar {
         heading: Option<f32>,
+        placed: Option<f32>,
     }
     impl PlotSource for Radar {
         fn next_scan(&mut self) -> anyhow::Result<Option<crate::source::SourceScan>> {
@@ -600,6 +600,7 @@ mod tests {
             Ok(Some(crate::source::SourceScan {
                 own_ship: Some(own),
                 heading_sensor_rad: self.heading,
+                placed_heading_rad: self.placed,
                 ..Default::default()
             }))
         }
@@ -625,20 +626,29 @@ mod tests {
     }
 
     #[test]
-    fn own_ship_without_a_heading_takes_the_radars_heading_sensor_only() {
-        // (radar's sensor, own ship's heading lost: shown heading, lost, changed source)
+    fn own_ship_without_a_heading_takes_the_radars_sensor_else_the_placed_heading() {
+        // (radar's sensor, the heading its plots were placed with, own ship's heading lost:
+        // shown heading, lost, changed source)
         let cases = [
-            (Some(0.5), true, Some(0.5), false, true),
-            (None, true, None, true, false),
-            (Some(0.5), false, Some(0.5), false, false),
-            (None, false, None, false, false),
+            (Some(0.5), None, true, Some(0.5), false, true),
+            (None, None, true, None, true, false),
+            (Some(0.5), None, false, Some(0.5), false, false),
+            (None, None, false, None, false, false),
+            // A fixed heading (`--heading-deg`) the plots were placed with: shown, but not
+            // over a lost sensor's alarm; a sensor's first.
+            (None, Some(1.5), false, Some(1.5), false, false),
+            (None, Some(1.5), true, None, true, false),
+            (Some(0.5), Some(1.5), false, Some(0.5), false, false),
         ];
-        for (sensor, had_one, heading, lost, changed) in cases {
+        for (sensor, placed, had_one, heading, lost, changed) in cases {
             let client = Client::new(Box::new(InprocTransport::new()));
             let config =
                 crate::session::SessionConfig::tracking_plots_of(FilterKind::KalmanCv, 40.0);
             let mut run = Run::new(
-                Box::new(Radar { heading: sensor }),
+                Box::new(Radar {
+                    heading: sensor,
+                    placed,
+                }),
                 Box::new(PositionOnly(had_one)),
                 Session::start(client, config).unwrap(),
                 Vec::new(),

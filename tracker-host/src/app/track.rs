@@ -88,6 +88,16 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             // A radar's recording tracked at its own accuracy (a harbour's 2 m plots taken
             // at 40 m made 1 target of the 30 tracked live, in a new user's trial).
             let sigma_m = source.first_plot_sigma_m().unwrap_or(PLOT_SIGMA_M);
+            // The file's positions are metres from an origin it does not hold: sent to
+            // plotters about the default one they were anywhere (a trial's moored Dutch
+            // radar, replayed, was sent as a fix in the Solent), so that is said.
+            if o.own_ship.origin.is_none() && o.outputs.nmea_out.is_some() {
+                let d = Origin::default();
+                eprintln!(
+                    "track --plots: the file's positions are metres from an origin it does not give; sent to plotters about the default {:.5}, {:.5} (--origin LAT,LON gives the recording's)",
+                    d.lat_deg, d.lon_deg
+                );
+            }
             (Box::new(source), o.own_ship.origin(), sigma_m)
         }
         TrackInput::Radar(radar) => {

@@ -464,6 +464,9 @@ where
                 (Some(_), _) if run.fixed_position => anyhow::bail!(
                     "--fixed-position is for a radar that does not move (track --radar): a plots file gives own ship's position in its own_east_m and own_north_m"
                 ),
+                (Some(_), _) if heading_deg.is_some() => anyhow::bail!(
+                    "--heading-deg is for a radar (track --radar): a plots file gives own ship's heading in its heading_deg column"
+                ),
                 (Some(plots), _) => track::TrackInput::Plots {
                     plots: plots.clone(),
                     truth: truth.clone(),
@@ -739,6 +742,11 @@ mod tests {
             let e = super::run(args).unwrap_err().to_string();
             assert!(e.contains("--fixed-position is for a radar"), "{e}");
         }
+        // … and `--heading-deg` likewise (a plots file's heading is in the file; it was
+        // taken and ignored).
+        let args = ["t", "track", "--plots", "p.csv", "--heading-deg", "10"];
+        let e = super::run(args).unwrap_err().to_string();
+        assert!(e.contains("--heading-deg is for a radar"), "{e}");
     }
 
     #[test]

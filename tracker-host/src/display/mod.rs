@@ -254,13 +254,18 @@ impl DisplayState {
                 };
                 // True vectors add own ship's velocity over ground: without it they stay
                 // relative, and the operator is told why rather than see nothing change.
-                if self.vectors == VectorMode::True
-                    && view.is_some_and(|v| !v.own.quality.motion_known)
-                {
-                    self.message = Some(
-                        "true vectors need own ship's course and speed over ground (no fix yet): relative until then"
-                            .into(),
-                    );
+                let unknown = view.map(|v| v.own).filter(|o| !o.quality.motion_known);
+                if let (VectorMode::True, Some(own)) = (self.vectors, unknown) {
+                    let why = if own.quality.no_fix_yet {
+                        "no fix yet"
+                    } else if own.position_held() {
+                        "position lost"
+                    } else {
+                        "not yet measured"
+                    };
+                    self.message = Some(format!(
+                        "true vectors need own ship's course and speed over ground ({why}): relative until then"
+                    ));
                 }
             }
             ']' => self.vector_length = (self.vector_length + 1).min(VECTOR_MINUTES.len() - 1),
@@ -783,13 +788,39 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     }
     let full: u16 = TABLE_WIDTHS.iter().sum::<u16>() + TABLE_WIDTHS.len() as u16 - 1 + 2;
     let compact = area.width < full;
+    // Without own ship's motion over ground the targets' true course and speed are not
+    // known: the columns give the relative ones, and say so (a new user's trial read a
+    // moored radar's relative motion under `CRS °T` and `SPD kn` without a fix).
+    let relative = !view.own.quality.motion_known;
+    let (course_name, speed_name) = match (relative, compact) {
+        (false, true) => ("CRS", "SPD"),
+        (false, false) => ("CRS °T", "SPD kn"),
+        (true, true) => ("RCR", "RSPD"),
+        (true, false) => ("RCRS °T", "RSPD kn"),
+    };
     let names = if compact {
         [
-            "TGT", "ST", "RNG", "BRG", "CRS", "SPD", "CPA", "TCPA", "AIS",
+            "TGT",
+            "ST",
+            "RNG",
+            "BRG",
+            course_name,
+            speed_name,
+            "CPA",
+            "TCPA",
+            "AIS",
         ]
     } else {
         [
-            "TGT", "STATUS", "RNG NM", "BRG °T", "CRS °T", "SPD kn", "CPA NM", "TCPA min", "AIS",
+            "TGT",
+            "STATUS",
+            "RNG NM",
+            "BRG °T",
+            course_name,
+            speed_name,
+            "CPA NM",
+            "TCPA min",
+            "AIS",
         ]
     };
     let header =
@@ -820,10 +851,21 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             }
         };
         let angle = |deg: f32| table_angle(deg, compact);
-        let course = if t.trend_known && t.moving() {
+        let course = if relative {
+            if t.trend_known && !t.keeps_range() {
+                angle(t.rel_course_rad.to_degrees())
+            } else {
+                "---".to_string()
+            }
+        } else if t.trend_known && t.moving() {
             angle(t.course_rad.to_degrees())
         } else {
             "---".to_string()
+        };
+        let speed_mps = if relative {
+            t.rel_speed_mps
+        } else {
+            t.speed_mps
         };
         Row::new(vec![
             t.label(),
@@ -835,7 +877,7 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             format!("{:.2}", t.range_m / METRES_PER_NM),
             angle(t.bearing_rad.to_degrees()),
             course,
-            motion(t.speed_mps / MPS_PER_KNOT, 1),
+            motion(speed_mps / MPS_PER_KNOT, 1),
             motion(t.cpa_m / METRES_PER_NM, 2),
             if t.trend_known {
                 crate::session::target::tcpa_text(t.tcpa_s)
@@ -862,6 +904,11 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
         format!(" targets, nearest first: {room} of {n} shown ")
     } else {
         " targets, nearest first ".to_string()
+    };
+    let title = if relative {
+        format!("{title}(course and speed relative: own ship's motion unknown) ")
+    } else {
+        title
     };
     draw_table(frame, area, (header, rows), widths, title);
 }
@@ -1037,10 +1084,18 @@ fn alarm_lines(
 ) -> AlarmLines {
     // In a narrow pane the words go, not the figures.
     let head = if narrow { "ALARM" } else { "CPA/TCPA ALARM:" };
-    let (of, cpa, within) = if narrow {
-        ("", "", "")
+    let (of, cpa) = if narrow {
+        ("", "")
     } else {
-        ("target ", "CPA ", "in ")
+        ("target ", "CPA ")
+    };
+    // In a narrow pane the figure alone (`-0.3 min` once passed), else the words.
+    let when = |tcpa_s: f32| {
+        if narrow {
+            format!("{} min", crate::session::target::tcpa_text(tcpa_s))
+        } else {
+            crate::session::target::tcpa_words(tcpa_s)
+        }
     };
     let alarm = Style::default().fg(Color::Red).add_modifier(Modifier::BOLD);
     let mut lines: Vec<Line> = state
@@ -1073,10 +1128,10 @@ fn alarm_lines(
                 t.tcpa_s,
                 Some(t.label()),
                 format!(
-                    "{head} {of}{} {cpa}{:.2} NM {within}{} min",
+                    "{head} {of}{} {cpa}{:.2} NM {}",
                     t.label(),
                     t.cpa_m / METRES_PER_NM,
-                    crate::session::target::tcpa_text(t.tcpa_s)
+                    when(t.tcpa_s)
                 ),
             )
         })
@@ -1087,14 +1142,14 @@ fn alarm_lines(
             c.tcpa_s,
             None,
             format!(
-                "{head} AIS {} {cpa}{:.2} NM {within}{} min",
+                "{head} AIS {} {cpa}{:.2} NM {}",
                 if narrow {
                     a.label.chars().take(NARROW_AIS_NAME).collect::<String>()
                 } else {
                     a.label.clone()
                 },
                 c.cpa_m / METRES_PER_NM,
-                crate::session::target::tcpa_text(c.tcpa_s)
+                when(c.tcpa_s)
             ),
         ))
     }));
@@ -2186,12 +2241,36 @@ pub(crate) mod tests {
         lost.own.quality.motion_known = false;
         let text = screen(&state, &lost);
         assert!(text.contains("relative vectors 12 min"), "{text}");
+        // … and the table's course and speed are the relative ones, named so.
+        assert!(
+            text.contains("RCRS °T") && text.contains("RSPD kn") && !text.contains(" CRS °T"),
+            "{text}"
+        );
+        assert!(text.contains("course and speed relative"), "{text}");
+        let known = screen(&state, &view);
+        assert!(
+            known.contains(" CRS °T") && !known.contains("RCRS"),
+            "{known}"
+        );
         // … and `v` asking for true vectors then is told why they stay relative.
         state.key('v', Some(&lost));
         assert!(state.message.is_none(), "{:?}", state.message);
         state.key('v', Some(&lost));
         assert!(
-            state.message.as_deref().unwrap().contains("no fix yet"),
+            state
+                .message
+                .as_deref()
+                .unwrap()
+                .contains("not yet measured"),
+            "{:?}",
+            state.message
+        );
+        let mut no_fix = lost.clone();
+        no_fix.own.quality.no_fix_yet = true;
+        state.key('v', Some(&no_fix));
+        state.key('v', Some(&no_fix));
+        assert!(
+            state.message.as_deref().unwrap().contains("(no fix yet)"),
             "{:?}",
             state.message
         );

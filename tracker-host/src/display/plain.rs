@@ -92,10 +92,10 @@ impl Plain {
         alarms.sort_by(|x, y| x.1.tcpa_s.total_cmp(&y.1.tcpa_s));
         for (a, c) in alarms {
             s += &format!(
-                "  AIS {} CPA {:.2} NM in {} min  ALARM CPA/TCPA\n",
+                "  AIS {} CPA {:.2} NM {}  ALARM CPA/TCPA\n",
                 a.label,
                 c.cpa_m / tracker_core::geo::METRES_PER_NM,
-                crate::session::target::tcpa_text(c.tcpa_s)
+                crate::session::target::tcpa_words(c.tcpa_s)
             );
         }
         s

@@ -140,16 +140,21 @@ impl OwnShip {
     /// velocities are their motion relative to own ship already, and own ship's last
     /// velocity is not to be taken off them again: CPA, TCPA and relative motion take this.
     pub fn track_frame_velocity_mps(&self) -> EastNorth {
-        let q = self.quality;
-        // Held past dead reckoning's limit (within it, the position moves on at the velocity).
-        let held = q
-            .dead_reckoning_s
-            .is_some_and(|s| f64::from(s) > nav::MAX_DEAD_RECKONING_S);
-        if q.no_fix_yet || held {
+        if self.position_held() {
             [0.0, 0.0]
         } else {
             self.velocity_mps
         }
+    }
+
+    /// Own ship's position stands still in the local frame, not from a fix: no fix yet (at
+    /// the origin), or dead reckoned past [`nav::MAX_DEAD_RECKONING_S`] (held where it
+    /// stopped; within it, the position moves on at the velocity).
+    pub fn position_held(&self) -> bool {
+        let q = self.quality;
+        q.no_fix_yet
+            || q.dead_reckoning_s
+                .is_some_and(|s| f64::from(s) > nav::MAX_DEAD_RECKONING_S)
     }
 
     /// Speed over ground, kn; `None` while the motion is unknown
@@ -734,6 +739,11 @@ impl OwnShipSource for SimulatedBridge {
         let nav = self
             .nav
             .get_or_insert_with(|| OwnShipNav::new(origin, clock::day_of_s(t), None));
+        // A source without a fix (a radar's own ship unknown, a plots file's `own_fix` 0)
+        // sends no position: a GNSS fix at the origin was made up and recorded before.
+        if truth.position_held() {
+            return Ok(nav.own_ship_at(t).unwrap_or_else(OwnShip::unknown));
+        }
         let lines = own_ship_sentences(
             truth.position_m.map(f64::from),
             truth.velocity_mps.map(f64::from),
@@ -760,6 +770,37 @@ impl OwnShipSource for SimulatedBridge {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A source without a fix gives the recording no position (it was a GNSS fix at the
+    /// origin); one with a fix does.
+    #[test]
+    fn a_recording_of_a_source_without_a_fix_holds_no_position() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bridge.nmea");
+        let mut bridge = SimulatedBridge::create(&path, Origin::default()).unwrap();
+        let scan = |t: f64, own: OwnShip| SourceScan {
+            radar: crate::source::RadarScan {
+                scan: 1,
+                time_s: t,
+                plots: Vec::new(),
+            },
+            own_ship: Some(own),
+            ..SourceScan::default()
+        };
+        let t0 = 1.5e9;
+        for k in 0..3 {
+            let own = bridge
+                .own_ship(&scan(t0 + 2.5 * f64::from(k), OwnShip::unknown()))
+                .unwrap();
+            assert!(own.quality.no_fix_yet, "{own:?}");
+        }
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "");
+        let own = bridge
+            .own_ship(&scan(t0 + 10.0, OwnShip::at([0.0, 0.0], [0.0, 5.0])))
+            .unwrap();
+        assert!(!own.quality.no_fix_yet, "{own:?}");
+        assert!(std::fs::read_to_string(&path).unwrap().contains("RMC,"));
+    }
 
     #[test]
     fn own_ship_far_from_the_frames_origin_raises_an_alarm() {

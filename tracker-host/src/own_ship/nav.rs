@@ -494,7 +494,7 @@ impl OwnShipNav {
     /// heading) as one more own-ship sensor, talker `AI`, at `heard_s` (s since 1970, the
     /// time the line was read: AIS carries no date or hour), or the clock's newest time if
     /// that is later. The talker choice applies: `AI` gives way to another talker that
-    /// delivers ([`super::select`]), and stands in for what it stops giving.
+    /// delivers, dated with it ([`super::select`]), and stands in for what it stops giving.
     pub fn feed_ais_own(&mut self, r: &crate::ais::AisReport, heard_s: f64) {
         if !r.own_ship {
             return;

@@ -7,10 +7,13 @@
 //! The choice: the first talker of the operator's priority list (`--nmea-source
 //! heading=HE,GP`) that is delivering; without a list, the first talker heard, but the AIS
 //! transponder (`AI`, its `VDO` reports) gives way to another talker delivering (heard
-//! twice within [`SILENT_S`]): its position is from its internal GNSS receiver, there for
-//! its own reports, and its heading from a sensor the bridge sends as well. A chosen talker
-//! silent for [`SILENT_S`] gives way to the next one heard. The operator's list, when
-//! given, decides alone.
+//! twice within [`SILENT_S`]) and dated with it (not more than [`SILENT_S`] before its
+//! last report): its position is from its internal GNSS receiver, there for its own
+//! reports, and its heading from a sensor the bridge sends as well. A chosen talker silent
+//! for [`SILENT_S`] gives way to the next one heard. A talker whose readings are dated more
+//! than [`SILENT_S`] before the chosen one's last is not taken, told once (a log of another
+//! voyage played beside a capture whose untimed `VDO`s take the scans' time). The
+//! operator's list, when given, decides alone.
 
 use std::collections::BTreeMap;
 
@@ -77,6 +80,8 @@ pub struct Selector {
     /// The talker last told as each quantity's source: the first choice after
     /// [`Selector::forget_times`] is told only when it is another.
     told: BTreeMap<Quantity, String>,
+    /// The talkers told once to be dated long before the chosen one, per quantity.
+    dated_before_told: std::collections::BTreeSet<(Quantity, String)>,
 }
 
 impl Selector {
@@ -181,9 +186,9 @@ impl Selector {
             // A talker heard once and then silent would flip the choice back and forth with
             // a steady transponder: it must be delivering.
             // … and delivering now: readings dated well before the transponder's last (a
-            // log of another voyage beside a capture's untimed `VDO`s, a receiver's clock
-            // a GPS week rollover behind) took the choice back every scan, and lost it to
-            // the transponder's next, two events a scan.
+            // log of another voyage beside a capture's untimed `VDO`s) took the choice back
+            // with each of its readings, and lost it to the transponder's next (52 events
+            // in the first scan of such a run).
             Some((c, last_s)) if c == AIS_TALKER && delivering && now_s + SILENT_S >= last_s => {
                 let event = format!(
                     "{} source: {talker} (not the AIS transponder's {c})",
@@ -200,6 +205,16 @@ impl Selector {
                 );
                 self.tell(q, talker, event);
                 true
+            }
+            Some((c, last_s)) if now_s + SILENT_S < last_s => {
+                if self.dated_before_told.insert((q, talker.to_string())) {
+                    self.events.push(format!(
+                        "{} source: {talker}'s readings are dated {:.0} s before {c}'s: not taken (another voyage's log, or a clock far off)",
+                        q.name(),
+                        last_s - now_s
+                    ));
+                }
+                false
             }
             Some(_) => false,
         }
@@ -375,7 +390,13 @@ mod tests {
             assert!(!s.admit("GP", &sog(5.1), None, t), "reading at {t} s");
             assert!(s.admit("AI", &sog(5.0), None, now + 2.5 * t));
         }
-        assert_eq!(s.events().len(), 1, "{:?}", s.events());
+        // Told once.
+        assert_eq!(s.events().len(), 2, "{:?}", s.events());
+        assert!(
+            s.events()[1].contains("GP's readings are dated"),
+            "{:?}",
+            s.events()
+        );
         // Dated with the transponder, it takes over as before.
         assert!(!s.admit("GP", &sog(5.1), None, now + 11.0));
         assert!(s.admit("GP", &sog(5.1), None, now + 12.0));

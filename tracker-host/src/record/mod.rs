@@ -150,9 +150,13 @@ impl ScanSink for PlotsRecorder {
             .own
             .heading_rad
             .map_or(String::new(), |h| file_degrees(h).to_string());
+        // Own ship's velocity as its tracks were formed with: zero while its position
+        // stood still in the frame (no fix, or held past dead reckoning's limit), so that
+        // CPA and relative motion come out the same when the file is tracked again.
+        let velocity = r.own.track_frame_velocity_mps();
         let own = format!(
             "{},{},{},{},{heading}",
-            r.own.position_m[0], r.own.position_m[1], r.own.velocity_mps[0], r.own.velocity_mps[1]
+            r.own.position_m[0], r.own.position_m[1], velocity[0], velocity[1]
         );
         // The accuracy the plots were associated with, so that `track` weighs them alike.
         let accuracy = r.plot_accuracy.map_or(",".to_string(), |a| {
@@ -164,9 +168,17 @@ impl ScanSink for PlotsRecorder {
         });
         // … and the one the filters took them at (a radar's follows its range scale).
         let sigma = r.plot_sigma_m;
-        // Whether own ship had a fix, its motion known: without, the plots were placed
-        // about a ship standing where it is written, and tracked again they are relative.
-        let fix = u8::from(r.own.quality.motion_known && !r.own.quality.no_fix_yet);
+        // How own ship's position was known ([`plots_file::OwnFix`]): without a fix the
+        // plots were placed about a ship standing where it is written, and tracked again
+        // they are relative; a position given is sent as manual input, not as a fix. (A
+        // fix whose motion is not yet measured, its first scans, is written as a fix.)
+        let fix = if r.own.position_held() {
+            "0"
+        } else if r.own.quality.fixed_position {
+            "M"
+        } else {
+            "1"
+        };
         if r.plots.is_empty() {
             return self
                 .0

@@ -192,10 +192,12 @@ impl TargetData {
         self.rel_speed_mps < NO_RELATIVE_MOTION_MPS
     }
 
-    /// False for a target shown with no motion ([`super::stationary`]): it has no course
-    /// over ground to show.
+    /// False for a target shown with no motion ([`super::stationary`]), or whose speed
+    /// shows as 0.0 kn: it has no course over ground to show, as own ship has none under
+    /// [`crate::own_ship::COG_FROM_KN`] (a plotter was sent `0.0` kn with a course of
+    /// 45.0°).
     pub fn moving(&self) -> bool {
-        self.speed_mps > 0.0
+        f64::from(self.speed_mps) / f64::from(MPS_PER_KNOT) >= crate::own_ship::COG_FROM_KN
     }
 
     /// The target's number as the navigator reads it (`07`), or `--` while it has none.
@@ -282,6 +284,18 @@ pub fn tcpa_text(tcpa_s: f32) -> String {
         format!("<-{TCPA_SHOWN_MIN:.1}")
     } else {
         format!("{minutes:.1}")
+    }
+}
+
+/// TCPA as an alarm's words: `in 3.4 min`, or once the closest point is passed (an alarm
+/// is held a while after it, [`ALARM_PASSED_S`]) `passed 0.3 min ago` (it read `in -0.3
+/// min`).
+pub fn tcpa_words(tcpa_s: f32) -> String {
+    let text = tcpa_text(tcpa_s);
+    if text.starts_with('-') || text.starts_with("<-") {
+        format!("passed {} min ago", tcpa_text(-tcpa_s))
+    } else {
+        format!("in {text} min")
     }
 }
 
@@ -396,6 +410,25 @@ pub(crate) fn example_track() -> TrackState {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A target whose speed shows as 0.0 kn has no course to show or send.
+    #[test]
+    fn a_target_at_0_0_kn_has_no_course() {
+        let mut t = TargetData::new(&OwnShip::at([0.0, 0.0], [0.0, 0.0]), &example_track());
+        t.speed_mps = 0.04 * MPS_PER_KNOT;
+        assert!(!t.moving());
+        t.speed_mps = 0.06 * MPS_PER_KNOT;
+        assert!(t.moving());
+    }
+
+    /// An alarm's TCPA reads as words, once passed too (it read `in -0.3 min`).
+    #[test]
+    fn an_alarms_tcpa_reads_passed_once_passed() {
+        assert_eq!(tcpa_words(204.0), "in 3.4 min");
+        assert_eq!(tcpa_words(-18.0), "passed 0.3 min ago");
+        assert_eq!(tcpa_words(-1.0), "in 0.0 min");
+        assert_eq!(tcpa_words(-1e6), "passed >99.9 min ago");
+    }
 
     /// Track 3, confirmed for 40 scans, at `position_m` moving at `velocity_mps`.
     fn settled(position_m: EastNorth, velocity_mps: EastNorth) -> TrackState {

@@ -480,6 +480,7 @@ impl PlotSource for AisTruthSource {
             }),
             echoes: None,
             heading_sensor_rad: None,
+            placed_heading_rad: None,
         }))
     }
 

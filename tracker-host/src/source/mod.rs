@@ -56,6 +56,12 @@ pub struct SourceScan {
     /// sentences (`HDT`, `HDG`) a capture holds beside the spokes. Never a fixed heading or
     /// one the source was given back by the run.
     pub heading_sensor_rad: Option<f32>,
+    /// The heading, rad true, this scan's plots were placed with when no sensor gave it: a
+    /// moored ship's fixed heading (`--heading-deg`) turned by the yaw measured from the
+    /// picture, at the scan's time; a plots file's recorded `heading_deg`. Own ship without
+    /// a heading of its own (NMEA with no `HDT`/`HDG`) shows and sends it, unless its
+    /// heading sensor was lost (whose alarm stands).
+    pub placed_heading_rad: Option<f32>,
 }
 
 /// A source of radar scans.

@@ -12,7 +12,7 @@
 //! | `own_vx_mps`, `own_vy_mps` | m/s | optional, both or neither: own ship's velocity over ground (without them: from successive positions) |
 //! | `heading_deg` | degrees true | optional: own ship's heading |
 //! | `range_sigma_m`, `bearing_sigma_deg` | m, degrees | optional, both or neither: the plot's accuracy (standard deviations) in range and bearing, the same on every row of a scan; empty on a row without it (`demo --record-plots` writes the simulator's) |
-//! | `own_fix` | `1` or `0` | optional: `0` on a scan own ship had no fix, or its motion over ground was not known (it stood where the file places it; the plots' and tracks' motion is relative to it: no true vectors, no own course or speed); `1`, empty or absent: a fix |
+//! | `own_fix` | `1`, `0` or `M` | optional: how own ship's position was known ([`OwnFix`]): `0` no fix (none yet, or dead reckoned past its limit: own ship stood where the file places it, its motion unknown; tracked again, `NO FIX` and relative motion only); `M` a position given, not measured (`--fixed-position`: stopped); `1`, empty or absent: a fix |
 //! | `plot_sigma_m` | m | optional: the accuracy (one axis) the filters and gates take the scan's plots at, the same on every row of a scan (`--record-plots` writes the one tracked with: a radar's follows its range scale); empty: the last given (before the first, the first); absent: 40 m; `--plot-sigma-m` overrides it |
 //!
 //! The file is read twice: once whole to check it (a bad file is refused before anything
@@ -51,6 +51,22 @@ pub const OPTIONAL: [&str; 7] = [
     "own_fix",
 ];
 
+/// How own ship's position in a plots file was known: its `own_fix` column, which
+/// `--record-plots` writes from own ship's quality ([`crate::own_ship::OwnShipQuality`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum OwnFix {
+    /// `1` (empty or absent too): a position fix, or dead reckoned from one within its
+    /// limit.
+    Fix,
+    /// `0`: no fix (none yet, or dead reckoned past its limit): own ship stood where the
+    /// file places it, its motion over ground unknown; the plots and tracks move relative
+    /// to it.
+    NoFix,
+    /// `M` (NMEA's mode for manual input): a position given, not measured
+    /// (`--fixed-position`), own ship stopped there.
+    Given,
+}
+
 /// Longest plot range accepted, m (200 km: beyond any marine radar).
 pub const MAX_RANGE_M: f64 = 200_000.0;
 
@@ -68,8 +84,8 @@ pub struct FileScan {
     pub own_velocity_mps: Option<[f32; 2]>,
     /// Own ship's heading, degrees true.
     pub heading_deg: Option<f64>,
-    /// Own ship had a fix and its motion was known (`own_fix`; absent: true).
-    pub own_fix: bool,
+    /// How own ship's position was known (`own_fix`).
+    pub own_fix: OwnFix,
     /// The plots' accuracy, when the file gives it.
     pub accuracy: Option<PolarAccuracy>,
     /// The accuracy the filters take the plots at, m, when the file gives it.
@@ -160,12 +176,7 @@ impl ScanReader {
                 return Err(row.error("heading_deg", &format!("{h}: must be 0 ≤ h < 360")));
             }
         }
-        let own_fix = match row.number("own_fix")? {
-            None => true,
-            Some(1.0) => true,
-            Some(0.0) => false,
-            Some(f) => return Err(row.error("own_fix", &format!("{f}: must be 1 or 0"))),
-        };
+        let own_fix = own_fix_of(&row)?;
         let mut plots = Vec::new();
         let mut accuracy = None;
         let mut record = Some(first);
@@ -179,6 +190,12 @@ impl ScanReader {
                 return Err(row.error(
                     "t_s",
                     &format!("every row of scan {scan} must have the same time ({t_s} s)"),
+                ));
+            }
+            if own_fix_of(&row)? != own_fix {
+                return Err(row.error(
+                    "own_fix",
+                    &format!("every row of scan {scan} must have the same own_fix"),
                 ));
             }
             if row.number_f32("plot_sigma_m")? != plot_sigma_m {
@@ -386,28 +403,41 @@ impl PlotSource for PlotsFileSource {
             return Ok(None);
         };
         self.read += 1;
-        // Own ship's velocity: the file's, else from the position before (the first scan
-        // takes the one after).
-        let velocity = match (scan.own_velocity_mps, &self.previous) {
-            (Some(v), _) => v,
-            (None, Some(p)) => finite_difference(p, &scan),
-            (None, None) => {
-                self.ahead = self.reader.next_scan()?;
-                self.ahead
-                    .as_ref()
-                    .map_or([0.0, 0.0], |next| finite_difference(&scan, next))
-            }
+        // Own ship's velocity: the file's, else from the position before (the first scan,
+        // and the first fix after scans without one, take the one after), between fixes
+        // only (a scan without a fix stood at the origin).
+        let fix = |s: &FileScan| s.own_fix == OwnFix::Fix;
+        let velocity = match scan.own_velocity_mps {
+            Some(v) => v,
+            None => match self.previous.as_ref().filter(|p| fix(p) && fix(&scan)) {
+                Some(p) => finite_difference(p, &scan),
+                None => {
+                    self.ahead = self.reader.next_scan()?;
+                    self.ahead
+                        .as_ref()
+                        .filter(|next| fix(next) && fix(&scan))
+                        .map_or([0.0, 0.0], |next| finite_difference(&scan, next))
+                }
+            },
         };
         let mut own = OwnShip {
             heading_rad: scan.heading_deg.map(|h| h.to_radians() as f32),
             ..OwnShip::at(scan.own_position_m, velocity)
         };
-        if !scan.own_fix {
+        match scan.own_fix {
+            OwnFix::Fix => {}
             // Recorded without a fix: own ship stood where the file places it, its motion
             // unknown (a run tracked again showed `fix` and `SOG 0.0`, and true vectors).
-            own.velocity_mps = [0.0, 0.0];
-            own.quality.no_fix_yet = true;
-            own.quality.motion_known = false;
+            OwnFix::NoFix => {
+                own.velocity_mps = [0.0, 0.0];
+                own.quality.no_fix_yet = true;
+                own.quality.motion_known = false;
+            }
+            // A position given: stopped there, and known.
+            OwnFix::Given => {
+                own.velocity_mps = [0.0, 0.0];
+                own.quality.fixed_position = true;
+            }
         }
         let truth = match self.truth.as_mut() {
             Some(t) => Some(t.at(scan.radar.time_s, own, &self.path)?),
@@ -419,6 +449,7 @@ impl PlotSource for PlotsFileSource {
             truth,
             echoes: None,
             heading_sensor_rad: None,
+            placed_heading_rad: own.heading_rad,
         };
         self.previous = Some(scan);
         Ok(Some(out))
@@ -442,6 +473,16 @@ impl PlotSource for PlotsFileSource {
     fn plot_sigma_m(&self) -> Option<f32> {
         self.plot_sigma_given_m
             .or(self.previous.as_ref().and_then(|s| s.plot_sigma_m))
+    }
+}
+
+/// A row's `own_fix`.
+fn own_fix_of(row: &csv_input::Row<'_>) -> anyhow::Result<OwnFix> {
+    match row.text("own_fix") {
+        None | Some("1") => Ok(OwnFix::Fix),
+        Some("0") => Ok(OwnFix::NoFix),
+        Some("M") => Ok(OwnFix::Given),
+        Some(x) => Err(row.error("own_fix", &format!("`{x}`: must be 1, 0 or M"))),
     }
 }
 

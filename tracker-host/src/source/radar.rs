@@ -596,12 +596,14 @@ impl RadarPlotSource {
         // Own ship's heading: NMEA's, else the radar's own (a heading sensor wired to the
         // radar, flagged true in its spokes), else what head-up spokes were given.
         let mut own = own_nmea.unwrap_or_else(OwnShip::unknown);
+        let mut placed_heading_rad = None;
         if own.heading_rad.is_none() {
             let found = self
                 .radar_heading_rad
                 .map(|h| (h, false))
                 .or_else(|| self.heading_for(time_s));
             self.reported_fixed_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
+            placed_heading_rad = self.reported_fixed_rad;
             // A heading sensor lost and the radar's own standing in is told, as when own
             // ship comes from `--nmea-in` (`Run`): the heading has changed source.
             own.stand_in_heading(found.map(|(h, _)| h), self.radar_heading_rad.is_some());
@@ -633,6 +635,7 @@ impl RadarPlotSource {
                 .rotation_heading_rad
                 .take()
                 .or(own_nmea.and_then(|o| o.heading_rad)),
+            placed_heading_rad,
         }
     }
 }

@@ -135,6 +135,7 @@ pub fn source_scan(out: &ScanOutput, epoch_s: f64) -> SourceScan {
         }),
         echoes: None,
         heading_sensor_rad: None,
+        placed_heading_rad: None,
     }
 }
 
