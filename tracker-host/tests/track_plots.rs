@@ -302,6 +302,46 @@ fn scans_without_a_fix_stay_without_one_tracked_again() {
     }
 }
 
+/// Without velocity columns own ship's velocity comes from successive positions with a
+/// fix: the first fix after scans without one (own ship at the origin) takes the scan after
+/// it, not the jump from the origin (400 m/s here).
+#[test]
+fn a_velocity_from_positions_is_taken_between_fixes_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let plots = dir.path().join("plots.csv");
+    let again = dir.path().join("again.csv");
+    let mut text = "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m,own_fix\n".to_string();
+    for k in 0..7 {
+        let (north, fix) = if k < 2 {
+            (0.0, 0)
+        } else {
+            (1000.0 + 5.0 * 2.5 * f64::from(k - 2), 1)
+        };
+        let t = 1_000.0 + 2.5 * f64::from(k);
+        text.push_str(&format!("{k},{t},1500,45,0,{north},{fix}\n"));
+    }
+    std::fs::write(&plots, &text).unwrap();
+    let code = track(&[
+        "--plots",
+        plots.to_str().unwrap(),
+        "--record-plots",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(code, ExitCode::SUCCESS);
+    let written = std::fs::read_to_string(&again).unwrap();
+    let mut rows = written.lines();
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    let vy = header.iter().position(|c| *c == "own_vy_mps").unwrap();
+    let speeds: Vec<f64> = rows
+        .map(|r| r.split(',').nth(vy).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(speeds.len(), 7, "{written}");
+    for (k, v) in speeds.iter().enumerate() {
+        let expected = if k < 2 { 0.0 } else { 5.0 };
+        assert!((v - expected).abs() < 1e-3, "scan {k}: {v} m/s\n{written}");
+    }
+}
+
 #[test]
 fn bad_plots_files_are_refused_with_their_line_and_column() {
     let dir = tempfile::tempdir().unwrap();

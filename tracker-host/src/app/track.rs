@@ -94,7 +94,7 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             if o.own_ship.origin.is_none() && o.outputs.nmea_out.is_some() {
                 let d = Origin::default();
                 eprintln!(
-                    "track --plots: the file's positions are metres from an origin it does not give; sent to plotters about the default {:.5}, {:.5} (--origin LAT,LON gives the recording's)",
+                    "track --plots: the file's positions are metres from an origin it does not give; the positions sent to plotters are placed about the default {:.5}, {:.5} (--origin LAT,LON gives the recording's)",
                     d.lat_deg, d.lon_deg
                 );
             }

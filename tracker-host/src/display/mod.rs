@@ -905,10 +905,12 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     } else {
         " targets, nearest first ".to_string()
     };
-    let title = if relative {
-        format!("{title}(course and speed relative: own ship's motion unknown) ")
-    } else {
-        title
+    // Said first where the pane is narrow (at 80 columns the note after the title was
+    // cut off, leaving `RCR` and `RSPD` unexplained).
+    let title = match (relative, compact) {
+        (true, true) => format!(" relative motion:{}", title.trim_start_matches(" targets,")),
+        (true, false) => format!("{title}(course and speed relative: own ship's motion unknown) "),
+        (false, _) => title,
     };
     draw_table(frame, area, (header, rows), widths, title);
 }

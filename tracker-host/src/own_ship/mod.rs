@@ -740,7 +740,12 @@ impl OwnShipSource for SimulatedBridge {
             .nav
             .get_or_insert_with(|| OwnShipNav::new(origin, clock::day_of_s(t), None));
         // A source without a fix (a radar's own ship unknown, a plots file's `own_fix` 0)
-        // sends no position: a GNSS fix at the origin was made up and recorded before.
+        // sends no position: a GNSS fix at the origin was made up and recorded before. A
+        // position given (`--fixed-position`, `own_fix` M) is not a GNSS's either: own
+        // ship is the source's, stood there.
+        if truth.quality.fixed_position {
+            return Ok(truth);
+        }
         if truth.position_held() {
             return Ok(nav.own_ship_at(t).unwrap_or_else(OwnShip::unknown));
         }
@@ -794,6 +799,11 @@ mod tests {
                 .unwrap();
             assert!(own.quality.no_fix_yet, "{own:?}");
         }
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), "");
+        let mut given = OwnShip::at([100.0, 0.0], [0.0, 0.0]);
+        given.quality.fixed_position = true;
+        let own = bridge.own_ship(&scan(t0 + 7.5, given)).unwrap();
+        assert!(own.quality.fixed_position, "{own:?}");
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "");
         let own = bridge
             .own_ship(&scan(t0 + 10.0, OwnShip::at([0.0, 0.0], [0.0, 5.0])))

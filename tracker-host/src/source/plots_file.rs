@@ -9,7 +9,7 @@
 //! | `range_m` | m | plot range from own ship; empty on a scan's only row when it has no plot |
 //! | `bearing_deg` | degrees true | 0 ≤ b < 360; empty with `range_m` |
 //! | `own_east_m`, `own_north_m` | m | own ship in the local frame of `--origin` |
-//! | `own_vx_mps`, `own_vy_mps` | m/s | optional, both or neither: own ship's velocity over ground (without them: from successive positions) |
+//! | `own_vx_mps`, `own_vy_mps` | m/s | optional, both or neither: own ship's velocity over ground (without them: from successive positions with a fix, else 0) |
 //! | `heading_deg` | degrees true | optional: own ship's heading |
 //! | `range_sigma_m`, `bearing_sigma_deg` | m, degrees | optional, both or neither: the plot's accuracy (standard deviations) in range and bearing, the same on every row of a scan; empty on a row without it (`demo --record-plots` writes the simulator's) |
 //! | `own_fix` | `1`, `0` or `M` | optional: how own ship's position was known ([`OwnFix`]): `0` no fix (none yet, or dead reckoned past its limit: own ship stood where the file places it, its motion unknown; tracked again, `NO FIX` and relative motion only); `M` a position given, not measured (`--fixed-position`: stopped); `1`, empty or absent: a fix |
@@ -478,11 +478,15 @@ impl PlotSource for PlotsFileSource {
 
 /// A row's `own_fix`.
 fn own_fix_of(row: &csv_input::Row<'_>) -> anyhow::Result<OwnFix> {
-    match row.text("own_fix") {
-        None | Some("1") => Ok(OwnFix::Fix),
-        Some("0") => Ok(OwnFix::NoFix),
-        Some("M") => Ok(OwnFix::Given),
-        Some(x) => Err(row.error("own_fix", &format!("`{x}`: must be 1, 0 or M"))),
+    let Some(text) = row.text("own_fix") else {
+        return Ok(OwnFix::Fix);
+    };
+    // `1.0` and `0.0` as other tools may write them, too.
+    match (text, text.parse::<f64>().ok()) {
+        (_, Some(1.0)) => Ok(OwnFix::Fix),
+        (_, Some(0.0)) => Ok(OwnFix::NoFix),
+        ("M", _) => Ok(OwnFix::Given),
+        (x, _) => Err(row.error("own_fix", &format!("`{x}`: must be 1, 0 or M"))),
     }
 }
 
