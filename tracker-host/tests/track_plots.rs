@@ -249,14 +249,38 @@ fn track_runs_on_a_plots_file_written_by_other_code() {
     }
 }
 
+/// `text` written as a plots file, tracked with `track --plots` and recorded again with
+/// `--record-plots`: the recording's `columns`, row by row.
+fn recorded_again(text: &str, columns: &[&str]) -> Vec<Vec<String>> {
+    let dir = tempfile::tempdir().unwrap();
+    let (plots, again) = (path(dir.path(), "plots.csv"), path(dir.path(), "again.csv"));
+    std::fs::write(&plots, text).unwrap();
+    let code = track(&[
+        "--plots",
+        plots.to_str().unwrap(),
+        "--record-plots",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(code, ExitCode::SUCCESS);
+    let written = std::fs::read_to_string(&again).unwrap();
+    let mut rows = written.lines();
+    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
+    let at: Vec<usize> = columns
+        .iter()
+        .map(|c| header.iter().position(|h| h == c).unwrap())
+        .collect();
+    rows.map(|r| {
+        let cells: Vec<&str> = r.split(',').collect();
+        at.iter().map(|i| cells[*i].to_string()).collect()
+    })
+    .collect()
+}
+
 /// Scans recorded without a fix (`own_fix` 0) are tracked again without one: own ship
 /// stood, its motion unknown, and so written again (it read as a fix at 0 kn before); a
 /// position given (`M`) stays given, stopped; a fix is a fix.
 #[test]
 fn scans_without_a_fix_stay_without_one_tracked_again() {
-    let dir = tempfile::tempdir().unwrap();
-    let plots = dir.path().join("plots.csv");
-    let again = dir.path().join("again.csv");
     let mut text =
         "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m,own_vx_mps,own_vy_mps,own_fix\n"
             .to_string();
@@ -272,33 +296,15 @@ fn scans_without_a_fix_stay_without_one_tracked_again() {
         let t = 1_000.0 + 2.5 * f64::from(k);
         text.push_str(&format!("{k},{t},1500,45,0,{north},0,{vy},{fix}\n"));
     }
-    std::fs::write(&plots, &text).unwrap();
-    let code = track(&[
-        "--plots",
-        plots.to_str().unwrap(),
-        "--record-plots",
-        again.to_str().unwrap(),
-    ]);
-    assert_eq!(code, ExitCode::SUCCESS);
-    let written = std::fs::read_to_string(&again).unwrap();
-    let mut rows = written.lines();
-    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|c| *c == name).unwrap();
-    let (fix, vy) = (col("own_fix"), col("own_vy_mps"));
-    let fixes: Vec<(String, String)> = rows
-        .map(|r| {
-            let cells: Vec<&str> = r.split(',').collect();
-            (cells[fix].to_string(), cells[vy].to_string())
-        })
-        .collect();
-    assert_eq!(fixes.len(), 10, "{written}");
-    for (k, (f, v)) in fixes.iter().enumerate() {
+    let rows = recorded_again(&text, &["own_fix", "own_vy_mps"]);
+    assert_eq!(rows.len(), 10, "{rows:?}");
+    for (k, row) in rows.iter().enumerate() {
         let expected = match k {
-            0..4 => ("0", "0"),
-            4..6 => ("M", "0"),
-            _ => ("1", "5"),
+            0..4 => ["0", "0"],
+            4..6 => ["M", "0"],
+            _ => ["1", "5"],
         };
-        assert_eq!((f.as_str(), v.as_str()), expected, "scan {k}: {written}");
+        assert_eq!(row, &expected, "scan {k}: {rows:?}");
     }
 }
 
@@ -307,9 +313,6 @@ fn scans_without_a_fix_stay_without_one_tracked_again() {
 /// it, not the jump from the origin (400 m/s here).
 #[test]
 fn a_velocity_from_positions_is_taken_between_fixes_only() {
-    let dir = tempfile::tempdir().unwrap();
-    let plots = dir.path().join("plots.csv");
-    let again = dir.path().join("again.csv");
     let mut text = "scan,t_s,range_m,bearing_deg,own_east_m,own_north_m,own_fix\n".to_string();
     for k in 0..7 {
         let (north, fix) = if k < 2 {
@@ -320,25 +323,12 @@ fn a_velocity_from_positions_is_taken_between_fixes_only() {
         let t = 1_000.0 + 2.5 * f64::from(k);
         text.push_str(&format!("{k},{t},1500,45,0,{north},{fix}\n"));
     }
-    std::fs::write(&plots, &text).unwrap();
-    let code = track(&[
-        "--plots",
-        plots.to_str().unwrap(),
-        "--record-plots",
-        again.to_str().unwrap(),
-    ]);
-    assert_eq!(code, ExitCode::SUCCESS);
-    let written = std::fs::read_to_string(&again).unwrap();
-    let mut rows = written.lines();
-    let header: Vec<&str> = rows.next().unwrap().split(',').collect();
-    let vy = header.iter().position(|c| *c == "own_vy_mps").unwrap();
-    let speeds: Vec<f64> = rows
-        .map(|r| r.split(',').nth(vy).unwrap().parse().unwrap())
-        .collect();
-    assert_eq!(speeds.len(), 7, "{written}");
-    for (k, v) in speeds.iter().enumerate() {
+    let rows = recorded_again(&text, &["own_vy_mps"]);
+    assert_eq!(rows.len(), 7, "{rows:?}");
+    for (k, row) in rows.iter().enumerate() {
+        let v: f64 = row[0].parse().unwrap();
         let expected = if k < 2 { 0.0 } else { 5.0 };
-        assert!((v - expected).abs() < 1e-3, "scan {k}: {v} m/s\n{written}");
+        assert!((v - expected).abs() < 1e-3, "scan {k}: {v} m/s, {rows:?}");
     }
 }
 

@@ -88,9 +88,9 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             // A radar's recording tracked at its own accuracy (a harbour's 2 m plots taken
             // at 40 m made 1 target of the 30 tracked live, in a new user's trial).
             let sigma_m = source.first_plot_sigma_m().unwrap_or(PLOT_SIGMA_M);
-            // The file's positions are metres from an origin it does not hold: sent to
-            // plotters about the default one they were anywhere (a trial's moored Dutch
-            // radar, replayed, was sent as a fix in the Solent), so that is said.
+            // The file's positions are metres from an origin it does not hold: without
+            // `--origin` they go to plotters about the default one, wherever they were (a
+            // trial's moored Dutch radar, replayed, was sent as a fix in the Solent).
             if o.own_ship.origin.is_none() && o.outputs.nmea_out.is_some() {
                 let d = Origin::default();
                 eprintln!(

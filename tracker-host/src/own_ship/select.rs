@@ -379,7 +379,7 @@ mod tests {
     }
 
     /// A talker whose readings are dated long before the transponder's (another voyage's
-    /// log, a clock a GPS week rollover behind) does not take the choice back from it.
+    /// log beside a capture's untimed `VDO`s) does not take the choice back from it.
     #[test]
     fn a_talker_dated_long_before_the_transponder_does_not_take_over() {
         let mut s = Selector::default();
