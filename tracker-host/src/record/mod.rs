@@ -168,17 +168,10 @@ impl ScanSink for PlotsRecorder {
         });
         // … and the one the filters took them at (a radar's follows its range scale).
         let sigma = r.plot_sigma_m;
-        // How own ship's position was known ([`plots_file::OwnFix`]): without a fix the
-        // plots were placed about a ship standing where it is written, and tracked again
-        // they are relative; a position given is sent as manual input, not as a fix. (A
-        // fix whose motion is not yet measured, its first scans, is written as a fix.)
-        let fix = if r.own.position_held() {
-            "0"
-        } else if r.own.quality.fixed_position {
-            "M"
-        } else {
-            "1"
-        };
+        // How own ship's position was known: without a fix the plots were placed about a
+        // ship standing where it is written, and tracked again they are relative; a
+        // position given is sent as manual input, not as a fix.
+        let fix = plots_file::OwnFix::of(&r.own).code();
         if r.plots.is_empty() {
             return self
                 .0

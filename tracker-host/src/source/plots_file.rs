@@ -67,6 +67,30 @@ pub enum OwnFix {
     Given,
 }
 
+impl OwnFix {
+    /// How `own`'s position was known: no fix while it is held in the frame
+    /// ([`OwnShip::position_held`]), given for `--fixed-position`, else a fix. (A fix whose
+    /// motion is not yet measured, its first scans, is a fix.)
+    pub fn of(own: &OwnShip) -> Self {
+        if own.position_held() {
+            OwnFix::NoFix
+        } else if own.quality.fixed_position {
+            OwnFix::Given
+        } else {
+            OwnFix::Fix
+        }
+    }
+
+    /// The column's text for it (`1`, `0`, `M`).
+    pub fn code(self) -> &'static str {
+        match self {
+            OwnFix::Fix => "1",
+            OwnFix::NoFix => "0",
+            OwnFix::Given => "M",
+        }
+    }
+}
+
 /// Longest plot range accepted, m (200 km: beyond any marine radar).
 pub const MAX_RANGE_M: f64 = 200_000.0;
 
