@@ -969,6 +969,142 @@ fn a_lost_heading_sensor_replaced_by_the_radars_is_told() {
         .any(|a| a.contains("the radar's heading in use")));
 }
 
+/// A radar's own heading (flagged true in the HALO VelocityTrack capture's spokes, its only
+/// heading) that stops mid-run: held for `HEADING_LOST_S` (10 s) as a heading sensor's is,
+/// then lost: own ship's heading goes, with its alarm, and the head-up plots are no longer
+/// placed. (The last heading was held for ever: own ship showed it, and the next spokes were
+/// placed with it, without an alarm.) The test cuts the flag: from 6 s after the first spoke
+/// on, every spoke header's heading field is set to 0x8000 (no heading).
+#[test]
+fn a_radars_heading_that_stops_is_lost_not_held() {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    flate2::read::GzDecoder::new(
+        std::fs::File::open(capture("radar_pi-halo-velocitytrack-away.pcap.gz")).unwrap(),
+    )
+    .read_to_end(&mut bytes)
+    .unwrap();
+    // A classic little-endian pcap of Ethernet frames (24-byte file header; records of a
+    // 16-byte header and the frame). The spoke datagrams (UDP to port 7059, 17,168 bytes)
+    // come in IPv4 fragments: a spoke's heading field is at byte 8 + 8 + 536·k + 10 of the
+    // datagram (UDP header, frame header, spoke k's header), never across two fragments
+    // (fragments start at multiples of 8; the field at 2 past one).
+    assert_eq!(bytes[..4], [0xd4, 0xc3, 0xb2, 0xa1]);
+    let u32_at = |b: &[u8], i: usize| u32::from_le_bytes(b[i..i + 4].try_into().unwrap());
+    let be16 = |b: &[u8], i: usize| u16::from_be_bytes([b[i], b[i + 1]]);
+    let (mut at, mut spoke_ids, mut cut_s, mut cut) = (24, Vec::new(), None, 0);
+    while at + 16 <= bytes.len() {
+        let t_s = f64::from(u32_at(&bytes, at)) + f64::from(u32_at(&bytes, at + 4)) * 1e-6;
+        let frame = at + 16;
+        let end = frame + u32_at(&bytes, at + 8) as usize;
+        at = end;
+        let ip = frame + 14;
+        if end > bytes.len() || bytes[frame + 12..frame + 14] != [8, 0] || bytes[ip + 9] != 17 {
+            continue;
+        }
+        let header_len = usize::from(bytes[ip] & 0x0F) * 4;
+        let (id, offset) = (
+            be16(&bytes, ip + 4),
+            usize::from(be16(&bytes, ip + 6) & 0x1FFF) * 8,
+        );
+        let payload = ip + header_len;
+        if offset == 0 && be16(&bytes, payload + 2) == 7059 && be16(&bytes, payload + 4) == 17_168 {
+            spoke_ids.push(id);
+        }
+        if !spoke_ids.contains(&id) || t_s < *cut_s.get_or_insert(t_s + 6.0) {
+            continue;
+        }
+        for k in 0..32 {
+            let field = 8 + 8 + 536 * k + 10;
+            if (offset..offset + end - payload).contains(&field) {
+                let i = payload + field - offset;
+                bytes[i..i + 2].copy_from_slice(&0x8000u16.to_le_bytes());
+                cut += 1;
+            }
+        }
+    }
+    let cut_s = cut_s.unwrap();
+    assert!(cut > 10_000, "{cut} spoke headings cut");
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("halo-heading-cut.pcap");
+    std::fs::write(&path, &bytes).unwrap();
+    // And with own ship from `--nmea-in`, a GNSS giving no heading (RMC every second,
+    // stopped, over the capture's time): the radar's heading lost is own ship's.
+    let gnss = dir.path().join("gnss.log");
+    let mut log = String::new();
+    for k in -10..60 {
+        use chrono::{Datelike, Timelike};
+        let t = chrono::DateTime::from_timestamp(cut_s as i64 - 6 + k, 0).unwrap();
+        let body = format!(
+            "GPRMC,{:02}{:02}{:02}.00,A,5048.30720,N,00117.90400,W,0.0,,{:02}{:02}{:02},,,A",
+            t.hour(),
+            t.minute(),
+            t.second(),
+            t.day(),
+            t.month(),
+            t.year() % 100
+        );
+        let sum = body.bytes().fold(0u8, |a, b| a ^ b);
+        log.push_str(&format!("${body}*{sum:02X}\r\n"));
+    }
+    std::fs::write(&gnss, log).unwrap();
+    let nmea_in = OwnShipOptions {
+        nmea_in: Some(tracker_host::nmea::input::InSpec::File(gnss)),
+        ..OwnShipOptions::default()
+    };
+    let whole = track("radar_pi-halo-velocitytrack-away.pcap.gz", None);
+    for t in [
+        track_path(path.clone(), None, OwnShipOptions::default()),
+        track_path(path, None, nmea_in),
+    ] {
+        heading_cut_at(cut_s, &whole, &t);
+    }
+}
+
+/// Checks the run `t` of the capture whose spoke headings were cut at `cut_s` against the
+/// `whole` capture's.
+fn heading_cut_at(cut_s: f64, whole: &Tracked, t: &Tracked) {
+    assert_eq!(whole.reports.len(), t.reports.len());
+    let (mut held, mut lost) = (0, 0);
+    for (w, r) in whole.reports.iter().zip(&t.reports) {
+        let at = format!("scan {} at {:.1} s after the cut", r.scan, r.time_s - cut_s);
+        assert!(
+            w.own.heading_rad.is_some(),
+            "{at}: the capture has no heading"
+        );
+        if r.time_s <= cut_s + 10.0 {
+            // Before the cut as the whole capture; after it, the last heading held (the
+            // ship turns a little: 0.1° in 3 s).
+            let (Some(h), Some(whole_h)) = (r.own.heading_rad, w.own.heading_rad) else {
+                panic!("{at}: no heading")
+            };
+            let off = if r.time_s <= cut_s { 1e-6 } else { 0.01 };
+            assert!((h - whole_h).abs() < off, "{at}: {h} against {whole_h}");
+            assert!(
+                !r.own.quality.heading_lost && !r.own.quality.heading_needed,
+                "{at}"
+            );
+            assert_eq!(r.plots.len(), w.plots.len(), "{at}");
+            held += usize::from(r.time_s > cut_s);
+        } else if r.time_s > cut_s + 10.0 + 3.0 {
+            // A whole rotation (2.83 s) of spokes after the heading's 10 s: none placed.
+            assert_eq!(r.own.heading_rad, None, "{at}");
+            assert!(
+                r.own.quality.heading_lost && r.own.quality.heading_needed,
+                "{at}"
+            );
+            assert!(r.plots.is_empty() && !w.plots.is_empty(), "{at}");
+            assert!(
+                r.own.alarms().iter().any(|a| a.contains("heading lost")),
+                "{at}: {:?}",
+                r.own.alarms()
+            );
+            lost += 1;
+        }
+    }
+    assert!(held >= 2 && lost >= 2, "{held} scans held, {lost} lost");
+}
+
 /// An NMEA recording played with a capture: its times before its first date (a log of
 /// `GGA` and `GLL` only has none) fall on the capture's day, not today's (the 4G's own
 /// log without its `RMC`s gave own ship no fix on any scan), and a log of another voyage

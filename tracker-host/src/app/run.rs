@@ -179,6 +179,10 @@ impl Run {
                 own.heading_rad = scan.placed_heading_rad;
             }
         }
+        // The plot source's heading sensor (a radar's own, in its spokes) stopped, and own
+        // ship has no other: the alarm is the source's too.
+        own.quality.heading_lost |=
+            own.heading_rad.is_none() && scan.own_ship.is_some_and(|o| o.quality.heading_lost);
         // The plot source knows whether its plots wanted a heading, whoever gives own ship;
         // an alarm only while own ship has none.
         own.quality.heading_needed =

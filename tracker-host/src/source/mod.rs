@@ -52,7 +52,8 @@ pub struct SourceScan {
     /// The rotation's echoes, when the source is a radar (for the display and snapshots).
     pub echoes: Option<std::sync::Arc<crate::radar::EchoImage>>,
     /// Own ship's heading from a sensor the source reads itself, rad true: a heading
-    /// sensor wired to the radar, flagged true in this rotation's spokes, or one whose
+    /// sensor wired to the radar, flagged true in its spokes (the last one held for
+    /// [`crate::own_ship::nav::HEADING_LOST_S`] after they stop), or one whose
     /// sentences (`HDT`, `HDG`) a capture holds beside the spokes. Never a fixed heading or
     /// one the source was given back by the run.
     pub heading_sensor_rad: Option<f32>,

@@ -34,7 +34,7 @@ use tracker_core::tracker::MAX_PLOTS_PER_SCAN;
 use super::radar_yaw::PictureYaw;
 use super::{PlotSource, RadarScan, SourceScan};
 use crate::origin::Origin;
-use crate::own_ship::nav::OwnShipNav;
+use crate::own_ship::nav::{OwnShipNav, HEADING_LOST_S};
 use crate::own_ship::OwnShip;
 use crate::radar::{CaptureOptions, EchoImage, RadarKind, RadarSpec, RadarStats, SpokeSource};
 
@@ -271,13 +271,14 @@ pub struct RadarPlotSource {
     yaw: PictureYaw,
     /// A spoke of this rotation was given the fixed heading.
     fixed_heading_seen: bool,
-    /// The heading the last scan reported when it was the fixed one (turned), rad: the
-    /// run's own ship hands it back, and it is not a heading from elsewhere.
-    reported_fixed_rad: Option<f32>,
-    /// The true heading the radar sent with its last spoke, rad, if it sent one.
-    radar_heading_rad: Option<f32>,
-    /// The newest heading this rotation's spokes carried (none: no spoke carried one).
-    rotation_heading_rad: Option<f32>,
+    /// The heading the last scan gave own ship, rad (the radar's own, or the fixed one
+    /// turned): the run's own ship hands it back, and it is not a heading from elsewhere
+    /// (taken as one, a radar's heading that stopped would be held for ever).
+    reported_rad: Option<f32>,
+    /// The true heading the radar sent with its last spoke that had one, rad, and that
+    /// spoke's capture time, s: held for spokes without one for [`HEADING_LOST_S`], as a
+    /// heading sensor's is, then lost.
+    radar_heading: Option<(f32, f64)>,
     /// The range scale of the rotation being gathered, m (its last spoke's range).
     range_m: Option<f32>,
     /// The range scale of the scan last given, m.
@@ -367,11 +368,10 @@ impl RadarPlotSource {
             ais: crate::ais::AisDecoder::new(),
             heard: Vec::new(),
             heading_cache: None,
-            radar_heading_rad: None,
-            rotation_heading_rad: None,
+            radar_heading: None,
             yaw: PictureYaw::new(),
             fixed_heading_seen: false,
-            reported_fixed_rad: None,
+            reported_rad: None,
             range_m: None,
             scan_range_m: None,
         })
@@ -456,7 +456,7 @@ impl RadarPlotSource {
                 return heading;
             }
         }
-        let reported = self.reported_fixed_rad;
+        let reported = self.reported_rad;
         let yaw = if self.options.picture_yaw {
             self.yaw.yaw_rad()
         } else {
@@ -466,11 +466,12 @@ impl RadarPlotSource {
             .nmea_own_ship(time_s)
             .and_then(|o| o.heading_rad)
             .or_else(|| {
-                // The run's own ship, unless it is the fixed heading this source reported.
+                // The run's own ship, unless it is the heading this source reported.
                 self.run_own
                     .and_then(|o| o.heading_rad)
                     .filter(|h| Some(*h) != reported)
             })
+            .or_else(|| self.radar_heading_at(time_s))
             .map(|h| (h, false))
             .or_else(|| {
                 self.options
@@ -498,9 +499,8 @@ impl RadarPlotSource {
                 .map_or(RadarKind::Navico, |(k, _)| k);
             self.feed_nmea(time_s);
             let mut heading_rad = header.heading_rad;
-            if heading_rad.is_some() {
-                self.radar_heading_rad = heading_rad;
-                self.rotation_heading_rad = heading_rad;
+            if let Some(h) = heading_rad {
+                self.radar_heading = Some((h, time_s));
             }
             if !header.north_up && heading_rad.is_none() {
                 let found = self.heading_for(time_s);
@@ -597,17 +597,21 @@ impl RadarPlotSource {
         // radar, flagged true in its spokes), else what head-up spokes were given.
         let mut own = own_nmea.unwrap_or_else(OwnShip::unknown);
         let mut placed_heading_rad = None;
+        let mut reported_rad = None;
         if own.heading_rad.is_none() {
-            let found = self
-                .radar_heading_rad
+            let radar_heading = self.radar_heading_at(time_s);
+            let found = radar_heading
                 .map(|h| (h, false))
                 .or_else(|| self.heading_for(time_s));
-            self.reported_fixed_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
-            placed_heading_rad = self.reported_fixed_rad;
+            reported_rad = found.map(|(h, _)| h);
+            placed_heading_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
             // A heading sensor lost and the radar's own standing in is told, as when own
             // ship comes from `--nmea-in` (`Run`): the heading has changed source.
-            own.stand_in_heading(found.map(|(h, _)| h), self.radar_heading_rad.is_some());
+            own.stand_in_heading(reported_rad, radar_heading.is_some());
+            // The radar's own heading stopped and nothing stands in: lost, as a sensor's.
+            own.quality.heading_lost |= found.is_none() && self.radar_heading.is_some();
         }
+        self.reported_rad = reported_rad;
         // Whether the alarm stands (no heading for own ship at all) is the run's to say.
         own.quality.heading_needed = self.counts.plots_without_heading > without_heading;
         let own_ship = Some(own);
@@ -628,12 +632,12 @@ impl RadarPlotSource {
             own_ship,
             truth: None,
             echoes: Some(std::sync::Arc::new(echoes)),
-            // A heading sensor: the radar's own, else one whose sentences the capture
-            // holds (an own-ship source of the run's without a heading takes it: the plots
-            // were placed with it, and it is shown and sent as own ship's heading).
+            // A heading sensor: the radar's own (held as long as a sensor's is), else one
+            // whose sentences the capture holds (an own-ship source of the run's without a
+            // heading takes it: the plots were placed with it, and it is shown and sent as
+            // own ship's heading).
             heading_sensor_rad: self
-                .rotation_heading_rad
-                .take()
+                .radar_heading_at(time_s)
                 .or(own_nmea.and_then(|o| o.heading_rad)),
             placed_heading_rad,
         }
@@ -641,6 +645,14 @@ impl RadarPlotSource {
 }
 
 impl RadarPlotSource {
+    /// The radar's own heading at capture time `time_s`, rad true: the last one its spokes
+    /// carried, for [`HEADING_LOST_S`].
+    fn radar_heading_at(&self, time_s: f64) -> Option<f32> {
+        self.radar_heading
+            .filter(|(_, at)| time_s - at <= HEADING_LOST_S)
+            .map(|(h, _)| h)
+    }
+
     /// Measures own ship's turn over this rotation from its point plots (extracted with the
     /// fixed heading and the yaw so far) and turns the rotation's returns by it, so that
     /// they are as the heading at the scan gives them (the echo image stays as drawn).
