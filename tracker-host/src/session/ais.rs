@@ -17,7 +17,9 @@
 //!   company are not paired wrong;
 //! - candidates within [`PairingGates::merge_cost`] for [`PairingGates::scans_to_pair`]
 //!   scans in a row are paired (an event);
-//! - a pair outside gates [`PairingGates::keep_factor`] times as wide for
+//! - a pair outside gates [`PairingGates::keep_factor`] times as wide (its velocity
+//!   difference less how much the AIS target's own velocity has changed over the last
+//!   [`PairingGates::manoeuvre_window_s`]: a track lags its ship's manoeuvre) for
 //!   [`PairingGates::scans_to_part`] scans in a row is parted (an event), as is one whose
 //!   track or AIS target is lost, or one another AIS target fits about as well (within
 //!   [`PairingGates::swap_margin`]), or another radar target its AIS target, for as long;
@@ -92,6 +94,14 @@ pub struct PairingGates {
     /// A track younger than this many scans has its velocity gate and sigma widened by
     /// this over its age: its first velocities are rough.
     pub settled_scans: f32,
+    /// A pair is kept (and a radar target shown as an AIS target held) through its ship's
+    /// manoeuvre: the velocity gate and difference take off how much the AIS target's own
+    /// velocity has changed over this many seconds, s (0: not). A track lags its ship's
+    /// turn or change of speed (a CV filter's vector settles over tens of seconds; IMO
+    /// MSC.192(79) allows the ARPA a minute for its trend), while the AIS target reports
+    /// it at once: a hovercraft slowing from 30 to 3 kn in a minute on the Solent was
+    /// parted from its radar target, and shown twice, for want of it.
+    pub manoeuvre_window_s: f32,
 }
 
 impl Default for PairingGates {
@@ -126,6 +136,7 @@ impl Default for PairingGates {
             ambiguity_margin: 6.0,
             merge_cost: 6.0,
             settled_scans: 8.0,
+            manoeuvre_window_s: 60.0,
         }
     }
 }
@@ -263,7 +274,16 @@ pub struct AisPicture {
     /// the data came from, so an alarm does not drop or appear as a pair is made or parted.
     limits: crate::session::target::AlarmLimits,
     alarmed: std::collections::BTreeSet<u16>,
+    /// Each AIS target's velocities over ground over the last
+    /// [`PairingGates::manoeuvre_window_s`] (scan time s, m/s east and north): at most
+    /// [`MANOEUVRE_SAMPLES`] each, kept only while the AIS target is.
+    velocities: BTreeMap<u32, std::collections::VecDeque<(f64, [f32; 2])>>,
 }
+
+/// The most velocities kept per AIS target for its manoeuvre
+/// ([`PairingGates::manoeuvre_window_s`]): a minute of 2.5-s scans, or of a fast radar's
+/// 1.2-s ones at every other.
+pub const MANOEUVRE_SAMPLES: usize = 32;
 
 impl AisPicture {
     /// An empty picture in the local frame of `origin`.
@@ -281,6 +301,7 @@ impl AisPicture {
             data: AssociatedData::default(),
             limits: crate::session::target::AlarmLimits::default(),
             alarmed: std::collections::BTreeSet::new(),
+            velocities: BTreeMap::new(),
         }
     }
 
@@ -347,6 +368,7 @@ impl AisPicture {
             report.ais = ais;
             return;
         }
+        let manoeuvre = self.manoeuvres(&ais, t);
         let targets: BTreeMap<u16, &crate::session::target::TargetData> =
             report.targets.iter().map(|x| (x.track, x)).collect();
         // A paired track held in another's echo is parted: kept through the merge, the pair
@@ -378,11 +400,18 @@ impl AisPicture {
             let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
             (d, d * d / sp2.max(1.0))
         };
+        // `factor`: the gates' (1, or the wide `keep_factor` to keep a pair or a radar
+        // target shown as an AIS target, which then allows for the ship's manoeuvre).
         let within = |track: u16, mmsi: u32, factor: f32| -> Option<f32> {
             let x = targets.get(&track)?;
             let a = by_mmsi.get(&mmsi)?;
             let (d, position_cost) = position(x, a);
-            let dv = gap(x.velocity_mps, a.velocity_mps);
+            let lag = if factor > 1.0 {
+                manoeuvre.get(&mmsi).copied().unwrap_or(0.0)
+            } else {
+                0.0
+            };
+            let dv = (gap(x.velocity_mps, a.velocity_mps) - lag).max(0.0);
             // A young track's velocity is known only roughly.
             let young = (gates.settled_scans / f32::from(x.age_scans.max(1))).max(1.0);
             let sv = gates.velocity_sigma_mps * young;
@@ -569,6 +598,36 @@ impl AisPicture {
                 .map(|t| t.track)
                 .collect();
         }
+    }
+
+    /// Records the AIS targets' velocities at scan time `t` (s) and gives each one's
+    /// manoeuvre: how far its velocity is from any it had over the last
+    /// [`PairingGates::manoeuvre_window_s`], m/s.
+    fn manoeuvres(&mut self, ais: &[crate::ais::AisTargetData], t: f64) -> BTreeMap<u32, f32> {
+        let window_s = f64::from(self.gates.manoeuvre_window_s);
+        let mut out = BTreeMap::new();
+        let mut kept = BTreeMap::new();
+        for a in ais {
+            let mut seen = self.velocities.remove(&a.mmsi).unwrap_or_default();
+            // Kept from the one in force at the window's start (a velocity held since
+            // long before is the one the ship changed from).
+            while seen.get(1).is_some_and(|(at, _)| t - at > window_s) {
+                seen.pop_front();
+            }
+            let v = a.velocity_mps;
+            let changed = seen.iter().map(|(_, w)| (v[0] - w[0]).hypot(v[1] - w[1]));
+            out.insert(a.mmsi, changed.fold(0.0, f32::max));
+            if window_s > 0.0 && seen.back().is_none_or(|(_, w)| *w != v) {
+                if seen.len() >= MANOEUVRE_SAMPLES {
+                    seen.pop_front();
+                }
+                seen.push_back((t, v));
+            }
+            kept.insert(a.mmsi, seen);
+        }
+        // Only the AIS targets held.
+        self.velocities = kept;
+        out
     }
 
     /// The radar targets shown as AIS targets this scan: among the unpaired within the
@@ -870,6 +929,44 @@ mod tests {
         let heard: Vec<(f64, AisReport)> = heard.iter().map(|r| (time_s, r.clone())).collect();
         picture.scan(&mut report, &heard);
         report
+    }
+
+    /// A ship that stops (its AIS SOG 14 kn east, then 0) while its radar target lags
+    /// (still 14 kn, 7.2 m/s off, over the wide gate's 5.25): the pair is kept through the
+    /// manoeuvre, and parted once the AIS target's old velocity has left the window
+    /// (the track no longer excused); without the window, parted at once.
+    #[test]
+    fn a_pair_is_kept_while_its_radar_target_lags_the_ships_manoeuvre() {
+        let origin = Origin::parse("50.8,-1.1").unwrap();
+        let fast_mps = 14.0 * tracker_core::geo::MPS_PER_KNOT;
+        let run = |gates: PairingGates| -> Vec<bool> {
+            let mut picture = AisPicture::new(origin, gates);
+            let track = Radar {
+                track: 7,
+                east_m: 20.0,
+                velocity_mps: [fast_mps, 0.0],
+                age_scans: 30,
+            };
+            (0..50)
+                .map(|scan| {
+                    let mut heard = ship_report(origin, (235_000_001, 0.0));
+                    // Stopped from scan 10 on (the report heard at the scan: no drift).
+                    heard.sog_kn = Some(if scan < 10 { 14.0 } else { 0.0 });
+                    let r = scan_reports(&mut picture, scan, true, &[track], &[heard]);
+                    r.paired.iter().any(|p| p.track == 7)
+                })
+                .collect()
+        };
+        let kept = run(PairingGates::default());
+        assert!(kept[3..10].iter().all(|p| *p), "{kept:?}");
+        // The old velocity (scans before 10, at 2.5 s) is in the 60-s window to scan 33.
+        assert!(kept[10..34].iter().all(|p| *p), "{kept:?}");
+        assert!(!kept[40], "{kept:?}");
+        let without = run(PairingGates {
+            manoeuvre_window_s: 0.0,
+            ..PairingGates::default()
+        });
+        assert!(without[9] && !without[13], "{without:?}");
     }
 
     #[test]
