@@ -973,8 +973,10 @@ fn a_lost_heading_sensor_replaced_by_the_radars_is_told() {
 /// heading) that stops mid-run: held for `HEADING_LOST_S` (10 s) as a heading sensor's is,
 /// then lost: own ship's heading goes, with its alarm, and the head-up plots are no longer
 /// placed. (The last heading was held for ever: own ship showed it, and the next spokes were
-/// placed with it, without an alarm.) The test cuts the flag: from 6 s after the first spoke
-/// on, every spoke header's heading field is set to 0x8000 (no heading).
+/// placed with it, without an alarm.) A fixed heading given stands in then, with the alarm;
+/// a gyro on `--nmea-in` places the spokes throughout. The test cuts the flag: from 6 s
+/// after the first spoke on, every spoke header's heading field is set to 0x8000 (no
+/// heading).
 #[test]
 fn a_radars_heading_that_stops_is_lost_not_held() {
     use std::io::Read;
@@ -1028,81 +1030,125 @@ fn a_radars_heading_that_stops_is_lost_not_held() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("halo-heading-cut.pcap");
     std::fs::write(&path, &bytes).unwrap();
-    // And with own ship from `--nmea-in`, a GNSS giving no heading (RMC every second,
-    // stopped, over the capture's time): the radar's heading lost is own ship's.
-    let gnss = dir.path().join("gnss.log");
-    let mut log = String::new();
-    for k in -10..60 {
-        use chrono::{Datelike, Timelike};
-        let t = chrono::DateTime::from_timestamp(cut_s as i64 - 6 + k, 0).unwrap();
-        let body = format!(
-            "GPRMC,{:02}{:02}{:02}.00,A,5048.30720,N,00117.90400,W,0.0,,{:02}{:02}{:02},,,A",
-            t.hour(),
-            t.minute(),
-            t.second(),
-            t.day(),
-            t.month(),
-            t.year() % 100
-        );
-        let sum = body.bytes().fold(0u8, |a, b| a ^ b);
-        log.push_str(&format!("${body}*{sum:02X}\r\n"));
-    }
-    std::fs::write(&gnss, log).unwrap();
-    let nmea_in = OwnShipOptions {
-        nmea_in: Some(tracker_host::nmea::input::InSpec::File(gnss)),
-        ..OwnShipOptions::default()
+    // With own ship from `--nmea-in`: a GNSS giving no heading (RMC every second, stopped,
+    // over the capture's time), and the same with a gyro (`HDT` after each `RMC`).
+    let log = |gyro: bool| {
+        let mut log = String::new();
+        for k in -10..60 {
+            use chrono::{Datelike, Timelike};
+            let t = chrono::DateTime::from_timestamp(cut_s as i64 - 6 + k, 0).unwrap();
+            let rmc = format!(
+                "GPRMC,{:02}{:02}{:02}.00,A,5048.30720,N,00117.90400,W,0.0,,{:02}{:02}{:02},,,A",
+                t.hour(),
+                t.minute(),
+                t.second(),
+                t.day(),
+                t.month(),
+                t.year() % 100
+            );
+            let hdt = "HEHDT,226.1,T".to_string();
+            for body in std::iter::once(rmc).chain(gyro.then_some(hdt)) {
+                let sum = body.bytes().fold(0u8, |a, b| a ^ b);
+                log.push_str(&format!("${body}*{sum:02X}\r\n"));
+            }
+        }
+        let file = dir.path().join(if gyro { "gyro.log" } else { "gnss.log" });
+        std::fs::write(&file, log).unwrap();
+        OwnShipOptions {
+            nmea_in: Some(tracker_host::nmea::input::InSpec::File(file)),
+            ..OwnShipOptions::default()
+        }
     };
     let whole = track("radar_pi-halo-velocitytrack-away.pcap.gz", None);
-    for t in [
-        track_path(path.clone(), None, OwnShipOptions::default()),
-        track_path(path, None, nmea_in),
-    ] {
-        heading_cut_at(cut_s, &whole, &t);
+    let alone = OwnShipOptions::default();
+    let runs = [
+        (None, alone.clone(), After::Lost),
+        (None, log(false), After::Lost),
+        // A fixed heading given stands in, with the alarm: no longer measured.
+        (Some(226.0), alone, After::Fixed),
+        // A gyro on `--nmea-in` places every spoke without one, every rotation (the first
+        // version refused it every other rotation when it read the same as the scan
+        // before, taking it for the heading the radar had reported), and no alarm.
+        (None, log(true), After::Gyro),
+    ];
+    for (heading_deg, own_ship, after) in runs {
+        let t = track_path(path.clone(), heading_deg, own_ship);
+        heading_cut_at(cut_s, &whole, &t, after);
     }
+}
+
+/// What own ship is once a radar's own heading has stopped for `HEADING_LOST_S`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum After {
+    /// No heading, the alarm, no plots placed.
+    Lost,
+    /// The fixed heading, the alarm, the plots placed.
+    Fixed,
+    /// The gyro's heading, no alarm, the plots placed.
+    Gyro,
 }
 
 /// Checks the run `t` of the capture whose spoke headings were cut at `cut_s` against the
 /// `whole` capture's.
-fn heading_cut_at(cut_s: f64, whole: &Tracked, t: &Tracked) {
+fn heading_cut_at(cut_s: f64, whole: &Tracked, t: &Tracked, after: After) {
     assert_eq!(whole.reports.len(), t.reports.len());
     let (mut held, mut lost) = (0, 0);
     for (w, r) in whole.reports.iter().zip(&t.reports) {
-        let at = format!("scan {} at {:.1} s after the cut", r.scan, r.time_s - cut_s);
+        let at = format!(
+            "{after:?}: scan {} at {:.1} s after the cut",
+            r.scan,
+            r.time_s - cut_s
+        );
         assert!(
             w.own.heading_rad.is_some(),
             "{at}: the capture has no heading"
         );
-        if r.time_s <= cut_s + 10.0 {
+        let q = r.own.quality;
+        if after == After::Gyro && r.time_s > cut_s {
+            // Every scan after the cut placed with the gyro's 226.1°.
+            let h = r.own.heading_rad.map(f32::to_degrees);
+            assert!(h.is_some_and(|h| (h - 226.1).abs() < 0.01), "{at}: {h:?}");
+        }
+        if after == After::Gyro || r.time_s <= cut_s + 10.0 {
             // Before the cut as the whole capture; after it, the last heading held (the
-            // ship turns a little: 0.1° in 3 s).
+            // ship turns a little: 0.1° in 3 s), or the gyro's.
             let (Some(h), Some(whole_h)) = (r.own.heading_rad, w.own.heading_rad) else {
                 panic!("{at}: no heading")
             };
-            let off = if r.time_s <= cut_s { 1e-6 } else { 0.01 };
+            // (The gyro's 226.1° is own ship's from the start: NMEA's before the radar's.)
+            let off = if r.time_s <= cut_s && after != After::Gyro {
+                1e-6
+            } else {
+                0.01
+            };
             assert!((h - whole_h).abs() < off, "{at}: {h} against {whole_h}");
-            assert!(
-                !r.own.quality.heading_lost && !r.own.quality.heading_needed,
-                "{at}"
-            );
+            assert!(!q.heading_lost && !q.heading_needed, "{at}");
             assert_eq!(r.plots.len(), w.plots.len(), "{at}");
             held += usize::from(r.time_s > cut_s);
         } else if r.time_s > cut_s + 10.0 + 3.0 {
-            // A whole rotation (2.83 s) of spokes after the heading's 10 s: none placed.
-            assert_eq!(r.own.heading_rad, None, "{at}");
-            assert!(
-                r.own.quality.heading_lost && r.own.quality.heading_needed,
-                "{at}"
-            );
-            assert!(r.plots.is_empty() && !w.plots.is_empty(), "{at}");
+            // A whole rotation (2.83 s) of spokes after the heading's 10 s.
+            assert!(q.heading_lost, "{at}");
             assert!(
                 r.own.alarms().iter().any(|a| a.contains("heading lost")),
                 "{at}: {:?}",
                 r.own.alarms()
             );
+            if after == After::Lost {
+                assert_eq!(r.own.heading_rad, None, "{at}");
+                assert!(q.heading_needed, "{at}");
+                assert!(r.plots.is_empty() && !w.plots.is_empty(), "{at}");
+            } else {
+                assert!(r.own.heading_rad.is_some() && !q.heading_needed, "{at}");
+                assert_eq!(r.plots.len(), w.plots.len(), "{at}");
+            }
             lost += 1;
         }
     }
-    assert!(held >= 2 && lost >= 2, "{held} scans held, {lost} lost");
+    let after_hold = if after == After::Gyro { held } else { lost };
+    assert!(
+        held >= 2 && after_hold >= 2,
+        "{held} scans held, {lost} lost"
+    );
 }
 
 /// An NMEA recording played with a capture: its times before its first date (a log of

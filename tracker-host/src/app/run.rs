@@ -179,15 +179,30 @@ impl Run {
                 own.heading_rad = scan.placed_heading_rad;
             }
         }
-        // The plot source's heading sensor (a radar's own, in its spokes) stopped, and own
-        // ship has no other: the alarm is the source's too.
+        // Own ship's heading is the plot source's own (its own ship's, its radar's sensor's,
+        // or the one it placed its plots with; the same value passed on this scan) or none:
+        // then the source's lost heading (a radar's that stopped coming in its spokes) is
+        // own ship's alarm too, and the heading is not handed back to the source as if a
+        // sensor of the run's gave it (a heading that stopped would be held for ever).
+        let from_source = [
+            scan.own_ship.and_then(|o| o.heading_rad),
+            scan.heading_sensor_rad,
+            scan.placed_heading_rad,
+        ];
+        let heading_from_source = own
+            .heading_rad
+            .is_none_or(|h| from_source.contains(&Some(h)));
         own.quality.heading_lost |=
-            own.heading_rad.is_none() && scan.own_ship.is_some_and(|o| o.quality.heading_lost);
+            heading_from_source && scan.own_ship.is_some_and(|o| o.quality.heading_lost);
         // The plot source knows whether its plots wanted a heading, whoever gives own ship;
         // an alarm only while own ship has none.
         own.quality.heading_needed =
             scan.own_ship.is_some_and(|o| o.quality.heading_needed) && own.heading_rad.is_none();
-        self.plots.own_ship_estimate(&own);
+        let mut estimate = own;
+        if heading_from_source {
+            estimate.heading_rad = None;
+        }
+        self.plots.own_ship_estimate(&estimate);
         // A radar's plots are as accurate as its range scale, which a live radar tells with
         // its first spoke and the operator changes.
         if let Some(sigma_m) = self.plots.plot_sigma_m() {

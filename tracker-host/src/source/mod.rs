@@ -99,7 +99,9 @@ pub trait PlotSource {
     fn scans_left(&self) -> Option<u64>;
 
     /// Own ship as the session used it for the scan just given (a simulator that follows a
-    /// live own-ship source takes it; others ignore it).
+    /// live own-ship source takes it; a radar takes its heading for spokes without one;
+    /// others ignore it). Its heading is `None` unless a sensor of the run's gave it: one
+    /// that came from this source's scans is not handed back.
     fn own_ship_estimate(&mut self, _own: &OwnShip) {}
 
     /// The AIS reports found with the plots since the last call (a capture's AIVDM), each

@@ -243,7 +243,8 @@ pub struct RadarPlotSource {
     nmea_offset_s: Option<f64>,
     /// NMEA lines met, not yet due.
     nmea: VecDeque<(f64, String)>,
-    /// Own ship as the run used it last (its heading, for spokes when NMEA has none).
+    /// Own ship as the run used it last (its heading, for spokes when NMEA has none: only
+    /// a heading from a sensor of the run's, [`PlotSource::own_ship_estimate`]).
     run_own: Option<OwnShip>,
     /// This rotation's returns so far.
     current: RotationPicture,
@@ -264,17 +265,14 @@ pub struct RadarPlotSource {
     heard: Vec<(f64, crate::ais::AisReport)>,
     /// The heading for spokes without one, and when it was worked out (capture time, s):
     /// finding it predicts own ship's filter, too much to do for each of 2,048 spokes, and
-    /// it changes only with a sentence (or at the heading-lost time).
+    /// it changes only with a sentence, at the end of the radar's own heading's hold, or
+    /// within a second of NMEA's heading-lost time.
     /// The flag: the heading is the fixed one (turned by the yaw).
     heading_cache: Option<(f64, Option<(f32, bool)>)>,
     /// Own ship's yaw measured from the picture, for the fixed heading.
     yaw: PictureYaw,
     /// A spoke of this rotation was given the fixed heading.
     fixed_heading_seen: bool,
-    /// The heading the last scan gave own ship, rad (the radar's own, or the fixed one
-    /// turned): the run's own ship hands it back, and it is not a heading from elsewhere
-    /// (taken as one, a radar's heading that stopped would be held for ever).
-    reported_rad: Option<f32>,
     /// The true heading the radar sent with its last spoke that had one, rad, and that
     /// spoke's capture time, s: held for spokes without one for [`HEADING_LOST_S`], as a
     /// heading sensor's is, then lost.
@@ -371,7 +369,6 @@ impl RadarPlotSource {
             radar_heading: None,
             yaw: PictureYaw::new(),
             fixed_heading_seen: false,
-            reported_rad: None,
             range_m: None,
             scan_range_m: None,
         })
@@ -452,34 +449,37 @@ impl RadarPlotSource {
     /// heading (turned by the yaw measured from the picture).
     fn heading_for(&mut self, time_s: f64) -> Option<(f32, bool)> {
         if let Some((at, heading)) = self.heading_cache {
-            if (0.0..HEADING_CACHE_S).contains(&(time_s - at)) {
+            // Not across the end of the radar's own heading's hold.
+            let held = |t| self.radar_heading_at(t).is_some();
+            if (0.0..HEADING_CACHE_S).contains(&(time_s - at)) && held(at) == held(time_s) {
                 return heading;
             }
         }
-        let reported = self.reported_rad;
+        let heading = self
+            .nmea_own_ship(time_s)
+            .and_then(|o| o.heading_rad)
+            // The run's own ship's heading, when from a sensor of its own (`Run` hands back
+            // none that came from this source's scans: a heading that stopped would be
+            // held for ever).
+            .or_else(|| self.run_own.and_then(|o| o.heading_rad))
+            .or_else(|| self.radar_heading_at(time_s))
+            .map(|h| (h, false))
+            .or_else(|| self.fixed_heading_rad().map(|h| (h, true)));
+        self.heading_cache = Some((time_s, heading));
+        heading
+    }
+
+    /// The fixed heading (`--heading-deg`) turned by the yaw measured from the picture, rad
+    /// true.
+    fn fixed_heading_rad(&self) -> Option<f32> {
         let yaw = if self.options.picture_yaw {
             self.yaw.yaw_rad()
         } else {
             0.0
         };
-        let heading = self
-            .nmea_own_ship(time_s)
-            .and_then(|o| o.heading_rad)
-            .or_else(|| {
-                // The run's own ship, unless it is the heading this source reported.
-                self.run_own
-                    .and_then(|o| o.heading_rad)
-                    .filter(|h| Some(*h) != reported)
-            })
-            .or_else(|| self.radar_heading_at(time_s))
-            .map(|h| (h, false))
-            .or_else(|| {
-                self.options
-                    .fixed_heading_rad
-                    .map(|h| (geo::wrap_2pi(h + yaw), true))
-            });
-        self.heading_cache = Some((time_s, heading));
-        heading
+        self.options
+            .fixed_heading_rad
+            .map(|h| geo::wrap_2pi(h + yaw))
     }
 
     /// Pushes spokes until a rotation ends (`Some(scan time)`) or the input does (`None`).
@@ -597,21 +597,22 @@ impl RadarPlotSource {
         // radar, flagged true in its spokes), else what head-up spokes were given.
         let mut own = own_nmea.unwrap_or_else(OwnShip::unknown);
         let mut placed_heading_rad = None;
-        let mut reported_rad = None;
         if own.heading_rad.is_none() {
+            // The source's own: not the run's own ship's (which spokes without a heading
+            // take, `heading_for`), which would come back to the run as this source's.
             let radar_heading = self.radar_heading_at(time_s);
             let found = radar_heading
                 .map(|h| (h, false))
-                .or_else(|| self.heading_for(time_s));
-            reported_rad = found.map(|(h, _)| h);
+                .or_else(|| self.fixed_heading_rad().map(|h| (h, true)));
             placed_heading_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
             // A heading sensor lost and the radar's own standing in is told, as when own
             // ship comes from `--nmea-in` (`Run`): the heading has changed source.
-            own.stand_in_heading(reported_rad, radar_heading.is_some());
-            // The radar's own heading stopped and nothing stands in: lost, as a sensor's.
-            own.quality.heading_lost |= found.is_none() && self.radar_heading.is_some();
+            own.stand_in_heading(found.map(|(h, _)| h), radar_heading.is_some());
+            // The radar's own heading stopped: lost, as a sensor's is, whether nothing
+            // stands in or the fixed heading does (the picture is no longer placed with a
+            // measured heading).
+            own.quality.heading_lost |= radar_heading.is_none() && self.radar_heading.is_some();
         }
-        self.reported_rad = reported_rad;
         // Whether the alarm stands (no heading for own ship at all) is the run's to say.
         own.quality.heading_needed = self.counts.plots_without_heading > without_heading;
         let own_ship = Some(own);
