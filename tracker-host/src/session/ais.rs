@@ -18,7 +18,7 @@
 //! - candidates within [`PairingGates::merge_cost`] for [`PairingGates::scans_to_pair`]
 //!   scans in a row are paired (an event);
 //! - a pair outside gates [`PairingGates::keep_factor`] times as wide (its velocity
-//!   difference less how much the AIS target's own velocity has changed over the last
+//!   difference taken from the path of the AIS target's velocities over the last
 //!   [`PairingGates::manoeuvre_window_s`]: a track lags its ship's manoeuvre) for
 //!   [`PairingGates::scans_to_part`] scans in a row is parted (an event), as is one whose
 //!   track or AIS target is lost, or one another AIS target fits about as well (within
@@ -95,12 +95,13 @@ pub struct PairingGates {
     /// this over its age: its first velocities are rough.
     pub settled_scans: f32,
     /// A pair is kept (and a radar target shown as an AIS target held) through its ship's
-    /// manoeuvre: the velocity gate and difference take off how much the AIS target's own
-    /// velocity has changed over this many seconds, s (0: not). A track lags its ship's
-    /// turn or change of speed (a CV filter's vector settles over tens of seconds; IMO
-    /// MSC.192(79) allows the ARPA a minute for its trend), while the AIS target reports
-    /// it at once: a hovercraft slowing from 30 to 3 kn in a minute on the Solent was
-    /// parted from its radar target, and shown twice, for want of it.
+    /// manoeuvre: its velocity difference is the radar target's velocity's distance from
+    /// the path of the velocities the AIS target has had over this many seconds (s; 0:
+    /// its velocity now only). A track lags its ship's turn or change of speed (a CV
+    /// filter's vector settles over tens of seconds; IMO MSC.192(79) allows the ARPA a
+    /// minute for its trend), its velocity one the ship had on the way, while the AIS
+    /// target reports the new one at once: a hovercraft slowing from 30 to 3 kn in a minute
+    /// on the Solent was parted from its radar target, and shown twice, for want of it.
     pub manoeuvre_window_s: f32,
 }
 
@@ -275,15 +276,21 @@ pub struct AisPicture {
     limits: crate::session::target::AlarmLimits,
     alarmed: std::collections::BTreeSet<u16>,
     /// Each AIS target's velocities over ground over the last
-    /// [`PairingGates::manoeuvre_window_s`] (scan time s, m/s east and north): at most
-    /// [`MANOEUVRE_SAMPLES`] each, kept only while the AIS target is.
+    /// [`PairingGates::manoeuvre_window_s`] (scan time s, m/s east and north), from the one
+    /// in force at the window's start: one each time it changed by
+    /// [`MANOEUVRE_STEP_MPS`], at most [`MANOEUVRE_SAMPLES`] (the oldest after the first
+    /// dropped), kept only while the AIS target is held.
     velocities: BTreeMap<u32, std::collections::VecDeque<(f64, [f32; 2])>>,
 }
 
 /// The most velocities kept per AIS target for its manoeuvre
-/// ([`PairingGates::manoeuvre_window_s`]): a minute of 2.5-s scans, or of a fast radar's
-/// 1.2-s ones at every other.
+/// ([`PairingGates::manoeuvre_window_s`]).
 pub const MANOEUVRE_SAMPLES: usize = 32;
+
+/// An AIS target's velocity is recorded for its manoeuvre when it has changed by this much
+/// since the last recorded, m/s (its extrapolation about own ship moves it by far less from
+/// scan to scan; a new report's course or speed by more).
+pub const MANOEUVRE_STEP_MPS: f32 = 0.05;
 
 impl AisPicture {
     /// An empty picture in the local frame of `origin`.
@@ -400,18 +407,17 @@ impl AisPicture {
             let sp2 = gates.position_sigma_m * gates.position_sigma_m + drift * drift;
             (d, d * d / sp2.max(1.0))
         };
-        // `factor`: the gates' (1, or the wide `keep_factor` to keep a pair or a radar
-        // target shown as an AIS target, which then allows for the ship's manoeuvre).
-        let within = |track: u16, mmsi: u32, factor: f32| -> Option<f32> {
+        // Within the gates, or (`keep`) the wide ones that keep a pair or a radar target
+        // shown as an AIS target, its velocity taken against the ship's over its manoeuvre.
+        let within = |track: u16, mmsi: u32, keep: bool| -> Option<f32> {
             let x = targets.get(&track)?;
             let a = by_mmsi.get(&mmsi)?;
             let (d, position_cost) = position(x, a);
-            let lag = if factor > 1.0 {
-                manoeuvre.get(&mmsi).copied().unwrap_or(0.0)
-            } else {
-                0.0
+            let factor = if keep { gates.keep_factor } else { 1.0 };
+            let dv = match manoeuvre.get(&mmsi) {
+                Some(path) if keep => gap_to_path(x.velocity_mps, path),
+                _ => gap(x.velocity_mps, a.velocity_mps),
             };
-            let dv = (gap(x.velocity_mps, a.velocity_mps) - lag).max(0.0);
             // A young track's velocity is known only roughly.
             let young = (gates.settled_scans / f32::from(x.age_scans.max(1))).max(1.0);
             let sv = gates.velocity_sigma_mps * young;
@@ -428,7 +434,7 @@ impl AisPicture {
         let mut all = Vec::new();
         for x in targets.values() {
             for a in ais.iter().filter(|a| near(x, a)) {
-                if let Some(c) = within(x.track, a.mmsi, 1.0) {
+                if let Some(c) = within(x.track, a.mmsi, false) {
                     all.push((c, x.track, a.mmsi));
                 }
             }
@@ -453,7 +459,7 @@ impl AisPicture {
         // for too long.
         let mut parted = Vec::new();
         for (track, pair) in &mut self.pairs {
-            let own = within(*track, pair.mmsi, gates.keep_factor);
+            let own = within(*track, pair.mmsi, true);
             if own.is_some() {
                 pair.outside = 0;
             } else {
@@ -566,7 +572,7 @@ impl AisPicture {
         let paired_now: Vec<u32> = self.pairs.values().map(|p| p.mmsi).collect();
         let mut merged = self.candidates(&display, &paired_now);
         self.hold_candidates(&mut merged, &paired_now, |track, mmsi| {
-            within(track, mmsi, gates.keep_factor).is_some()
+            within(track, mmsi, true).is_some()
         });
         report.merged = merged;
         report.paired = self
@@ -601,9 +607,13 @@ impl AisPicture {
     }
 
     /// Records the AIS targets' velocities at scan time `t` (s) and gives each one's
-    /// manoeuvre: how far its velocity is from any it had over the last
-    /// [`PairingGates::manoeuvre_window_s`], m/s.
-    fn manoeuvres(&mut self, ais: &[crate::ais::AisTargetData], t: f64) -> BTreeMap<u32, f32> {
+    /// manoeuvre: the velocities it has had over the last
+    /// [`PairingGates::manoeuvre_window_s`], oldest first, ending with the one now (m/s).
+    fn manoeuvres(
+        &mut self,
+        ais: &[crate::ais::AisTargetData],
+        t: f64,
+    ) -> BTreeMap<u32, Vec<[f32; 2]>> {
         let window_s = f64::from(self.gates.manoeuvre_window_s);
         let mut out = BTreeMap::new();
         let mut kept = BTreeMap::new();
@@ -615,15 +625,20 @@ impl AisPicture {
                 seen.pop_front();
             }
             let v = a.velocity_mps;
-            let changed = seen.iter().map(|(_, w)| (v[0] - w[0]).hypot(v[1] - w[1]));
-            out.insert(a.mmsi, changed.fold(0.0, f32::max));
-            if window_s > 0.0 && seen.back().is_none_or(|(_, w)| *w != v) {
+            let moved = |w: &[f32; 2]| (v[0] - w[0]).hypot(v[1] - w[1]) >= MANOEUVRE_STEP_MPS;
+            if window_s > 0.0 && seen.back().is_none_or(|(_, w)| moved(w)) {
                 if seen.len() >= MANOEUVRE_SAMPLES {
-                    seen.pop_front();
+                    // The window's first stays: the velocity the ship changed from.
+                    seen.remove(1);
                 }
                 seen.push_back((t, v));
             }
-            kept.insert(a.mmsi, seen);
+            let mut path: Vec<[f32; 2]> = seen.iter().map(|(_, w)| *w).collect();
+            path.push(v);
+            out.insert(a.mmsi, path);
+            if window_s > 0.0 {
+                kept.insert(a.mmsi, seen);
+            }
         }
         // Only the AIS targets held.
         self.velocities = kept;
@@ -733,6 +748,29 @@ impl AisPicture {
                 ));
             }
         }
+    }
+}
+
+/// The distance of velocity `v` from the path through `path`'s velocities in turn (a
+/// single velocity: from it), m/s.
+fn gap_to_path(v: [f32; 2], path: &[[f32; 2]]) -> f32 {
+    let to_segment = |a: [f32; 2], b: [f32; 2]| {
+        let ab = [b[0] - a[0], b[1] - a[1]];
+        let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+        let u = if len2 > 0.0 {
+            (((v[0] - a[0]) * ab[0] + (v[1] - a[1]) * ab[1]) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (v[0] - a[0] - u * ab[0]).hypot(v[1] - a[1] - u * ab[1])
+    };
+    match path {
+        [] => f32::INFINITY,
+        [only] => to_segment(*only, *only),
+        _ => path
+            .windows(2)
+            .map(|w| to_segment(w[0], w[1]))
+            .fold(f32::INFINITY, f32::min),
     }
 }
 
@@ -934,21 +972,23 @@ mod tests {
     /// A ship that stops (its AIS SOG 14 kn east, then 0) while its radar target lags
     /// (still 14 kn, 7.2 m/s off, over the wide gate's 5.25): the pair is kept through the
     /// manoeuvre, and parted once the AIS target's old velocity has left the window
-    /// (the track no longer excused); without the window, parted at once.
+    /// (the track no longer excused); without the window, parted at once, as is a track
+    /// going the other way (a velocity the ship never had, as far from it).
     #[test]
     fn a_pair_is_kept_while_its_radar_target_lags_the_ships_manoeuvre() {
         let origin = Origin::parse("50.8,-1.1").unwrap();
         let fast_mps = 14.0 * tracker_core::geo::MPS_PER_KNOT;
-        let run = |gates: PairingGates| -> Vec<bool> {
+        // Whether track 7 is paired each scan, its velocity `east_mps` once the ship stops.
+        let run = |gates: PairingGates, east_mps: f32| -> Vec<bool> {
             let mut picture = AisPicture::new(origin, gates);
-            let track = Radar {
-                track: 7,
-                east_m: 20.0,
-                velocity_mps: [fast_mps, 0.0],
-                age_scans: 30,
-            };
             (0..50)
                 .map(|scan| {
+                    let track = Radar {
+                        track: 7,
+                        east_m: 20.0,
+                        velocity_mps: [if scan < 10 { fast_mps } else { east_mps }, 0.0],
+                        age_scans: 30,
+                    };
                     let mut heard = ship_report(origin, (235_000_001, 0.0));
                     // Stopped from scan 10 on (the report heard at the scan: no drift).
                     heard.sog_kn = Some(if scan < 10 { 14.0 } else { 0.0 });
@@ -957,16 +997,33 @@ mod tests {
                 })
                 .collect()
         };
-        let kept = run(PairingGates::default());
+        let kept = run(PairingGates::default(), fast_mps);
         assert!(kept[3..10].iter().all(|p| *p), "{kept:?}");
         // The old velocity (scans before 10, at 2.5 s) is in the 60-s window to scan 33.
         assert!(kept[10..34].iter().all(|p| *p), "{kept:?}");
         assert!(!kept[40], "{kept:?}");
-        let without = run(PairingGates {
-            manoeuvre_window_s: 0.0,
-            ..PairingGates::default()
-        });
+        let without = run(
+            PairingGates {
+                manoeuvre_window_s: 0.0,
+                ..PairingGates::default()
+            },
+            fast_mps,
+        );
         assert!(without[9] && !without[13], "{without:?}");
+        // A track going the other way at that speed had no velocity of the ship's: parted.
+        let reversed = run(PairingGates::default(), -fast_mps);
+        assert!(reversed[9] && !reversed[13], "{reversed:?}");
+    }
+
+    #[test]
+    fn a_velocity_is_measured_from_the_path_of_the_ships_velocities() {
+        let path = [[10.0, 0.0], [0.0, 0.0], [0.0, 4.0]];
+        // On the path, beside its first leg, beyond its end, and the one velocity alone.
+        assert_eq!(gap_to_path([5.0, 0.0], &path), 0.0);
+        assert!((gap_to_path([5.0, 3.0], &path) - 3.0).abs() < 1e-6);
+        assert!((gap_to_path([0.0, 7.0], &path) - 3.0).abs() < 1e-6);
+        assert!((gap_to_path([3.0, 4.0], &[[0.0, 0.0]]) - 5.0).abs() < 1e-6);
+        assert_eq!(gap_to_path([1.0, 1.0], &[]), f32::INFINITY);
     }
 
     #[test]
