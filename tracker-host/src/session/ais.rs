@@ -278,8 +278,8 @@ pub struct AisPicture {
     /// Each AIS target's velocities over ground over the last
     /// [`PairingGates::manoeuvre_window_s`] (scan time s, m/s east and north), from the one
     /// in force at the window's start: one each time it changed by
-    /// [`MANOEUVRE_STEP_MPS`], at most [`MANOEUVRE_SAMPLES`] (the oldest after the first
-    /// dropped), kept only while the AIS target is held.
+    /// [`MANOEUVRE_STEP_MPS`], at most [`MANOEUVRE_SAMPLES`] (then the newest replaced),
+    /// kept only while the AIS target is held and reports its course and speed.
     velocities: BTreeMap<u32, std::collections::VecDeque<(f64, [f32; 2])>>,
 }
 
@@ -626,17 +626,22 @@ impl AisPicture {
             }
             let v = a.velocity_mps;
             let moved = |w: &[f32; 2]| (v[0] - w[0]).hypot(v[1] - w[1]) >= MANOEUVRE_STEP_MPS;
-            if window_s > 0.0 && seen.back().is_none_or(|(_, w)| moved(w)) {
-                if seen.len() >= MANOEUVRE_SAMPLES {
-                    // The window's first stays: the velocity the ship changed from.
-                    seen.remove(1);
+            // A report without course and speed (velocity 0 for want of one) is no velocity
+            // the ship had.
+            let known = window_s > 0.0 && a.motion_reported;
+            if known && seen.back().is_none_or(|(_, w)| moved(w)) {
+                let full = seen.len() >= MANOEUVRE_SAMPLES;
+                match seen.back_mut() {
+                    // Full: the newest is replaced (the window's first, the velocity the
+                    // ship changed from, and the times the window is trimmed by stay).
+                    Some(last) if full => *last = (t, v),
+                    _ => seen.push_back((t, v)),
                 }
-                seen.push_back((t, v));
             }
             let mut path: Vec<[f32; 2]> = seen.iter().map(|(_, w)| *w).collect();
             path.push(v);
             out.insert(a.mmsi, path);
-            if window_s > 0.0 {
+            if known {
                 kept.insert(a.mmsi, seen);
             }
         }
@@ -999,7 +1004,8 @@ mod tests {
         };
         let kept = run(PairingGates::default(), fast_mps);
         assert!(kept[3..10].iter().all(|p| *p), "{kept:?}");
-        // The old velocity (scans before 10, at 2.5 s) is in the 60-s window to scan 33.
+        // The old velocity (scans before 10, at 2.5 s) is in the 60-s window at least to
+        // scan 33.
         assert!(kept[10..34].iter().all(|p| *p), "{kept:?}");
         assert!(!kept[40], "{kept:?}");
         let without = run(

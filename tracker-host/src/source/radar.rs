@@ -561,7 +561,8 @@ impl RadarPlotSource {
     /// Closes the rotation gathered so far as a scan at `time_s`.
     fn close_scan(&mut self, time_s: f64) -> SourceScan {
         let mut picture = std::mem::take(&mut self.current);
-        if std::mem::take(&mut self.fixed_heading_seen) && self.options.picture_yaw {
+        let fixed_heading_seen = std::mem::take(&mut self.fixed_heading_seen);
+        if fixed_heading_seen && self.options.picture_yaw {
             self.turn_by_picture(&mut picture);
         }
         let own_nmea = self.nmea_own_ship(time_s);
@@ -604,10 +605,19 @@ impl RadarPlotSource {
             let found = radar_heading
                 .map(|h| (h, false))
                 .or_else(|| self.fixed_heading_rad().map(|h| (h, true)));
-            placed_heading_rad = found.filter(|(_, fixed)| *fixed).map(|(h, _)| h);
-            // A heading sensor lost and the radar's own standing in is told, as when own
-            // ship comes from `--nmea-in` (`Run`): the heading has changed source.
-            own.stand_in_heading(found.map(|(h, _)| h), radar_heading.is_some());
+            // The plots were placed with the fixed heading only if a spoke took it (not
+            // with a gyro on `--nmea-in`, the run's).
+            placed_heading_rad = found
+                .filter(|(_, fixed)| *fixed && fixed_heading_seen)
+                .map(|(h, _)| h);
+            match found {
+                // A heading sensor lost and the radar's own standing in is told, as when
+                // own ship comes from `--nmea-in` (`Run`): the heading has changed source.
+                Some((h, false)) => own.stand_in_heading(Some(h), true),
+                // The fixed heading stands in for no sensor: a lost one keeps its alarm.
+                Some((h, true)) => own.heading_rad = Some(h),
+                None => own.heading_rad = None,
+            }
             // The radar's own heading stopped: lost, as a sensor's is, whether nothing
             // stands in or the fixed heading does (the picture is no longer placed with a
             // measured heading).
