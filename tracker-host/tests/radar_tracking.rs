@@ -898,6 +898,51 @@ fn a_given_heading_is_own_ships_with_a_gnss_on_nmea_in() {
     assert!(sources <= 6, "{sources} events of source: {events:?}");
 }
 
+/// A capture without NMEA (the Garmin's) with own ship from an NMEA recording on
+/// `--nmea-in` made far from the default origin (Sydney): the frame's origin is the
+/// recording's first fix, as the README says, and the plots are tracked (a new user's trial:
+/// every scan's plots refused, own ship 14,257 km from the origin).
+#[test]
+fn a_recordings_first_fix_is_the_origin_for_a_capture_without_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let gnss = dir.path().join("sydney.log");
+    let mut log = String::new();
+    for k in 0..120 {
+        let body = format!(
+            "GPRMC,16{:02}{:02}.00,A,3351.00000,S,15112.00000,E,0.0,,191017,,,A",
+            4 + (50 + k) / 60,
+            (50 + k) % 60
+        );
+        let sum = body.bytes().fold(0u8, |a, b| a ^ b);
+        log.push_str(&format!("${body}*{sum:02X}\r\n"));
+    }
+    std::fs::write(&gnss, log).unwrap();
+    let t = track_with(
+        "radar_pi-garmin_xhd.pcap.gz",
+        Some(0.0),
+        OwnShipOptions {
+            nmea_in: Some(tracker_host::nmea::input::InSpec::File(gnss)),
+            ..OwnShipOptions::default()
+        },
+    );
+    assert!(t.reports.len() >= 30);
+    for r in &t.reports[1..] {
+        let [east, north] = r.own.position_m;
+        assert!(east.hypot(north) < 100.0, "scan {}: {east} {north}", r.scan);
+        assert!(!r.own.quality.no_fix_yet, "scan {}", r.scan);
+        assert!(!r.plots.is_empty(), "scan {}: no plots", r.scan);
+        assert!(
+            !r.own
+                .alarms()
+                .iter()
+                .any(|a| a.contains("from the frame's origin")),
+            "scan {}: {:?}",
+            r.scan,
+            r.own.alarms()
+        );
+    }
+}
+
 /// A heading sensor lost mid-run while the radar's own heading (flagged true in the 3G's
 /// spokes) goes on: the plots stay placed, and own ship says the radar's heading is in use
 /// (it took over in silence when own ship came from the capture's own NMEA). The capture's

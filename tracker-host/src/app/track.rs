@@ -58,7 +58,8 @@ pub struct TrackOptions {
 /// A file breaks its format (the error names the line and column), a capture does not
 /// open, the device does not attach, or an own-ship source or output does not open.
 pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
-    // The origin is a position of own ship's (the operator's, or a capture's first fix),
+    // The origin is a position of own ship's (the operator's, a capture's first fix, or an
+    // NMEA recording's),
     // not the default: targets' latitudes and longitudes can be sent before a fix.
     let mut origin_known = o.own_ship.origin.is_some();
     let own_ship_options;
@@ -124,9 +125,20 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
                 }
                 RadarSpec::Live { .. } => CaptureSurvey::default(),
             };
-            origin_known |= survey.first_fix.is_some();
+            // … else an NMEA recording's on `--nmea-in` (a capture without NMEA: own ship
+            // far from the default origin had every plot refused).
+            let recording_fix = || match &o.own_ship.nmea_in {
+                Some(InSpec::File(path)) => {
+                    crate::own_ship::recording::RecordedTrack::read(path, &o.own_ship.nmea)
+                        .ok()
+                        .map(|track| track.first_position())
+                }
+                _ => None,
+            };
+            let first_fix = survey.first_fix.or_else(recording_fix);
+            origin_known |= first_fix.is_some();
             capture_s = survey.first_spoke_s;
-            let origin = o.own_ship.origin.or(survey.first_fix).unwrap_or_default();
+            let origin = o.own_ship.origin.or(first_fix).unwrap_or_default();
             let sigma_m = radar
                 .plot_sigma_on(survey.first_range_m)
                 .unwrap_or(PLOT_SIGMA_M);
