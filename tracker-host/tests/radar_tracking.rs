@@ -37,6 +37,25 @@ fn capture(name: &str) -> PathBuf {
     realdata::file(&format!("radar/{name}"))
 }
 
+/// The bytes of the gzipped capture `name`, a classic little-endian pcap: a 24-byte header,
+/// then records of a 16-byte header (seconds, microseconds, length kept, length on the
+/// wire) and the frame.
+fn pcap_bytes(name: &str) -> Vec<u8> {
+    use std::io::Read;
+    let mut bytes = Vec::new();
+    flate2::read::GzDecoder::new(std::fs::File::open(capture(name)).unwrap())
+        .read_to_end(&mut bytes)
+        .unwrap();
+    assert_eq!(bytes[..4], [0xd4, 0xc3, 0xb2, 0xa1]);
+    bytes
+}
+
+/// The NMEA sentence of `body` (between `$` and `*`), with its checksum and line end.
+fn sentence(body: &str) -> String {
+    let sum = body.bytes().fold(0u8, |a, b| a ^ b);
+    format!("${body}*{sum:02X}\r\n")
+}
+
 const KNOT_MPS: f32 = 1852.0 / 3600.0;
 
 /// One capture tracked to its end.
@@ -859,8 +878,7 @@ fn a_given_heading_is_own_ships_with_a_gnss_on_nmea_in() {
             4 + (50 + k) / 60,
             (50 + k) % 60
         );
-        let sum = body.bytes().fold(0u8, |a, b| a ^ b);
-        log.push_str(&format!("${body}*{sum:02X}\r\n"));
+        log.push_str(&sentence(&body));
     }
     std::fs::write(&gnss, log).unwrap();
     let nmea_in = |path: PathBuf| OwnShipOptions {
@@ -913,8 +931,7 @@ fn a_recordings_first_fix_is_the_origin_for_a_capture_without_one() {
             4 + (50 + k) / 60,
             (50 + k) % 60
         );
-        let sum = body.bytes().fold(0u8, |a, b| a ^ b);
-        log.push_str(&format!("${body}*{sum:02X}\r\n"));
+        log.push_str(&sentence(&body));
     }
     std::fs::write(&gnss, log).unwrap();
     let t = track_with(
@@ -953,16 +970,7 @@ fn a_recordings_first_fix_is_the_origin_for_a_capture_without_one() {
 /// `HDM`, `HDG`, `VHW`, and the transponder's own `AIVDO`).
 #[test]
 fn a_lost_heading_sensor_replaced_by_the_radars_is_told() {
-    use std::io::Read;
-    let mut bytes = Vec::new();
-    flate2::read::GzDecoder::new(
-        std::fs::File::open(capture("radar_pi-3g-trueheading.pcap.gz")).unwrap(),
-    )
-    .read_to_end(&mut bytes)
-    .unwrap();
-    // A classic little-endian pcap: a 24-byte header, then records of a 16-byte header
-    // (seconds, microseconds, length kept, length on the wire) and the frame.
-    assert_eq!(bytes[..4], [0xd4, 0xc3, 0xb2, 0xa1]);
+    let bytes = pcap_bytes("radar_pi-3g-trueheading.pcap.gz");
     let u32_at = |b: &[u8], i: usize| u32::from_le_bytes(b[i..i + 4].try_into().unwrap());
     let mut doctored = bytes[..24].to_vec();
     let (mut at, mut first_s, mut dropped, mut made) = (24, None, 0, 0);
@@ -1024,19 +1032,11 @@ fn a_lost_heading_sensor_replaced_by_the_radars_is_told() {
 /// heading).
 #[test]
 fn a_radars_heading_that_stops_is_lost_not_held() {
-    use std::io::Read;
-    let mut bytes = Vec::new();
-    flate2::read::GzDecoder::new(
-        std::fs::File::open(capture("radar_pi-halo-velocitytrack-away.pcap.gz")).unwrap(),
-    )
-    .read_to_end(&mut bytes)
-    .unwrap();
-    // A classic little-endian pcap of Ethernet frames (24-byte file header; records of a
-    // 16-byte header and the frame). The spoke datagrams (UDP to port 7059, 17,168 bytes)
+    let mut bytes = pcap_bytes("radar_pi-halo-velocitytrack-away.pcap.gz");
+    // Ethernet frames. The spoke datagrams (UDP to port 7059, 17,168 bytes)
     // come in IPv4 fragments: a spoke's heading field is at byte 8 + 8 + 536·k + 10 of the
     // datagram (UDP header, frame header, spoke k's header), never across two fragments
     // (fragments start at multiples of 8; the field at 2 past one).
-    assert_eq!(bytes[..4], [0xd4, 0xc3, 0xb2, 0xa1]);
     let u32_at = |b: &[u8], i: usize| u32::from_le_bytes(b[i..i + 4].try_into().unwrap());
     let be16 = |b: &[u8], i: usize| u16::from_be_bytes([b[i], b[i + 1]]);
     let (mut at, mut spoke_ids, mut cut_s, mut cut) = (24, Vec::new(), None, 0);
@@ -1093,8 +1093,7 @@ fn a_radars_heading_that_stops_is_lost_not_held() {
             );
             let hdt = "HEHDT,226.1,T".to_string();
             for body in std::iter::once(rmc).chain(gyro.then_some(hdt)) {
-                let sum = body.bytes().fold(0u8, |a, b| a ^ b);
-                log.push_str(&format!("${body}*{sum:02X}\r\n"));
+                log.push_str(&sentence(&body));
             }
         }
         let file = dir.path().join(if gyro { "gyro.log" } else { "gnss.log" });
