@@ -50,6 +50,20 @@ fn pcap_bytes(name: &str) -> Vec<u8> {
     bytes
 }
 
+/// A GNSS's log over the Garmin capture's time: `RMC` every second from 2017-10-19
+/// 16:04:50Z for two minutes, stopped at `position` (`DDMM.MMMMM,N,DDDMM.MMMMM,W`), no
+/// heading.
+fn garmin_gnss_log(position: &str) -> String {
+    (0..120)
+        .map(|k| {
+            let (minute, second) = (4 + (50 + k) / 60, (50 + k) % 60);
+            sentence(&format!(
+                "GPRMC,16{minute:02}{second:02}.00,A,{position},0.0,,191017,,,A"
+            ))
+        })
+        .collect()
+}
+
 /// The NMEA sentence of `body` (between `$` and `*`), with its checksum and line end.
 fn sentence(body: &str) -> String {
     let sum = body.bytes().fold(0u8, |a, b| a ^ b);
@@ -870,17 +884,7 @@ fn a_given_heading_is_own_ships_with_a_gnss_on_nmea_in() {
     let name = "radar_pi-garmin_xhd.pcap.gz";
     let dir = tempfile::tempdir().unwrap();
     let gnss = dir.path().join("gnss.log");
-    // RMC every second over the capture (2017-10-19 16:04:50Z on), stopped, no heading.
-    let mut log = String::new();
-    for k in 0..120 {
-        let body = format!(
-            "GPRMC,16{:02}{:02}.00,A,5048.30720,N,00117.90400,W,0.0,,191017,,,A",
-            4 + (50 + k) / 60,
-            (50 + k) % 60
-        );
-        log.push_str(&sentence(&body));
-    }
-    std::fs::write(&gnss, log).unwrap();
+    std::fs::write(&gnss, garmin_gnss_log("5048.30720,N,00117.90400,W")).unwrap();
     let nmea_in = |path: PathBuf| OwnShipOptions {
         nmea_in: Some(tracker_host::nmea::input::InSpec::File(path)),
         ..OwnShipOptions::default()
@@ -924,16 +928,7 @@ fn a_given_heading_is_own_ships_with_a_gnss_on_nmea_in() {
 fn a_recordings_first_fix_is_the_origin_for_a_capture_without_one() {
     let dir = tempfile::tempdir().unwrap();
     let gnss = dir.path().join("sydney.log");
-    let mut log = String::new();
-    for k in 0..120 {
-        let body = format!(
-            "GPRMC,16{:02}{:02}.00,A,3351.00000,S,15112.00000,E,0.0,,191017,,,A",
-            4 + (50 + k) / 60,
-            (50 + k) % 60
-        );
-        log.push_str(&sentence(&body));
-    }
-    std::fs::write(&gnss, log).unwrap();
+    std::fs::write(&gnss, garmin_gnss_log("3351.00000,S,15112.00000,E")).unwrap();
     let t = track_with(
         "radar_pi-garmin_xhd.pcap.gz",
         Some(0.0),
