@@ -740,7 +740,18 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
                 let (x, y) = rel(t.position_m);
                 ctx.draw(&Circle::new(x, y, scale / 25.0, Color::Cyan));
             }
-            // Own ship and its heading line.
+            // Own ship's heading line, from own ship to the PPI's edge (IEC 62388: drawn
+            // whenever a heading is known), and its vector.
+            if let Some(h) = view.own.heading_rad {
+                let (sin, cos) = (f64::from(h.sin()), f64::from(h.cos()));
+                ctx.draw(&CanvasLine::new(
+                    0.0,
+                    0.0,
+                    scale * sin,
+                    scale * cos,
+                    Color::White,
+                ));
+            }
             let hv = view.own.velocity_mps;
             let to = |c: f32| f64::from(c) * minutes / f64::from(METRES_PER_NM);
             ctx.draw(&CanvasLine::new(
@@ -1912,6 +1923,23 @@ pub(crate) mod tests {
             assert!(text.contains(&view.targets[0].label()), "{text}");
             assert!(text.contains("SHIP"), "{text}");
         }
+    }
+
+    /// Own ship's heading line is drawn to the PPI's edge when a heading is known, and not
+    /// without one (a new user's trial: no heading line on the terminal PPI or the snapshot).
+    #[test]
+    fn the_heading_line_is_drawn_when_own_ship_has_a_heading() {
+        let mut view = eleventh_scan();
+        let state = without_alarms();
+        view.own.heading_rad = None;
+        let without = ppi_cells(&state, &view, Color::White);
+        view.own.heading_rad = Some(core::f32::consts::FRAC_PI_2);
+        let with = ppi_cells(&state, &view, Color::White);
+        // Own ship to the edge, east: a PPI's half width of cells and more.
+        assert!(
+            with >= without + 20,
+            "{with} white cells with a heading, {without} without"
+        );
     }
 
     #[test]

@@ -54,6 +54,8 @@ struct Last {
     echoes: Option<Arc<EchoImage>>,
     plots_m: Vec<[f32; 2]>,
     own_m: [f32; 2],
+    /// Own ship's heading, rad true: its heading line.
+    heading_rad: Option<f32>,
     /// The radar targets drawn as radar targets.
     targets: Vec<TargetData>,
     /// The AIS targets drawn, each with the radar target of its ship when associated.
@@ -78,6 +80,7 @@ impl Last {
             echoes: scan.echoes.clone(),
             plots_m: report.plots_m.clone(),
             own_m: report.own.position_m,
+            heading_rad: report.own.heading_rad,
             targets: report.targets_drawn(symbol).copied().collect(),
             ais: report
                 .ais_drawn(symbol)
@@ -328,6 +331,14 @@ fn draw(
             ("sans-serif", 16).into_font().color(&colour),
         )))?;
     }
+    // Own ship's heading line, to the range's edge, whenever a heading is known.
+    if let Some(h) = last.heading_rad {
+        let (sin, cos) = (f64::from(h.sin()), f64::from(h.cos()));
+        chart.draw_series(std::iter::once(PathElement::new(
+            vec![(0.0, 0.0), (r * sin, r * cos)],
+            WHITE.stroke_width(1),
+        )))?;
+    }
     chart.draw_series(std::iter::once(Cross::new(
         (0.0, 0.0),
         8,
@@ -475,33 +486,73 @@ mod tests {
             // 0.5 NM and 1.6 NM east of own ship.
             plots_m: vec![[926.0, 0.0], [3000.0, 0.0]],
             own_m: [0.0, 0.0],
+            heading_rad: None,
             targets: Vec::new(),
             ais: Vec::new(),
             own_alarms: Vec::new(),
             motion_known: true,
             frame_velocity_mps: [0.0, 0.0],
         };
-        // Yellow pixels (the plots' circles) of the picture drawn to `range_nm`, read from
-        // an uncompressed 24-bit BMP: pixels from the offset at byte 10, rows padded to 4.
-        let yellow = |range_nm: f64| -> usize {
-            let dir = tempfile::tempdir().unwrap();
-            let path = dir.path().join("s.bmp");
-            draw(&path, &last, &AlarmLimits::default(), Some(range_nm)).unwrap();
-            let b = std::fs::read(&path).unwrap();
-            let u32_at = |i: usize| u32::from_le_bytes(b[i..i + 4].try_into().unwrap()) as usize;
-            let (start, width, height) = (u32_at(10), u32_at(18), u32_at(22));
-            let row = (width * 3).div_ceil(4) * 4;
-            (0..height)
-                .flat_map(|y| (0..width).map(move |x| start + y * row + x * 3))
-                .filter(|&i| b[i..i + 3] == [0, 255, 255])
-                .count()
-        };
+        // Yellow pixels (the plots' circles; BGR) of the picture drawn to `range_nm`.
+        let yellow =
+            |range_nm: f64| -> usize { pixels(&last, range_nm, |_, _, bgr| bgr == [0, 255, 255]) };
         let both = yellow(2.0);
         let near_only = yellow(1.0);
         assert!(near_only > 0, "the near plot drawn");
         assert!(
             2 * near_only < both + both / 4,
             "{near_only} yellow pixels at 1 NM against {both} at 2 NM"
+        );
+    }
+
+    /// The pixels of `last` drawn to `range_nm` for which `f(x, y, [b, g, r])` holds (x
+    /// right, y up from the picture's bottom row), read from an uncompressed 24-bit BMP:
+    /// pixels from the offset at byte 10, rows padded to 4.
+    fn pixels(last: &Last, range_nm: f64, f: impl Fn(usize, usize, [u8; 3]) -> bool) -> usize {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("s.bmp");
+        draw(&path, last, &AlarmLimits::default(), Some(range_nm)).unwrap();
+        let b = std::fs::read(&path).unwrap();
+        let u32_at = |i: usize| u32::from_le_bytes(b[i..i + 4].try_into().unwrap()) as usize;
+        let (start, width, height) = (u32_at(10), u32_at(18), u32_at(22));
+        let row = (width * 3).div_ceil(4) * 4;
+        (0..height)
+            .flat_map(|y| (0..width).map(move |x| (x, y)))
+            .filter(|&(x, y)| {
+                let i = start + y * row + x * 3;
+                f(x, y, [b[i], b[i + 1], b[i + 2]])
+            })
+            .count()
+    }
+
+    /// Own ship's heading line: drawn from own ship to the edge when a heading is known.
+    #[test]
+    fn the_heading_line_is_drawn_when_own_ship_has_a_heading() {
+        let mut last = Last {
+            scan: 1,
+            echoes: None,
+            plots_m: Vec::new(),
+            own_m: [0.0, 0.0],
+            heading_rad: None,
+            targets: Vec::new(),
+            ais: Vec::new(),
+            own_alarms: Vec::new(),
+            motion_known: true,
+            frame_velocity_mps: [0.0, 0.0],
+        };
+        // White pixels in a band about the centre row, right of own ship's cross.
+        let east = |last: &Last| {
+            let half = SIZE as usize / 2;
+            pixels(last, 1.0, |x, y, bgr| {
+                bgr == [255, 255, 255] && x > half + 20 && y.abs_diff(half) < 20
+            })
+        };
+        let without = east(&last);
+        last.heading_rad = Some(core::f32::consts::FRAC_PI_2);
+        let with = east(&last);
+        assert!(
+            with > without + 100,
+            "{with} white pixels east with a heading, {without} without"
         );
     }
 
@@ -512,6 +563,7 @@ mod tests {
             echoes: None,
             plots_m: vec![[100.0, 200.0]],
             own_m: [0.0, 0.0],
+            heading_rad: None,
             targets: Vec::new(),
             ais: Vec::new(),
             own_alarms: vec!["OWN SHIP: no heading: a note long enough to take two lines on the picture at its font, so that the wrapping is drawn too".to_string()],
