@@ -901,6 +901,11 @@ fn a_given_heading_is_own_ships_with_a_gnss_on_nmea_in() {
         };
         assert!((x - y).abs() < 1e-3, "scan {}: {x} against {y}", w.scan);
         assert_eq!(a.plots_m.len(), w.plots_m.len(), "scan {}", w.scan);
+        // Shown as given, not a sensor's, either way.
+        for own in [&a.own, &w.own] {
+            let line = tracker_host::display::own_ship_line(own);
+            assert!(line.contains("MAN"), "scan {}: {line}", w.scan);
+        }
     }
     let other = track_with(
         name,
@@ -1161,7 +1166,10 @@ fn heading_cut_at(cut_s: f64, whole: &Tracked, t: &Tracked, after: After) {
                 0.01
             };
             assert!((h - whole_h).abs() < off, "{at}: {h} against {whole_h}");
-            assert!(!q.heading_lost && !q.heading_needed, "{at}");
+            assert!(
+                !q.heading_lost && !q.heading_needed && !q.heading_given,
+                "{at}"
+            );
             assert_eq!(r.plots.len(), w.plots.len(), "{at}");
             held += usize::from(r.time_s > cut_s);
         } else if r.time_s > cut_s + 10.0 + 3.0 {
@@ -1178,6 +1186,7 @@ fn heading_cut_at(cut_s: f64, whole: &Tracked, t: &Tracked, after: After) {
                 assert!(r.plots.is_empty() && !w.plots.is_empty(), "{at}");
             } else {
                 assert!(r.own.heading_rad.is_some() && !q.heading_needed, "{at}");
+                assert!(q.heading_given, "{at}: the fixed heading shown as given");
                 assert_eq!(r.plots.len(), w.plots.len(), "{at}");
             }
             lost += 1;

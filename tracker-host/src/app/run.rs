@@ -177,6 +177,8 @@ impl Run {
                 // ship's, as without `--nmea-in` (it was `HDG ---` with a GNSS giving no
                 // heading). A heading sensor lost keeps its alarm.
                 own.heading_rad = scan.placed_heading_rad;
+                own.quality.heading_given = scan.placed_heading_rad.is_some()
+                    && scan.own_ship.is_some_and(|o| o.quality.heading_given);
             }
         }
         // Own ship's heading is the plot source's own (its own ship's, its radar's sensor's,

@@ -568,13 +568,19 @@ pub fn own_ship_line(own: &crate::own_ship::OwnShip) -> String {
 /// the items and each figure joined to its word and unit by a no-break space.
 fn own_ship_words(own: &crate::own_ship::OwnShip, narrow: bool) -> String {
     let (gap, join) = if narrow { (" ", "\u{a0}") } else { ("  ", " ") };
+    let q = own.quality;
+    // A heading given (`--heading-deg`) is marked as a manual input, not a sensor's.
+    let given = if q.heading_given {
+        format!("{join}MAN")
+    } else {
+        String::new()
+    };
     let heading = own.heading_rad.map_or("---".to_string(), |h| {
         format!(
-            "{:0>5}",
+            "{:0>5}{given}",
             crate::nmea::angle_360(f64::from(h).to_degrees(), 1)
         )
     });
-    let q = own.quality;
     // Unknown motion is not a ship stopped, and a ship stopped has no course.
     let sog = own.sog_kn().map_or(format!("----{join}kn"), |kn| {
         let figure = format!("{kn:4.1}");

@@ -66,6 +66,9 @@ pub struct OwnShipQuality {
     /// Own ship stands at a position given, not measured (`--fixed-position`: a shore
     /// radar, a ship moored without GNSS), stopped ([`fixed`]).
     pub fixed_position: bool,
+    /// The heading is one given (`--heading-deg`, turned by own ship's yaw measured from
+    /// the radar picture), not a heading sensor's: shown as such (`MAN`).
+    pub heading_given: bool,
 }
 
 impl Default for OwnShipQuality {
@@ -80,6 +83,7 @@ impl Default for OwnShipQuality {
             heading_needed: false,
             heading_from_radar: false,
             fixed_position: false,
+            heading_given: false,
         }
     }
 }
@@ -128,6 +132,7 @@ impl OwnShip {
     /// radar's standing in when it is.
     pub fn stand_in_heading(&mut self, heading_rad: Option<f32>, radar: bool) {
         self.heading_rad = heading_rad;
+        self.quality.heading_given = false;
         self.quality.heading_from_radar =
             self.quality.heading_lost && radar && heading_rad.is_some();
         self.quality.heading_lost &= heading_rad.is_none();

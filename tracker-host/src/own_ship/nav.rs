@@ -826,6 +826,7 @@ impl OwnShipNav {
                 heading_needed: false,
                 heading_from_radar: false,
                 fixed_position: false,
+                heading_given: false,
             },
         })
     }

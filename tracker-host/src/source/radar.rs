@@ -615,7 +615,10 @@ impl RadarPlotSource {
                 // own ship comes from `--nmea-in` (`Run`): the heading has changed source.
                 Some((h, false)) => own.stand_in_heading(Some(h), true),
                 // The fixed heading stands in for no sensor: a lost one keeps its alarm.
-                Some((h, true)) => own.heading_rad = Some(h),
+                Some((h, true)) => {
+                    own.heading_rad = Some(h);
+                    own.quality.heading_given = true;
+                }
                 None => own.heading_rad = None,
             }
             // The radar's own heading stopped: lost, as a sensor's is, whether nothing
