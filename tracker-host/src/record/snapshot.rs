@@ -480,19 +480,8 @@ mod tests {
     /// drawn (the first version drew it on the frame's edge, as plotters clamps points).
     #[test]
     fn a_chosen_range_draws_nothing_beyond_it() {
-        let last = Last {
-            scan: 1,
-            echoes: None,
-            // 0.5 NM and 1.6 NM east of own ship.
-            plots_m: vec![[926.0, 0.0], [3000.0, 0.0]],
-            own_m: [0.0, 0.0],
-            heading_rad: None,
-            targets: Vec::new(),
-            ais: Vec::new(),
-            own_alarms: Vec::new(),
-            motion_known: true,
-            frame_velocity_mps: [0.0, 0.0],
-        };
+        // 0.5 NM and 1.6 NM east of own ship.
+        let last = with_plots(vec![[926.0, 0.0], [3000.0, 0.0]]);
         // Yellow pixels (the plots' circles; BGR) of the picture drawn to `range_nm`.
         let yellow =
             |range_nm: f64| -> usize { pixels(&last, range_nm, |_, _, bgr| bgr == [0, 255, 255]) };
@@ -503,6 +492,23 @@ mod tests {
             2 * near_only < both + both / 4,
             "{near_only} yellow pixels at 1 NM against {both} at 2 NM"
         );
+    }
+
+    /// Scan 1 with `plots_m` (m east and north of own ship at the origin), nothing else,
+    /// own ship's motion known.
+    fn with_plots(plots_m: Vec<[f32; 2]>) -> Last {
+        Last {
+            scan: 1,
+            echoes: None,
+            plots_m,
+            own_m: [0.0, 0.0],
+            heading_rad: None,
+            targets: Vec::new(),
+            ais: Vec::new(),
+            own_alarms: Vec::new(),
+            motion_known: true,
+            frame_velocity_mps: [0.0, 0.0],
+        }
     }
 
     /// The pixels of `last` drawn to `range_nm` for which `f(x, y, [b, g, r])` holds (x
@@ -528,18 +534,7 @@ mod tests {
     /// Own ship's heading line: drawn from own ship to the edge when a heading is known.
     #[test]
     fn the_heading_line_is_drawn_when_own_ship_has_a_heading() {
-        let mut last = Last {
-            scan: 1,
-            echoes: None,
-            plots_m: Vec::new(),
-            own_m: [0.0, 0.0],
-            heading_rad: None,
-            targets: Vec::new(),
-            ais: Vec::new(),
-            own_alarms: Vec::new(),
-            motion_known: true,
-            frame_velocity_mps: [0.0, 0.0],
-        };
+        let mut last = with_plots(Vec::new());
         // White pixels in a band about the centre row, right of own ship's cross.
         let east = |last: &Last| {
             let half = SIZE as usize / 2;
@@ -559,16 +554,8 @@ mod tests {
     #[test]
     fn every_extension_allowed_draws_and_a_late_failure_is_told_in_words() {
         let last = Last {
-            scan: 1,
-            echoes: None,
-            plots_m: vec![[100.0, 200.0]],
-            own_m: [0.0, 0.0],
-            heading_rad: None,
-            targets: Vec::new(),
-            ais: Vec::new(),
             own_alarms: vec!["OWN SHIP: no heading: a note long enough to take two lines on the picture at its font, so that the wrapping is drawn too".to_string()],
-            motion_known: true,
-            frame_velocity_mps: [0.0, 0.0],
+            ..with_plots(vec![[100.0, 200.0]])
         };
         // The title says which vectors are drawn: relative without own ship's motion (a new
         // user's trial read "true vectors" on a capture with no fix).
