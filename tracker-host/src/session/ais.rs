@@ -606,15 +606,19 @@ impl AisPicture {
         }
     }
 
-    /// Records the AIS targets' velocities at scan time `t` (s) and gives each one's
-    /// manoeuvre: the velocities it has had over the last
-    /// [`PairingGates::manoeuvre_window_s`], oldest first, ending with the one now (m/s).
+    /// Records the AIS targets' velocities at scan time `t` (s) and gives the manoeuvre of
+    /// each one a pair or a radar target shown as it may keep (the only ones asked): the
+    /// velocities it has had over the last [`PairingGates::manoeuvre_window_s`], oldest
+    /// first, ending with the one now (m/s).
     fn manoeuvres(
         &mut self,
         ais: &[crate::ais::AisTargetData],
         t: f64,
     ) -> BTreeMap<u32, Vec<[f32; 2]>> {
         let window_s = f64::from(self.gates.manoeuvre_window_s);
+        let kept_by: std::collections::BTreeSet<u32> = (self.pairs.values().map(|p| p.mmsi))
+            .chain(self.shown.keys().map(|(_, mmsi)| *mmsi))
+            .collect();
         let mut out = BTreeMap::new();
         let mut kept = BTreeMap::new();
         for a in ais {
@@ -638,9 +642,10 @@ impl AisPicture {
                     _ => seen.push_back((t, v)),
                 }
             }
-            let mut path: Vec<[f32; 2]> = seen.iter().map(|(_, w)| *w).collect();
-            path.push(v);
-            out.insert(a.mmsi, path);
+            if kept_by.contains(&a.mmsi) {
+                let path = seen.iter().map(|(_, w)| *w).chain(std::iter::once(v));
+                out.insert(a.mmsi, path.collect::<Vec<_>>());
+            }
             if known {
                 kept.insert(a.mmsi, seen);
             }

@@ -598,10 +598,10 @@ impl RadarPlotSource {
         // radar, flagged true in its spokes), else what head-up spokes were given.
         let mut own = own_nmea.unwrap_or_else(OwnShip::unknown);
         let mut placed_heading_rad = None;
+        let radar_heading = self.radar_heading_at(time_s);
         if own.heading_rad.is_none() {
             // The source's own: not the run's own ship's (which spokes without a heading
             // take, `heading_for`), which would come back to the run as this source's.
-            let radar_heading = self.radar_heading_at(time_s);
             let found = radar_heading
                 .map(|h| (h, false))
                 .or_else(|| self.fixed_heading_rad().map(|h| (h, true)));
@@ -650,9 +650,7 @@ impl RadarPlotSource {
             // whose sentences the capture holds (an own-ship source of the run's without a
             // heading takes it: the plots were placed with it, and it is shown and sent as
             // own ship's heading).
-            heading_sensor_rad: self
-                .radar_heading_at(time_s)
-                .or(own_nmea.and_then(|o| o.heading_rad)),
+            heading_sensor_rad: radar_heading.or(own_nmea.and_then(|o| o.heading_rad)),
             placed_heading_rad,
         }
     }
