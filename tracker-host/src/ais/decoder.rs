@@ -70,15 +70,30 @@ impl std::fmt::Display for AisCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} sentences, {} messages decoded, {} of types not used, {} sentences refused, {} undecodable, {} incomplete",
+            "{} sentences, {} messages decoded, {} of types not used, {} sentences refused{}, {} undecodable{}, {} incomplete",
             self.sentences,
             self.decoded(),
             self.ignored,
             self.rejected_total(),
+            reasons(&self.rejected),
             self.undecodable.values().sum::<u64>(),
+            reasons(&self.undecodable),
             self.assembly.incomplete
         )
     }
+}
+
+/// ` (bad checksum 738, …)`, most first, for counts by reason; empty for none. Without the
+/// reasons the text summary said only that sentences were refused (a new user's trial:
+/// the reason was in `--summary-json` alone).
+fn reasons(by_reason: &BTreeMap<String, u64>) -> String {
+    let mut all: Vec<(&String, &u64)> = by_reason.iter().filter(|(_, n)| **n > 0).collect();
+    if all.is_empty() {
+        return String::new();
+    }
+    all.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+    let words: Vec<String> = all.iter().map(|(why, n)| format!("{why} {n}")).collect();
+    format!(" ({})", words.join(", "))
 }
 
 /// The decoder. Bounded memory: the assembler's, and nothing else kept.
@@ -169,5 +184,30 @@ fn undecodable_reason(e: &aivdm::AisError) -> &'static str {
             "payload too short for its type"
         }
         _ => "payload not decodable",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The text summary says why sentences were refused, most first, as the JSON does.
+    #[test]
+    fn the_counts_say_why_sentences_were_refused() {
+        let mut d = AisDecoder::new();
+        assert!(!d.counts().to_string().contains("refused ("));
+        for _ in 0..2 {
+            assert!(d
+                .feed("!AIVDM,1,1,,A,13u?etPv2;0n:dDPwUM1U1Cb069D,0*00")
+                .is_none());
+        }
+        assert!(d
+            .feed("!AIVDM,1,1,,A,13u?etPv2;0n:dDPwUM1U1Cb069D")
+            .is_none());
+        let text = d.counts().to_string();
+        assert!(
+            text.contains("3 sentences refused (bad checksum 2, "),
+            "{text}"
+        );
     }
 }

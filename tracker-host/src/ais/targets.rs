@@ -156,15 +156,15 @@ impl AisTarget {
         self.last
             .name
             .clone()
-            .unwrap_or_else(|| self.mmsi.to_string())
+            .unwrap_or_else(|| super::mmsi_text(self.mmsi))
     }
 
     /// The target for a message: the name and the MMSI (`KESTREL (MMSI 235000001)`), or
     /// the MMSI alone while no name is known (not `235000001 (MMSI 235000001)`).
     pub fn described(&self) -> String {
         match &self.last.name {
-            Some(name) => format!("{name} (MMSI {})", self.mmsi),
-            None => self.mmsi.to_string(),
+            Some(name) => format!("{name} (MMSI {})", super::mmsi_text(self.mmsi)),
+            None => super::mmsi_text(self.mmsi),
         }
     }
 }
@@ -605,6 +605,13 @@ mod tests {
         let target = t.get(311_855_000).unwrap();
         assert_eq!(target.described(), "KESTREL (MMSI 311855000)");
         assert_eq!(target.label(), "KESTREL");
+        // Nine digits, the leading zeros kept: 002447004 is a coast station's.
+        t.report(2.0, &report(2_447_004, 50.0, 0.0, StationClass::ClassA));
+        let station = t.get(2_447_004).unwrap();
+        assert_eq!(
+            (station.label(), station.described()),
+            ("002447004".to_string(), "002447004".to_string())
+        );
     }
 
     /// A ship's name heard before its first position names it once the position comes;
@@ -632,7 +639,7 @@ mod tests {
             STATIC_WAIT_S + 2.0,
             &report(5, 50.0, 5.0, StationClass::ClassB),
         );
-        assert_eq!(t.get(5).unwrap().label(), "5");
+        assert_eq!(t.get(5).unwrap().label(), "000000005");
         // A flood of names is bounded.
         for m in 0..10_000u32 {
             t.report(f64::from(m), &named(1_000_000 + m, "X"));

@@ -513,7 +513,7 @@ impl RunReport {
         }
         if let Some(a) = &self.ais {
             s += &format!(
-                "AIS: {}; {} targets taken, {} lost, {} held at the end; {} radar/AIS pairs made, {} parted\n",
+                "AIS: {}; {} targets taken (a ship lost and heard again is taken again), {} lost, {} held at the end; {} radar/AIS pairs made, {} parted\n",
                 a.sentences, a.table.targets, a.table.lost, a.targets_now, a.pairing.paired, a.pairing.parted
             );
         }

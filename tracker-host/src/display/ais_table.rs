@@ -89,7 +89,7 @@ fn row(view: &ScanReport, state: &DisplayState, a: &AisTargetData, places: usize
         .associated_track(a.mmsi)
         .and_then(|track| view.targets.iter().find(|t| t.track == track));
     // The label is the MMSI while no name is heard: not said twice.
-    let name = if a.label == a.mmsi.to_string() {
+    let name = if a.label == crate::ais::mmsi_text(a.mmsi) {
         ""
     } else {
         a.label.as_str()
@@ -108,7 +108,7 @@ fn row(view: &ScanReport, state: &DisplayState, a: &AisTargetData, places: usize
         || (a.active && super::ais_dangerous(a, &state.limits));
     AisRow {
         cells: [
-            a.mmsi.to_string(),
+            crate::ais::mmsi_text(a.mmsi),
             name,
             format!("{:.2}", a.range_m / METRES_PER_NM),
             angle(a.bearing_rad.to_degrees()),

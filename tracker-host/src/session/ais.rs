@@ -524,7 +524,7 @@ impl AisPicture {
                 let label = self
                     .table
                     .get(mmsi)
-                    .map_or(mmsi.to_string(), |a| a.described());
+                    .map_or(crate::ais::mmsi_text(mmsi), |a| a.described());
                 let number = targets.get(&track).map_or("--".to_string(), |x| x.label());
                 self.log(format!(
                     "{}: radar target {number} (track {track}) paired with AIS {label}",
@@ -740,8 +740,9 @@ impl AisPicture {
             self.pairs.remove(&track);
             self.counts.parted += 1;
             self.log(format!(
-                "{}: track {track} and AIS {mmsi} parted ({why})",
-                self.when(t)
+                "{}: track {track} and AIS {} parted ({why})",
+                self.when(t),
+                crate::ais::mmsi_text(mmsi)
             ));
         }
     }
@@ -754,7 +755,7 @@ impl AisPicture {
                 self.log(format!(
                     "{}: track {track} and AIS {} parted ({why})",
                     self.when(t),
-                    p.mmsi
+                    crate::ais::mmsi_text(p.mmsi)
                 ));
             }
         }
