@@ -871,6 +871,31 @@ fn a_heading_in_the_capture_is_own_ships_with_nmea_in_too() {
         "a heading on {both} of {} scans",
         with.reports.len()
     );
+    // The summary says where own ship came from: the capture's NMEA, counted, its sources
+    // told as events (it said nothing: a new user's trial).
+    let (alone, with) = (alone.run.report("inproc"), with.run.report("inproc"));
+    let capture_nmea = alone.radar.as_ref().and_then(|r| r.capture_nmea.clone());
+    assert!(capture_nmea.is_some_and(|c| c.used > 0));
+    assert!(
+        alone
+            .events
+            .iter()
+            .any(|e| e.starts_with("the capture's NMEA: heading source")),
+        "{:?}",
+        alone.events
+    );
+    // The capture's AIS and the same recording's on --nmea-in: each message taken once,
+    // the AIS table as without --nmea-in (every sentence was counted twice).
+    let (a, w) = (alone.ais.unwrap(), with.ais.unwrap());
+    assert_eq!(a.heard_twice, 0);
+    let reports = a.sentences.decoded();
+    assert_eq!(w.sentences.sentences, 2 * a.sentences.sentences);
+    assert!(
+        w.heard_twice * 10 >= reports * 9 && w.heard_twice <= reports,
+        "{} of {reports} heard twice",
+        w.heard_twice
+    );
+    assert_eq!(a.table, w.table);
 }
 
 /// A moored radar's given heading (`--heading-deg`, the Garmin's spokes having none) with

@@ -7,6 +7,7 @@
 //! | [`assemble`] | multi-fragment messages joined, bounded |
 //! | [`report`] | a decoded message (by the `aivdm` crate) read into what the table keeps |
 //! | [`decoder`] | [`AisDecoder`]: lines in, reports out, everything counted |
+//! | [`duplicates`] | [`AisDuplicates`]: a message heard from two sources taken once |
 //! | [`targets`] | [`AisTargets`]: the table, extrapolation, IEC 62388 lost times, CPA/TCPA |
 //!
 //! Message types used: 1–3 (class A position), 5 (class A static and voyage), 18 and 19
@@ -19,11 +20,13 @@
 
 pub mod assemble;
 pub mod decoder;
+pub mod duplicates;
 pub mod fragment;
 pub mod report;
 pub mod targets;
 
 pub use decoder::{AisCounts, AisDecoder};
+pub use duplicates::AisDuplicates;
 
 /// An MMSI as it is written (ITU-R M.585): nine digits, its leading zeros kept, which say
 /// what it is (`00…` a coast station, `0…` a group of ships); `2447004` would be read as

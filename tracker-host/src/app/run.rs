@@ -44,6 +44,7 @@ pub struct Run {
     target_scans_in_echo: u64,
     /// AIS targets and their pairing with radar targets, once AIS is heard.
     ais: Option<AisPicture>,
+    ais_duplicates: crate::ais::AisDuplicates,
     origin: crate::origin::Origin,
     associated_data: crate::session::ais::AssociatedData,
 }
@@ -70,6 +71,7 @@ impl Run {
             targets_seen: 0,
             target_scans_in_echo: 0,
             ais: None,
+            ais_duplicates: crate::ais::AisDuplicates::default(),
             origin: crate::origin::Origin::default(),
             associated_data: crate::session::ais::AssociatedData::default(),
         }
@@ -219,8 +221,9 @@ impl Run {
         if report.time_is_utc {
             report.utc_offset_s = self.own_ship.utc_offset_s();
         }
-        let mut heard = self.plots.take_ais();
-        heard.extend(self.own_ship.take_ais());
+        let heard = self
+            .ais_duplicates
+            .merge(self.plots.take_ais(), self.own_ship.take_ais());
         if !heard.is_empty() || self.ais.is_some() {
             let (origin, data) = (self.origin, self.associated_data);
             let limits = self.session.config().alarms;
@@ -393,6 +396,8 @@ impl Run {
 pub struct AisSummary {
     /// The sentences read (from the plot source and the own-ship source together).
     pub sentences: crate::ais::AisCounts,
+    /// Messages heard from both sources (a capture's AIS and `--nmea-in`) and taken once.
+    pub heard_twice: u64,
     /// AIS targets held at the end.
     pub targets_now: usize,
     /// The table's counts (targets, lost, crowded out, own ship's reports).
@@ -411,6 +416,7 @@ impl Run {
         let sentences = sentences.filter(|s| s.sentences > 0)?;
         Some(AisSummary {
             sentences,
+            heard_twice: self.ais_duplicates.duplicates,
             targets_now: self.ais.as_ref().map_or(0, |a| a.table().len()),
             table: self
                 .ais
@@ -510,10 +516,21 @@ impl RunReport {
         }
         if let Some(r) = &self.radar {
             s += &format!("radar: {r}\n");
+            if let Some(c) = &r.capture_nmea {
+                s += &format!("own-ship NMEA in the radar capture: {c}\n");
+            }
         }
         if let Some(a) = &self.ais {
+            let twice = if a.heard_twice > 0 {
+                format!(
+                    "; {} messages heard from both the radar source and --nmea-in, taken once",
+                    a.heard_twice
+                )
+            } else {
+                String::new()
+            };
             s += &format!(
-                "AIS: {}; {} targets taken (a ship lost and heard again is taken again), {} lost, {} held at the end; {} radar/AIS pairs made, {} parted\n",
+                "AIS: {}{twice}; {} targets taken (a ship lost and heard again is taken again), {} lost, {} held at the end; {} radar/AIS pairs made, {} parted\n",
                 a.sentences, a.table.targets, a.table.lost, a.targets_now, a.pairing.paired, a.pairing.parted
             );
         }

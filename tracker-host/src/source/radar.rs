@@ -101,6 +101,11 @@ pub struct RadarCounts {
     pub spokes_heading_added: u64,
     /// NMEA lines found in the capture.
     pub nmea_lines: u64,
+    /// What became of the capture's own-ship sentences (its AIS is counted with AIS), when
+    /// it holds NMEA: without it the summary did not say where own ship's heading came
+    /// from (a new user's trial on the 4G capture).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub capture_nmea: Option<crate::own_ship::nav::NavCounts>,
     /// Spokes of a second brand in the same capture (only the first brand met is read).
     pub other_brand_spokes: u64,
     /// Spokes pushed through the extractor.
@@ -398,6 +403,7 @@ impl RadarPlotSource {
         c.spoke_packets_refused = stats.bad_packets();
         (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
+        c.capture_nmea = (c.nmea_lines > 0).then(|| self.nav.counts().clone());
         c
     }
 
@@ -854,8 +860,13 @@ impl PlotSource for RadarPlotSource {
         Some(self.counts())
     }
 
+    /// The spoke streams' events, and the capture's own-ship NMEA's (a change of source,
+    /// sources that disagree), marked as the capture's.
     fn events(&self) -> Vec<String> {
-        self.spokes.events()
+        let mut events = self.spokes.events();
+        let nmea = self.nav.events();
+        events.extend(nmea.into_iter().map(|e| format!("the capture's NMEA: {e}")));
+        events
     }
 
     fn is_live(&self) -> bool {
