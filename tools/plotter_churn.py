@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Counts what a chart plotter sees of the tracker's targets: listens on a UDP port for the
 `--nmea-out udp:127.0.0.1:PORT` stream and prints the TTM reports sent as tracked or
-acquiring (T/Q), the ends (L), and the ends whose number came back (sent again after its
-L: a symbol that went off the plotter and returned). Stops 3 s after the stream does.
+acquiring (T/Q), the ends (L), and the ends whose number was sent again after its L (a
+symbol that went off the plotter and returned, or a freed number given to a new target: the
+stream alone cannot tell). Stops 3 s after the stream does.
 
     python3 tools/plotter_churn.py 29111 &
     target/release/tracker-host --link inproc demo --ais-truth ... --speedup 60 \

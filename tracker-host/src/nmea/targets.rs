@@ -6,10 +6,10 @@
 //! [`crate::session::numbers`]), the same the display and the table show: tracked ones as
 //! `T`, acquiring ones (a second plot) as `Q`, and a target that ends (lost, or an
 //! acquisition that failed) once as `L`, after which its number is free. A target held
-//! hidden in another's echo ([`ScanReport::in_echo`]), not drawn on the display, stays on
-//! the plotter as tracked under its number and its last name, moving with the echo it
-//! shares: it is not lost, and a plotter told so showed it go and return. When the run
-//! ends (the source's end, `q`, Ctrl-C) every target still on the plotter is sent as `L`:
+//! hidden in another's echo ([`ScanReport::in_echo`]), not drawn on the display, is not
+//! sent while hidden and not sent as lost either: the plotter keeps it as last sent, and
+//! gets it again under its number when it is seen apart (or its `L` if it is lost). When
+//! the run ends (the source's end, `q`, Ctrl-C) every target still on the plotter is sent as `L`:
 //! a plotter keeps a target it was not told of as live until its own timeout (OpenCPN
 //! drew the last scan's targets on, tried).
 //!
@@ -312,7 +312,8 @@ impl TargetsOut {
 
     /// One scan's sentences: ends first, then tracked and acquiring targets (a confirmed
     /// target whose motion's trend is not known yet is sent as acquiring, `Q`, as IEC 62388
-    /// draws it); targets still waiting for a number are not sent. Each target goes as
+    /// draws it); targets still waiting for a number, and targets held hidden in another's
+    /// echo, are not sent. Each target goes as
     /// `TTM` and `TLL`, `TTM` alone while own ship has had no position fix and the origin
     /// is not its position ([`TargetsOut::with_origin_known`]).
     ///
@@ -330,15 +331,15 @@ impl TargetsOut {
         // on sending TLL, from own ship's estimate, as RMC's status `V` tells.)
         let position_unknown = report.own.quality.no_fix_yet && !self.origin_known;
         let mut out = Vec::new();
-        // A target held hidden in another's echo (`H`) is not drawn on the display, but it
-        // is not lost either: the plotter keeps it as tracked, moving with the echo it
-        // shares. Told `L` then, it went off and came back one or a few scans later: 410
-        // times in 20 minutes of the Solent (a new user's trial), a plotter's symbols
-        // blinking.
+        // A target held hidden in another's echo (`report.in_echo`) is not sent: not drawn
+        // on the display, its coasting track 60–150 m from the echo would be a second
+        // symbol there; nor lost, so not `L` (told so, it went off the plotter and came
+        // back one or a few scans later: 410 times in 20 minutes of the Solent, a new
+        // user's trial, the symbols blinking). It stays on the plotter as last sent, where
+        // the two ships went into one echo, for at most the hold (16 scans).
         let groups = [
             (&report.ended, 'L'),
             (&report.targets, 'T'),
-            (&report.in_echo, 'H'),
             (&report.acquiring, 'Q'),
         ];
         for (targets, group) in groups {
@@ -349,10 +350,9 @@ impl TargetsOut {
                 if group == 'L' && !self.on_plotter.contains_key(&number) {
                     continue;
                 }
-                // An end, and a hidden target, go under the name last sent: a pair is
-                // parted when its track ends or is hidden, and the plotter would see the
-                // ship renamed `TGTnn`.
-                let last_name = matches!(group, 'L' | 'H')
+                // An end goes under the name last sent: a pair is parted when its track
+                // ends, and the plotter would see the ship renamed `TGTnn` as it goes.
+                let last_name = (group == 'L')
                     .then(|| self.on_plotter.get(&number))
                     .flatten()
                     .map(|(name, _)| name.clone());
@@ -361,11 +361,10 @@ impl TargetsOut {
                     None => ais_name(report, d.track),
                 };
                 let data = *d;
-                let status = if group == 'H' { 'T' } else { group };
                 let t = PlotterTarget {
                     number,
                     name,
-                    status: plotter_status(status, &data),
+                    status: plotter_status(group, &data),
                     data,
                 };
                 self.push_target(

@@ -142,7 +142,7 @@ pub struct ScanReport {
     /// Targets of firm tracks whose target was hidden in a plot another firm track took
     /// ([`Association::TwoStageUnresolved`]) and has not been seen apart from it since, as
     /// predicted: held by the tracker with their numbers, not among `targets` (not drawn,
-    /// not paired with AIS; kept on a plotter as tracked, under its number) until their
+    /// not paired with AIS; not sent to a plotter, nor told lost to it) until their
     /// target is seen apart again or they are lost (the loss is told as any other). A
     /// target whose CPA/TCPA alarm is raised is not among them (it is drawn with its
     /// alarm) unless the target drawn nearest it alarms too.
