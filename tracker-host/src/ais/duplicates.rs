@@ -1,10 +1,10 @@
 //! The same AIS message heard from two sources taken once: a radar capture's recorded AIS
-//! and the same recording on `--nmea-in` (a new user's trial counted every sentence twice),
-//! or two receivers on one bridge. A message from one source equal in every field the
-//! table keeps to one the other source gave within [`DUPLICATE_WINDOW_S`] is the same
-//! transmission (a ship's reports differ in position or time stamp from one to the next; a
-//! moored class A ship repeats itself every 3 minutes, ITU-R M.1371-5 Table 1), and is
-//! counted, not taken again.
+//! and the same recording on `--nmea-in` (a new user's trial counted every sentence twice).
+//! (Several `--nmea-in` sources are one source here: an AIS stream heard on two of them is
+//! still taken twice.) A message from one source equal in every field the table keeps,
+//! the position's UTC second included ([`AisReport::utc_second`]), to one the other source
+//! gave within [`DUPLICATE_WINDOW_S`] is the same transmission (a ship's reports differ in
+//! time stamp from one to the next, under a minute apart), and is counted, not taken again.
 
 use std::collections::VecDeque;
 
@@ -13,8 +13,9 @@ use super::AisReport;
 /// How far apart in time two sources may hear one message, s.
 pub const DUPLICATE_WINDOW_S: f64 = 30.0;
 
-/// Messages remembered at most (a flood of them forgets the oldest first).
-pub const MAX_REMEMBERED: usize = 2_000;
+/// Messages remembered at most (a flood of them forgets the oldest first): 30 s of a busy
+/// strait's 100 messages a second, with room.
+pub const MAX_REMEMBERED: usize = 8_000;
 
 /// Which source a report came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -120,6 +121,22 @@ mod tests {
         let taken = d.merge(Vec::new(), vec![(150.0, report(2, 50.0))]);
         assert_eq!(taken.len(), 1);
         assert_eq!(d.duplicates, 2);
+    }
+
+    /// A ship standing still reports the same fields every 10 s, each with its own time
+    /// stamp: a report one source missed is new when the other gives it.
+    #[test]
+    fn a_ship_standing_still_is_told_apart_by_its_time_stamp() {
+        let mut d = AisDuplicates::default();
+        let at = |second| AisReport {
+            utc_second: Some(second),
+            ..report(7, 50.0)
+        };
+        let taken = d.merge(vec![(100.0, at(40))], vec![(100.5, at(40))]);
+        assert_eq!((taken.len(), d.duplicates), (1, 1));
+        // The capture missed the next; --nmea-in's is new, and so is the one after.
+        let taken = d.merge(vec![(120.0, at(0))], vec![(110.0, at(50)), (120.2, at(0))]);
+        assert_eq!((taken.len(), d.duplicates), (2, 2));
     }
 
     #[test]

@@ -27,6 +27,8 @@ pub mod targets;
 
 pub use decoder::{AisCounts, AisDecoder};
 pub use duplicates::AisDuplicates;
+pub use report::{AisReport, StationClass};
+pub use targets::{AisTarget, AisTargetData, AisTargets};
 
 /// An MMSI as it is written (ITU-R M.585): nine digits, its leading zeros kept, which say
 /// what it is (`00…` a coast station, `0…` a group of ships); `2447004` would be read as
@@ -34,5 +36,3 @@ pub use duplicates::AisDuplicates;
 pub fn mmsi_text(mmsi: u32) -> String {
     format!("{mmsi:09}")
 }
-pub use report::{AisReport, StationClass};
-pub use targets::{AisTarget, AisTargetData, AisTargets};

@@ -53,6 +53,10 @@ pub struct AisReport {
     /// the reference point), the hull's centre from it, m forward and to starboard; only
     /// when all four are given.
     pub centre_from_antenna_m: Option<(f32, f32)>,
+    /// The UTC second the position was taken (1–3, 18, 19; ITU-R M.1371-5 Table 48, time
+    /// stamp): tells two reports of a ship that stands still apart
+    /// ([`super::duplicates`]).
+    pub utc_second: Option<u8>,
 }
 
 impl AisReport {
@@ -105,6 +109,7 @@ impl AisReport {
                 r.msg_type = p.message_type;
                 r.class = Some(StationClass::ClassA);
                 r.rot_deg_min = p.rate_of_turn.degrees_per_minute();
+                r.utc_second = utc_second(p.timestamp);
             }
             AisMessage::StaticVoyageData(s) => {
                 r.msg_type = 5;
@@ -113,13 +118,15 @@ impl AisReport {
                 r.call_sign = text(s.call_sign.as_str());
                 hull!(r, s);
             }
-            AisMessage::PositionReportClassB(_) => {
+            AisMessage::PositionReportClassB(b) => {
                 r.msg_type = 18;
                 r.class = Some(StationClass::ClassB);
+                r.utc_second = utc_second(b.timestamp);
             }
             AisMessage::PositionReportClassBExtended(s) => {
                 r.msg_type = 19;
                 r.class = Some(StationClass::ClassB);
+                r.utc_second = utc_second(s.timestamp);
                 r.name = text(s.name.as_str());
                 hull!(r, s);
             }
@@ -141,6 +148,14 @@ impl AisReport {
             _ => return None,
         }
         Some(r)
+    }
+}
+
+/// The UTC second of a time stamp, when it is one (60–63 say why there is none).
+fn utc_second(t: aivdm::Timestamp) -> Option<u8> {
+    match t {
+        aivdm::Timestamp::Second(s) => Some(s),
+        _ => None,
     }
 }
 

@@ -523,7 +523,7 @@ impl RunReport {
         if let Some(a) = &self.ais {
             let twice = if a.heard_twice > 0 {
                 format!(
-                    "; {} messages heard from both the radar source and --nmea-in, taken once",
+                    "; {} messages heard from both the plot source (a radar capture) and --nmea-in, taken once",
                     a.heard_twice
                 )
             } else {

@@ -403,7 +403,7 @@ impl RadarPlotSource {
         c.spoke_packets_refused = stats.bad_packets();
         (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
-        c.capture_nmea = (c.nmea_lines > 0).then(|| self.nav.counts().clone());
+        c.capture_nmea = Some(self.nav.counts().clone()).filter(|n| n.lines > 0);
         c
     }
 
