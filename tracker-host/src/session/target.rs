@@ -370,10 +370,13 @@ pub fn shown_status(t: &TargetData) -> &'static str {
     }
 }
 
-/// A confirmed target whose motion's trend is not known yet: shown as acquiring
-/// ([`shown_status`]).
+/// A firm target (confirmed, or coasting through a miss) whose motion's trend is not known
+/// yet: shown as acquiring ([`shown_status`]). Shown `coasting`, one that missed its
+/// second scan in a row then went from the display without an alarm (its acquisition
+/// failed, [`crate::session::numbers::ACQUISITION_MISSES`]): on the 3G capture's change of
+/// range scale, a new user read them as tracked targets lost silently.
 pub fn is_acquiring(t: &TargetData) -> bool {
-    t.status == TrackStatus::Confirmed && !t.trend_known
+    t.status.is_firm() && !t.trend_known
 }
 
 /// The status as a navigator reads it.
@@ -451,6 +454,10 @@ mod tests {
         assert_eq!(shown_status(&t), "tracked");
         t.status = TrackStatus::Coasting;
         assert_eq!(shown_status(&t), "coasting");
+        // Coasting before its trend is known: still acquiring (it goes without an alarm
+        // if its acquisition fails).
+        t.trend_known = false;
+        assert_eq!(shown_status(&t), "acquiring");
         assert_eq!(format!("{:.1}", tcpa_minutes(-2.0)), "0.0");
         assert_eq!(format!("{:.1}", tcpa_minutes(-4.0)), "-0.1");
         assert_eq!(format!("{:.1}", tcpa_minutes(90.0)), "1.5");
