@@ -471,12 +471,12 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     };
     // The run's state first, where a narrow terminal cannot cut it off.
     let run_state = if state.ended {
-        "END OF INPUT: q to quit "
+        "END OF INPUT: q to quit"
     } else if state.paused && state.scans_since_paused > 0 {
         // A live radar tracked on behind the picture.
-        &format!("PAUSED +{} ", state.scans_since_paused)
+        &format!("PAUSED +{}", state.scans_since_paused)
     } else if state.paused {
-        "PAUSED "
+        "PAUSED"
     } else {
         ""
     };
@@ -512,7 +512,11 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     // even they are too long (targets held in echoes, at 80 columns), without the link. (A
     // narrow pane's line wraps.)
     let inner = usize::from(area.width.saturating_sub(2));
-    let fits = |line: &str| "ARPA ".len() + run_state.len() + line.chars().count() <= inner;
+    // Apart from the counts by a blank outside its reverse video too: without colours
+    // (tmux, a log of the screen) `q to quit scan 5` read as one phrase (a new user's trial).
+    let sep = if run_state.is_empty() { "" } else { " | " };
+    let fits =
+        |line: &str| "ARPA ".len() + run_state.len() + sep.len() + line.chars().count() <= inner;
     if !fits(&first) {
         first = counts(" ", "", &state.link, "trk", "acq", "held");
     }
@@ -526,6 +530,7 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
                 run_state,
                 Style::default().add_modifier(Modifier::REVERSED | Modifier::BOLD),
             ),
+            Span::raw(sep),
             Span::raw(first),
         ]),
         Line::raw(own_ship_words(&view.own, narrow)),
@@ -2691,12 +2696,15 @@ pub(crate) mod tests {
         assert!(!header(&state).contains("END OF INPUT"));
         state.ended = true;
         let first = header(&state);
-        assert!(first.contains("ARPA END OF INPUT: q to quit"), "{first}");
+        assert!(
+            first.contains("ARPA END OF INPUT: q to quit | scan"),
+            "{first}"
+        );
         state.ended = false;
         state.paused = true;
-        assert!(header(&state).contains("ARPA PAUSED scan"));
+        assert!(header(&state).contains("ARPA PAUSED | scan"));
         state.scans_since_paused = 12;
-        assert!(header(&state).contains("ARPA PAUSED +12 scan"));
+        assert!(header(&state).contains("ARPA PAUSED +12 | scan"));
     }
 
     #[test]

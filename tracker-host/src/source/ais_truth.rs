@@ -282,9 +282,10 @@ impl AisTruthSource {
     /// own ship's track.
     pub fn open(o: &AisTruthOptions, origin: &Origin) -> anyhow::Result<Self> {
         let tracks = AisTracks::read(&o.path, origin)?;
-        let (own_first, own_last) = tracks
-            .vessel_span_s(o.own_mmsi)
-            .with_context(|| format!("own ship {}: not in {}", o.own_mmsi, o.path.display()))?;
+        let (own_first, own_last) = tracks.vessel_span_s(o.own_mmsi).with_context(|| {
+            let mmsi = crate::ais::mmsi_text(o.own_mmsi);
+            format!("own ship {mmsi}: not in {}", o.path.display())
+        })?;
         let (file_first, _) = tracks.span_s();
         let start = o
             .start_s
@@ -294,7 +295,7 @@ impl AisTruthSource {
         if end <= start {
             bail!(
                 "own ship {} has no track between {start:.0} and {end:.0} s",
-                o.own_mmsi
+                crate::ais::mmsi_text(o.own_mmsi)
             );
         }
         let own_first_course_rad = tracks
