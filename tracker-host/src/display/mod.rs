@@ -512,8 +512,8 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     // even they are too long (targets held in echoes, at 80 columns), without the link. (A
     // narrow pane's line wraps.)
     let inner = usize::from(area.width.saturating_sub(2));
-    // Apart from the counts by a blank outside its reverse video too: without colours
-    // (tmux, a log of the screen) `q to quit scan 5` read as one phrase (a new user's trial).
+    // Set apart from the counts by a bar outside its reverse video: without colours (tmux,
+    // a log of the screen) `q to quit scan 5` read as one phrase (a new user's trial).
     let sep = if run_state.is_empty() { "" } else { " | " };
     let fits =
         |line: &str| "ARPA ".len() + run_state.len() + sep.len() + line.chars().count() <= inner;

@@ -9,9 +9,9 @@
 //! hidden in another's echo ([`ScanReport::in_echo`]), not drawn on the display, is not
 //! sent while hidden and not sent as lost either: the plotter keeps it as last sent, and
 //! gets it again under its number when it is seen apart (or its `L` if it is lost). When
-//! the run ends (the source's end, `q`, Ctrl-C) every target still on the plotter is sent as `L`:
-//! a plotter keeps a target it was not told of as live until its own timeout (OpenCPN
-//! drew the last scan's targets on, tried).
+//! the run ends (the source's end, `q`, Ctrl-C) every target still on the plotter is sent
+//! as `L`: a plotter keeps a target it was not told of as live until its own timeout
+//! (OpenCPN drew the last scan's targets on, tried).
 //!
 //! Course and speed are true (over ground) when own ship's motion is known; otherwise they
 //! are sent relative and marked `R`.
@@ -313,9 +313,9 @@ impl TargetsOut {
     /// One scan's sentences: ends first, then tracked and acquiring targets (a confirmed
     /// target whose motion's trend is not known yet is sent as acquiring, `Q`, as IEC 62388
     /// draws it); targets still waiting for a number, and targets held hidden in another's
-    /// echo, are not sent. Each target goes as
-    /// `TTM` and `TLL`, `TTM` alone while own ship has had no position fix and the origin
-    /// is not its position ([`TargetsOut::with_origin_known`]).
+    /// echo, are not sent. Each target goes as `TTM` and `TLL`, `TTM` alone while own ship
+    /// has had no position fix and the origin is not its position
+    /// ([`TargetsOut::with_origin_known`]).
     ///
     /// Times are the scan's when its clock is UTC, on the bridge's time
     /// ([`ScanReport::utc_s`]: a live NMEA source's UTC, whatever this computer's clock
@@ -342,17 +342,17 @@ impl TargetsOut {
             (&report.targets, 'T'),
             (&report.acquiring, 'Q'),
         ];
-        for (targets, group) in groups {
+        for (targets, status) in groups {
             for d in targets {
                 let Some(number) = d.number else { continue };
                 // An end is sent only for a target on the plotter (a failed acquisition had
                 // its `L` then).
-                if group == 'L' && !self.on_plotter.contains_key(&number) {
+                if status == 'L' && !self.on_plotter.contains_key(&number) {
                     continue;
                 }
                 // An end goes under the name last sent: a pair is parted when its track
                 // ends, and the plotter would see the ship renamed `TGTnn` as it goes.
-                let last_name = (group == 'L')
+                let last_name = (status == 'L')
                     .then(|| self.on_plotter.get(&number))
                     .flatten()
                     .map(|(name, _)| name.clone());
@@ -364,7 +364,7 @@ impl TargetsOut {
                 let t = PlotterTarget {
                     number,
                     name,
-                    status: plotter_status(group, &data),
+                    status: plotter_status(status, &data),
                     data,
                 };
                 self.push_target(
@@ -374,7 +374,7 @@ impl TargetsOut {
                     report.own.position_m,
                     position_unknown,
                 );
-                if group == 'L' {
+                if status == 'L' {
                     self.counts.lost_sent += 1;
                     self.on_plotter.remove(&number);
                 } else {
