@@ -131,11 +131,11 @@ pub fn render(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
     let compact = area.width < full;
     let bold = |h: &'static str| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD));
     let header = if compact {
-        Row::new(["NAME", "RNG", "BRG", "COG", "SOG", "CPA", "TCPA"].map(bold))
+        Row::new(["TGT NAME", "RNG", "BRG", "COG", "SOG", "CPA", "TCPA"].map(bold))
     } else {
         Row::new(
             [
-                "MMSI", "NAME", "RNG NM", "BRG °T", "COG °T", "SOG kn", "CPA NM", "TCPA min",
+                "MMSI", "TGT NAME", "RNG NM", "BRG °T", "COG °T", "SOG kn", "CPA NM", "TCPA min",
                 "AGE s",
             ]
             .map(bold),

@@ -680,6 +680,14 @@ fn render_ppi(frame: &mut Frame, area: Rect, state: &DisplayState, view: &ScanRe
             ctx.draw(&Points::new(&plots, Color::Yellow));
             ctx.layer();
             ctx.draw(&Points::new(&trails, Color::Gray));
+            // Tracks being acquired (a second plot, no number yet): a small grey circle
+            // without a vector (IEC 62388: a target in acquisition has none). The header's
+            // acquiring count counts them, and nothing on the PPI told them from the plots
+            // (two new users' trials).
+            for t in &view.acquiring {
+                let (x, y) = rel(t.position_m);
+                ctx.draw(&Circle::new(x, y, scale / 90.0, Color::Gray));
+            }
             for t in view.targets_drawn(state.associated) {
                 let (x, y) = rel(t.position_m);
                 let v = drawn_velocity(state, view, t.velocity_mps);
@@ -1951,6 +1959,24 @@ pub(crate) mod tests {
             with >= without + 20,
             "{with} white cells with a heading, {without} without"
         );
+    }
+
+    #[test]
+    fn tracks_being_acquired_are_drawn_without_a_number() {
+        let mut view = eleventh_scan();
+        let state = without_alarms();
+        // Two tracks with a second plot, away from the targets.
+        for off in [[2000.0, -3000.0], [-4000.0, 1500.0]] {
+            let mut t = view.targets[0];
+            let own = view.own.position_m;
+            t.position_m = [own[0] + off[0], own[1] + off[1]];
+            t.number = None;
+            view.acquiring.push(t);
+        }
+        let with = ppi_cells(&state, &view, Color::Gray);
+        view.acquiring.clear();
+        let without = ppi_cells(&state, &view, Color::Gray);
+        assert!(with > without, "{with} grey cells with, {without} without");
     }
 
     #[test]

@@ -25,6 +25,9 @@ use crate::source::SourceScan;
 
 const SIZE: u32 = 1000;
 
+/// A track being acquired: light grey (the range rings are darker).
+const ACQUIRING: RGBColor = RGBColor(170, 170, 170);
+
 /// The file name extensions the snapshot can be written as: the image formats plotters'
 /// bitmap backend encodes as built here (`image` with `png`, `jpeg`, `bmp`).
 pub const EXTENSIONS: [&str; 4] = ["png", "jpg", "jpeg", "bmp"];
@@ -58,6 +61,8 @@ struct Last {
     heading_rad: Option<f32>,
     /// The radar targets drawn as radar targets.
     targets: Vec<TargetData>,
+    /// Where the tracks being acquired are (a second plot, no number yet), local m.
+    acquiring_m: Vec<[f32; 2]>,
     /// The AIS targets drawn, each with the radar target of its ship when associated.
     ais: Vec<(AisTargetData, Option<TargetData>)>,
     /// Own ship's alarms ([`crate::own_ship::OwnShip::alarms`]): why the picture may be
@@ -82,6 +87,7 @@ impl Last {
             own_m: report.own.position_m,
             heading_rad: report.own.heading_rad,
             targets: report.targets_drawn(symbol).copied().collect(),
+            acquiring_m: report.acquiring.iter().map(|t| t.position_m).collect(),
             ais: report
                 .ais_drawn(symbol)
                 .map(|a| {
@@ -302,6 +308,18 @@ fn draw(
             )))?;
         }
     }
+    // Tracks being acquired: a small grey circle, no number, no vector (IEC 62388), as the
+    // display draws them.
+    for &p in &last.acquiring_m {
+        let (x, y) = rel(p);
+        if within((x, y)) {
+            chart.draw_series(std::iter::once(Circle::new(
+                (x, y),
+                11,
+                ACQUIRING.stroke_width(1),
+            )))?;
+        }
+    }
     for t in &last.targets {
         let colour = if t.dangerous(limits) { RED } else { CYAN };
         let (x, y) = rel(t.position_m);
@@ -504,6 +522,7 @@ mod tests {
             own_m: [0.0, 0.0],
             heading_rad: None,
             targets: Vec::new(),
+            acquiring_m: Vec::new(),
             ais: Vec::new(),
             own_alarms: Vec::new(),
             motion_known: true,
@@ -548,6 +567,24 @@ mod tests {
         assert!(
             with > without + 100,
             "{with} white pixels east with a heading, {without} without"
+        );
+    }
+
+    #[test]
+    fn tracks_being_acquired_are_drawn_without_a_number() {
+        // Grey lighter than the range rings' (90), however the ring's edge is shaded.
+        let grey = |last: &Last| {
+            pixels(last, 1.0, |_, _, [b, g, r]| {
+                b == g && g == r && (120..=200).contains(&r)
+            })
+        };
+        let mut last = with_plots(Vec::new());
+        let without = grey(&last);
+        last.acquiring_m = vec![[300.0, 400.0], [-600.0, 100.0]];
+        let with = grey(&last);
+        assert!(
+            with >= without + 16,
+            "{with} grey pixels with, {without} without"
         );
     }
 
