@@ -11,6 +11,7 @@ use super::{own_ship_source, sinks, Outputs, OwnShipOptions};
 use crate::link::Client;
 use crate::nmea::InSpec;
 use crate::origin::Origin;
+use crate::own_ship::recording::RecordedTrack;
 use crate::radar::RadarSpec;
 use crate::session::{Session, SessionConfig, PLOT_SIGMA_M};
 use crate::source::plots_file::PlotsFileSource;
@@ -76,6 +77,9 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     // The capture's first spoke, s since 1970: the day an NMEA recording's sentences
     // without a date fall on.
     let mut capture_s = None;
+    // The NMEA recording on `--nmea-in` with a capture, read once here: its first fix may
+    // be the origin, and its times before its first date fall on the capture's day.
+    let mut recording = None;
     let (source, origin, sigma_m): (Box<dyn PlotSource>, Origin, f32) = match &o.input {
         TrackInput::Plots {
             plots,
@@ -127,15 +131,18 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             };
             // … else an NMEA recording's on `--nmea-in` (a capture without NMEA: own ship
             // far from the default origin had every plot refused).
-            let recording_fix = || match &o.own_ship.nmea_in {
-                Some(InSpec::File(path)) => {
-                    crate::own_ship::recording::RecordedTrack::read(path, &o.own_ship.nmea)
-                        .ok()
-                        .map(|track| track.first_position())
-                }
-                _ => None,
-            };
-            let first_fix = survey.first_fix.or_else(recording_fix);
+            if let Some(InSpec::File(path)) = &o.own_ship.nmea_in {
+                recording = match survey.first_spoke_s {
+                    Some(t) => read_on_capture_day(path, &o.own_ship.nmea, t),
+                    None if survey.first_fix.is_none() => {
+                        RecordedTrack::read(path, &o.own_ship.nmea).ok()
+                    }
+                    None => None,
+                };
+            }
+            let first_fix = survey
+                .first_fix
+                .or_else(|| recording.as_ref().map(RecordedTrack::first_position));
             origin_known |= first_fix.is_some();
             capture_s = survey.first_spoke_s;
             let origin = o.own_ship.origin.or(first_fix).unwrap_or_default();
@@ -153,8 +160,8 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     // the capture's day's, not today's: today's put a log of the capture's own voyage
     // years after its scans, and own ship had no fix on any.
     let mut own_ship_dated = o.own_ship.clone();
-    if let (Some(t), Some(InSpec::File(path))) = (capture_s, &o.own_ship.nmea_in) {
-        own_ship_dated.nmea.provisional_day = undated_day(path, &o.own_ship.nmea, t);
+    if let (Some(t), Some(InSpec::File(_))) = (capture_s, &o.own_ship.nmea_in) {
+        own_ship_dated.nmea.provisional_day = undated_day(recording.as_ref(), t);
     }
     let own_ship = own_ship_source(&own_ship_dated, origin)?;
     let config = SessionConfig {
@@ -169,23 +176,35 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
         .with_associated_data(o.outputs.associated_data))
 }
 
+/// The NMEA recording at `path` with its times before its first date on the day of
+/// `capture_s` (s since 1970, a capture's first spoke); `None` when it has no fix or cannot
+/// be read.
+fn read_on_capture_day(
+    path: &std::path::Path,
+    nmea: &crate::own_ship::NmeaOptions,
+    capture_s: f64,
+) -> Option<RecordedTrack> {
+    let on_day = crate::own_ship::NmeaOptions {
+        provisional_day: crate::own_ship::clock::day_of_s(capture_s),
+        ..nmea.clone()
+    };
+    RecordedTrack::read(path, &on_day).ok()
+}
+
 /// The day (days since 1970) an NMEA recording's times before its first date fall on when
-/// it is played with a capture whose first spoke is at `capture_s` (s since 1970): the
+/// it is played with a capture whose first spoke is at `capture_s` (s since 1970), from
+/// `track`, the recording read on the capture's day ([`read_on_capture_day`]): the
 /// capture's day, or the day either side of it when that puts the recording's first fix
 /// nearer the capture (a capture begun at 23:58 and a log at 00:01). A recording that has
 /// a date, or no fix, is not moved by it.
-fn undated_day(path: &std::path::Path, nmea: &crate::own_ship::NmeaOptions, capture_s: f64) -> i64 {
+fn undated_day(track: Option<&RecordedTrack>, capture_s: f64) -> i64 {
     use crate::own_ship::clock::{day_of_s, DAY_S};
     let day = day_of_s(capture_s);
-    let on_day = crate::own_ship::NmeaOptions {
-        provisional_day: day,
-        ..nmea.clone()
-    };
     // Only across midnight: a recording days apart (another voyage, dated) is not moved.
     let across = |d: f64| (DAY_S / 2.0..1.5 * DAY_S).contains(&d);
-    match crate::own_ship::recording::RecordedTrack::read(path, &on_day) {
-        Ok(track) if across(track.start_s() - capture_s) => day - 1,
-        Ok(track) if across(capture_s - track.start_s()) => day + 1,
+    match track {
+        Some(track) if across(track.start_s() - capture_s) => day - 1,
+        Some(track) if across(capture_s - track.start_s()) => day + 1,
         _ => day,
     }
 }
@@ -209,6 +228,12 @@ mod tests {
             path
         };
         let nmea = crate::own_ship::NmeaOptions::default();
+        let undated_day = |path: &std::path::Path, nmea, capture_s| {
+            undated_day(
+                read_on_capture_day(path, nmea, capture_s).as_ref(),
+                capture_s,
+            )
+        };
         let day = 16_726; // 2015-10-18
         let at = |d: i64, h: f64| d as f64 * 86_400.0 + h * 3600.0;
         // A capture begun at 23:58, a log at 00:01: the next day.
