@@ -204,3 +204,27 @@ fn merged_targets_are_both_tracked_again_soon_after_they_separate() {
         exchanged.len()
     );
 }
+
+/// The demo's merging scenario (40 targets, 10 minutes, as `demo --scenario merging` and the
+/// Stone Soup comparison run it), seeds 1–8: track swaps at most 2 in all, none on seeds 2
+/// and 3 (2 measured on 2026-12-07, on seeds 4 and 6; 5 before a firm track left to a
+/// tentative track as settled a plot it held far better, 2 on seed 2 and 1 on seed 3, where
+/// a just-confirmed track that missed its own plot took the neighbour's at acquisition and
+/// the two tracks exchanged ships; Stone Soup's 49, docs/stonesoup.md).
+#[test]
+fn ships_in_company_keep_their_tracks_from_acquisition() {
+    let mut swaps = Vec::new();
+    for seed in 1..=8 {
+        let options =
+            DemoOptions::new(ScenarioKind::Merging, 40, seed, 600.0, FilterKind::KalmanCv);
+        let mut demo =
+            demo::start(Client::new(Box::new(InprocTransport::new())), &options).unwrap();
+        while demo.step().unwrap().is_some() {}
+        let scores = demo.report("inproc").scores.expect("scored");
+        swaps.push(scores.track_swaps);
+    }
+    println!("merging, 40 targets, seeds 1–8: track swaps {swaps:?}");
+    assert_eq!(swaps[1], 0, "seed 2");
+    assert_eq!(swaps[2], 0, "seed 3");
+    assert!(swaps.iter().sum::<u32>() <= 2, "{swaps:?}");
+}

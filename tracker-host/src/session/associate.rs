@@ -14,7 +14,9 @@
 //!
 //! [`Association::TwoStage`] does this twice: the **firm** tracks (confirmed
 //! and coasting) take their plots first, the tentative tracks then share what is left, so a
-//! new track on a clutter plot never takes a plot from an established one. Every plot no
+//! new track on a clutter plot never takes a plot from an established one; only a plot a
+//! tentative track as settled as the firm one explains far better is left to it
+//! ([`CEDE_MARGIN`], [`CEDE_WIDTH`]): two ships in company each keep their own. Every plot no
 //! track took starts a new tentative track, as Stone Soup's initiator does: a ship that
 //! comes out of a neighbour's echo (two ships in one resolution cell give one plot) is
 //! acquired on its first plot of its own, however near the neighbour's track it still is.
@@ -52,7 +54,8 @@ const MAX_OWN_D2: f64 = 1e6;
 /// How plots are associated and tracks started.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Association {
-    /// Firm tracks first, tentative tracks from what is left; every plot no track took
+    /// Firm tracks first (but for a plot a tentative track as settled holds far better:
+    /// [`CEDE_MARGIN`]), tentative tracks from what is left; every plot no track took
     /// starts a track.
     TwoStage,
     /// One assignment over all tracks; only plots in no rough gate start tracks.
@@ -207,12 +210,14 @@ pub fn associate(
     let mut out = Associated::default();
     let mut taken = BTreeSet::new();
     let mut assigned = Vec::with_capacity(gates.len());
-    // Joint: one stage over every track; two-stage: firm tracks first, then the others.
-    let stages: Vec<Vec<&GatedPlots>> = match mode {
-        Association::Joint => vec![gates.iter().collect()],
+    // Joint: one stage over every track; two-stage: firm tracks first, then the others,
+    // the firm ones leaving to a tentative one the plots it holds far better ([`ceded`]).
+    let (stages, ceded): (Vec<Vec<&GatedPlots>>, _) = match mode {
+        Association::Joint => (vec![gates.iter().collect()], BTreeSet::new()),
         Association::TwoStage | Association::TwoStageUnresolved => {
-            let (strong, weak) = gates.iter().partition(|g| firm(g.track));
-            vec![strong, weak]
+            let (strong, weak): (Vec<_>, Vec<_>) = gates.iter().partition(|g| firm(g.track));
+            let ceded = ceded(&strong, &weak, plots, threshold, (accuracy, standing));
+            (vec![strong, weak], ceded)
         }
     };
     for stage in &stages {
@@ -220,11 +225,22 @@ pub fn associate(
             stage,
             plots,
             threshold,
-            (accuracy, standing),
+            (accuracy, standing, &ceded),
             &mut taken,
             &mut assigned,
             &mut out,
         );
+    }
+    // A plot a firm track left that no tentative track took after all (the assignment
+    // gave that track another) goes back to the firm track rather than start a new one
+    // (of several firm tracks that left it, the first by number).
+    for (track, plot) in &ceded {
+        let Some(slot) = assigned.iter_mut().find(|(t, p)| t == track && p.is_none()) else {
+            continue;
+        };
+        if taken.insert(*plot) {
+            slot.1 = Some(*plot);
+        }
     }
     // Unresolved: a firm track left without a plot whose refined gate held a plot another
     // firm track took has its target taken as hidden in that plot (two ships in one
@@ -291,6 +307,92 @@ pub fn associate(
     out
 }
 
+/// How much cheaper (in the pair cost d² + ln|S|) a tentative track's pair with a plot must
+/// be than every firm track's for the firm tracks to leave it to the tentative one in a
+/// two-stage association ([`Association::TwoStage`]): a likelihood e³, 20 times, greater.
+/// Chosen on `demo --scenario merging`, open sea and crossing, seeds 1–8, among 3, 6 and 10
+/// (docs/tracking.md).
+pub const CEDE_MARGIN: f64 = 6.0;
+
+/// Firm tracks leave a plot to a tentative one ([`CEDE_MARGIN`]) only when their innovation
+/// covariances are about as wide: the areas of their ellipses (√|S|) within this factor
+/// of each other.
+pub const CEDE_WIDTH: f64 = 1.25;
+
+/// The pairs (firm track, plot) a firm track leaves to a tentative one in a two-stage
+/// association: a plot that is the cheapest in its gate for the tentative track whose pair
+/// with it is cheapest, where that pair is [`CEDE_MARGIN`] cheaper than every firm track's
+/// pair with the plot and every such firm track's innovation covariance about as wide as
+/// the tentative track's ([`CEDE_WIDTH`]); else no firm track leaves it (one that kept it
+/// would take it, and the others would be held hidden in it). Costs are
+/// [`pair_costs`]'s without the still target's penalty: a firm track casting off does not
+/// leave its plot for the penalty alone. Firm tracks take their plots first so that a track
+/// started on a clutter plot never takes an established one's; but a just-confirmed track
+/// whose own plot was missed took, 196 m off its prediction (d² 8.4 in its young gate), the
+/// plot a tentative track as old on the ship beside it held 26 m off, and the two tracks
+/// swapped ships (`demo --scenario merging`, seed 2). A tentative track of a few plots, its
+/// velocity barely known, has a far wider S and takes nothing (without the width rule such
+/// tracks beside settled ones took their plots and became duplicates: open sea, seeds 1–3,
+/// 5 more confirmed tracks; seeds 1–8, OSPA 0.8 m higher). Nor does a firm track widened by
+/// its misses leave its plot (without the rule, a coasting track started with a wrong
+/// velocity left its ship's plot to a new track and coasted on to its loss: crossing, seed
+/// 6). Only the cheapest tentative pair is weighed: a runner-up as wide that also clears
+/// the margin is not, which errs towards the firm track keeping its plot.
+fn ceded(
+    firm: &[&GatedPlots],
+    tentative: &[&GatedPlots],
+    plots: &[EastNorth],
+    threshold: f64,
+    context: (Option<&PlotCovariances>, &StandingAt),
+) -> BTreeSet<(u16, u16)> {
+    use std::collections::BTreeMap;
+    let raw = |cost: Option<(f64, bool)>| cost.map(|(c, _)| c);
+    // Per plot: the cheapest tentative pair's cost and that track's ln|S|, when the plot is
+    // that track's cheapest too.
+    let mut best: BTreeMap<u16, (f64, f64, bool)> = BTreeMap::new();
+    for g in tentative {
+        let width = ln_det(g.innovation_cov_m2);
+        let costs: Vec<(u16, f64)> = pair_costs(g, plots, threshold, context)
+            .into_iter()
+            .filter_map(|(p, c)| Some((p, raw(c)?)))
+            .collect();
+        let Some(&(own, _)) = costs.iter().min_by(|a, b| a.1.total_cmp(&b.1)) else {
+            continue;
+        };
+        for (p, c) in costs {
+            let b = best.entry(p).or_insert((f64::INFINITY, width, false));
+            if c < b.0 {
+                *b = (c, width, p == own);
+            }
+        }
+    }
+    // Per plot: every firm track with it in its refined gate, its cost and ln|S|.
+    let mut holders: BTreeMap<u16, Vec<(u16, f64, f64)>> = BTreeMap::new();
+    for g in firm {
+        let width = ln_det(g.innovation_cov_m2);
+        for (p, c) in pair_costs(g, plots, threshold, context) {
+            if let Some(c) = raw(c) {
+                holders.entry(p).or_default().push((g.track, c, width));
+            }
+        }
+    }
+    // |ln|S_t| − ln|S_f|| within 2 ln CEDE_WIDTH: the areas within the factor.
+    let alike = 2.0 * CEDE_WIDTH.ln();
+    let mut out = BTreeSet::new();
+    for (p, firms) in holders {
+        let Some(&(t, t_width, own)) = best.get(&p) else {
+            continue;
+        };
+        let leaves = |&(_, c, width): &(u16, f64, f64)| {
+            t + CEDE_MARGIN < c && (t_width - width).abs() <= alike
+        };
+        if own && firms.iter().all(leaves) {
+            out.extend(firms.iter().map(|(track, _, _)| (*track, p)));
+        }
+    }
+    out
+}
+
 /// Where a plot `z` is tested from for `g`'s track, and whether that is away from where
 /// its target stands: where it stands, when it is found standing still and `z` lies in the
 /// refined gate (`threshold`, d²) about that place; else the device's prediction (`true`
@@ -324,13 +426,61 @@ fn ln_det(s: [f32; 3]) -> f64 {
     }
 }
 
+/// Each plot of `g`'s rough gate known to this scan with its pair cost when it lies in the
+/// refined gate (`threshold`, d²; `None` when not), and whether it lies away from where the
+/// track's target stands still ([`gate_centre`]; the cost then wants the gate's
+/// `threshold` added, which [`gnn`] does): the
+/// generalised statistical distance d² + ln|S| (Blackman & Popoli, Design and Analysis of
+/// Modern Tracking Systems, 1999, §6.3.2), the negative log-likelihood up to a constant.
+/// With d² alone a coasting track's wide S makes a plot 100 m off look as near as a
+/// settled track's plot 30 m off, and the coasting track takes the settled one's target.
+/// When the plots' own accuracy is known ([`PlotCovariances`]), the likelihood is taken
+/// with it in S in place of the filter's round 40 m: a radar measures bearing to 11–20 m
+/// across the line of sight at 4–7 NM, and two ships passing 50–150 m abeam in one
+/// resolution cell are then told apart by which side of the line of sight the plot lies
+/// (docs/tracking.md). The refined gate stays on the filter's S, so a track that lags a
+/// turn keeps its plots.
+fn pair_costs(
+    g: &GatedPlots,
+    plots: &[EastNorth],
+    threshold: f64,
+    (accuracy, standing): (Option<&PlotCovariances>, &StandingAt),
+) -> Vec<(u16, Option<(f64, bool)>)> {
+    // d² and ln|S| on the plot's own accuracy, when known.
+    let own_accuracy = |p: u16, c: EastNorth| -> Option<(f64, f64)> {
+        let a = accuracy?;
+        let z = plots.get(usize::from(p))?;
+        let s = a.innovation_cov_m2(g.innovation_cov_m2, p)?;
+        Some((mahalanobis2(*z, c, s)?, ln_det(s)))
+    };
+    let ln_det_g = ln_det(g.innovation_cov_m2);
+    g.plots
+        .iter()
+        .filter_map(|&p| {
+            let z = plots.get(usize::from(p))?;
+            let (c, away) = gate_centre(*z, g, standing, threshold);
+            let cost = mahalanobis2(*z, c, g.innovation_cov_m2)
+                .filter(|d2| *d2 <= threshold)
+                .map(|d2| {
+                    let cost = match own_accuracy(p, c) {
+                        // Bounded, so that a miss stays below a forbidden pair's cost.
+                        Some((d2_own, ln_det_own)) => d2_own.min(MAX_OWN_D2) + ln_det_own,
+                        None => d2 + ln_det_g,
+                    };
+                    (cost, away)
+                });
+            Some((p, cost))
+        })
+        .collect()
+}
+
 /// One GNN stage: assigns `gates`' tracks plots not yet `taken` (and marks those taken),
-/// pushing (track, plot) for every gate.
+/// pushing (track, plot) for every gate; never a pair (track, plot) in `ceded`.
 fn gnn(
     gates: &[&GatedPlots],
     plots: &[EastNorth],
     threshold: f64,
-    (accuracy, standing): (Option<&PlotCovariances>, &StandingAt),
+    (accuracy, standing, ceded): (Option<&PlotCovariances>, &StandingAt, &BTreeSet<(u16, u16)>),
     taken: &mut BTreeSet<u16>,
     assigned: &mut Vec<(u16, Option<u16>)>,
     out: &mut Associated,
@@ -348,50 +498,26 @@ fn gnn(
         .collect();
     let n = gates.len();
     let m = candidates.len();
-    // The cost of a pair is the generalised statistical distance d² + ln|S| (Blackman &
-    // Popoli, Design and Analysis of Modern Tracking Systems, 1999, §6.3.2): the negative
-    // log-likelihood up to a constant. With d² alone a coasting track's wide S makes a plot
-    // 100 m off look as near as a settled track's plot 30 m off, and the coasting track
-    // takes the settled one's target. When the plots' own accuracy is known
-    // ([`PlotCovariances`]), the likelihood is taken with it in S in place of the filter's
-    // round 40 m: a radar measures bearing to 11–20 m across the line of sight at 4–7 NM,
-    // and two ships passing 50–150 m abeam in one resolution cell are then told apart by
-    // which side of the line of sight the plot lies (docs/tracking.md). The refined gate
-    // stays on the filter's S, so a track that lags a turn keeps its plots. A miss costs the
-    // same for every track, more than any pair inside a refined gate, so a track with a
-    // plot in its gate and no rival takes it.
+    // Pair costs as [`pair_costs`] gives them. A miss costs the same for every track, more
+    // than any pair inside a refined gate, so a track with a plot in its gate and no rival
+    // takes it.
     let ln_det: Vec<f64> = gates.iter().map(|g| ln_det(g.innovation_cov_m2)).collect();
     let widest = ln_det.iter().copied().fold(0.0, f64::max);
-    // d² and ln|S| on the plot's own accuracy, when known.
-    let own_accuracy = |g: &GatedPlots, p: u16, c: EastNorth| -> Option<(f64, f64)> {
-        let a = accuracy?;
-        let z = plots.get(usize::from(p))?;
-        let s = a.innovation_cov_m2(g.innovation_cov_m2, p)?;
-        Some((mahalanobis2(*z, c, s)?, self::ln_det(s)))
-    };
     let mut costs: Vec<Vec<(usize, f64)>> = Vec::with_capacity(n);
-    for (i, g) in gates.iter().enumerate() {
+    for g in gates {
         let mut row = Vec::new();
-        for &p in &g.plots {
-            let (Some(z), Ok(col)) = (plots.get(usize::from(p)), candidates.binary_search(&p))
-            else {
+        for (p, cost) in pair_costs(g, plots, threshold, (accuracy, standing)) {
+            let Ok(col) = candidates.binary_search(&p) else {
                 continue;
             };
-            let (c, away) = gate_centre(*z, g, standing, threshold);
-            match mahalanobis2(*z, c, g.innovation_cov_m2) {
-                Some(d2) if d2 <= threshold => {
-                    let cost = match own_accuracy(g, p, c) {
-                        // Bounded, so that a miss stays below a forbidden pair's cost.
-                        Some((d2_own, ln_det_own)) => d2_own.min(MAX_OWN_D2) + ln_det_own,
-                        None => d2 + ln_det[i],
-                    };
-                    // Away from where a still target stands, a plot costs as if it were
-                    // at the edge of the gate there at least: one inside is taken first,
-                    // and the cost does not fall at the gate's edge.
-                    let cost = if away { cost + threshold } else { cost };
-                    row.push((col, cost));
-                }
-                _ => out.refined_out += 1,
+            match cost {
+                Some(_) if ceded.contains(&(g.track, p)) => {}
+                // Away from where a still target stands, a plot costs as if it were at the
+                // edge of the gate there at least: one inside is taken first, and the cost
+                // does not fall at the gate's edge.
+                Some((c, true)) => row.push((col, c + threshold)),
+                Some((c, false)) => row.push((col, c)),
+                None => out.refined_out += 1,
             }
         }
         costs.push(row);
@@ -557,6 +683,72 @@ mod tests {
             "jointly the tentative track wins"
         );
         assert_eq!(a.assignments[1].plot, Some(0));
+    }
+
+    #[test]
+    fn a_firm_track_leaves_a_plot_a_tentative_track_as_settled_holds_far_better() {
+        // Confirmed track 1 missed its own plot; the plot of the ship beside it lies at the
+        // edge of its gate (d² 9.0), 10 m from tentative track 2's prediction (d² 0.04),
+        // the two as wide (σ 50 m): the firm track leaves it and coasts, and the tentative
+        // track keeps its ship (merging scenario, seed 2, where they swapped ships).
+        let plots = [[150.0, 0.0]];
+        let gates = [
+            gate(1, [0.0, 0.0], 50.0, &[0]),
+            gate(2, [160.0, 0.0], 50.0, &[0]),
+        ];
+        let firm = |t: u16| t == 1;
+        for mode in [Association::TwoStage, Association::TwoStageUnresolved] {
+            let a = associate_on_filter(mode, &gates, &plots, firm);
+            assert_eq!(a.assignments[0].plot, None, "{mode:?}");
+            assert_eq!(a.assignments[1].plot, Some(0), "{mode:?}");
+            assert_eq!(a.hidden, 0, "a tentative track's plot hides no firm track");
+        }
+        // A firm track 1.4 times as wide (coasting), the plot still far better for the
+        // tentative track (d² 8.2 + ln|S| 1.3 more against 0.04): it keeps its plot.
+        let plots = [[200.0, 0.0]];
+        let gates = [
+            gate(1, [0.0, 0.0], 70.0, &[0]),
+            gate(2, [210.0, 0.0], 50.0, &[0]),
+        ];
+        let a = associate_on_filter(Association::TwoStage, &gates, &plots, firm);
+        assert_eq!(a.assignments[0].plot, Some(0));
+        assert_eq!(a.assignments[1].plot, None);
+        // A tentative track of a few plots, its velocity barely known (σ 60 m, 1.44 times
+        // the area), right on the plot (its cost lower by 8.3): wider, it takes nothing
+        // from the firm track.
+        let plots = [[150.0, 0.0]];
+        let gates = [
+            gate(1, [0.0, 0.0], 50.0, &[0]),
+            gate(2, [150.0, 0.0], 60.0, &[0]),
+        ];
+        let a = associate_on_filter(Association::TwoStage, &gates, &plots, firm);
+        assert_eq!(a.assignments[0].plot, Some(0));
+        // The tentative track holds another plot better still: the firm track keeps this
+        // one (left, it would start a new track).
+        let plots = [[150.0, 0.0], [160.0, 0.0]];
+        let gates = [
+            gate(1, [0.0, 0.0], 50.0, &[0]),
+            gate(2, [160.0, 0.0], 50.0, &[0, 1]),
+        ];
+        let a = associate_on_filter(Association::TwoStage, &gates, &plots, firm);
+        assert_eq!(a.assignments[0].plot, Some(0));
+        assert_eq!(a.assignments[1].plot, Some(1));
+        // A second firm track, coasting (σ 70 m, the plot at d² 9.0), holds the plot too
+        // and does not leave it: neither does the first, which takes it as before (left,
+        // the coasting track would take it in the first stage).
+        let plots = [[150.0, 0.0]];
+        let gates = [
+            gate(1, [0.0, 0.0], 50.0, &[0]),
+            gate(3, [360.0, 0.0], 70.0, &[0]),
+            gate(2, [160.0, 0.0], 50.0, &[0]),
+        ];
+        let firm = |t: u16| t != 2;
+        let a = associate_on_filter(Association::TwoStageUnresolved, &gates, &plots, firm);
+        assert_eq!(a.assignments[0].plot, Some(0));
+        assert_eq!(
+            a.assignments[2].plot, None,
+            "the tentative track takes nothing"
+        );
     }
 
     #[test]
