@@ -127,9 +127,9 @@ pub struct SyntheticConfig {
     pub fluctuating: bool,
     /// Nearer than this, m, a target's echo grows as it nears: its amplitude is its own
     /// times `(r_ref / r)²`, the radar equation's r⁻⁴ in power (Skolnik, Introduction to
-    /// Radar Systems, 3rd ed., 2001, eq. 1.5), which a radar's sea control, attenuating by
-    /// `(r / r_sea)^sea_exponent`, is set to leave standing above the clutter it holds
-    /// down. At and beyond it a target has its own amplitude at every range, as the plot
+    /// Radar Systems, 3rd ed., 2001, §1.2, the simple form of the radar equation), which a
+    /// radar's sea control, attenuating by `(r / r_sea)^sea_exponent`, is set to leave
+    /// standing above the clutter it holds down. At and beyond it a target has its own amplitude at every range, as the plot
     /// model's P_d is the same at every range. 0: the same at every range.
     pub echo_reference_m: f32,
 }
