@@ -212,20 +212,27 @@ pub fn associate(
     let mut assigned = Vec::with_capacity(gates.len());
     // Joint: one stage over every track; two-stage: firm tracks first, then the others,
     // the firm ones leaving to a tentative one the plots it holds far better ([`ceded`]).
-    let (stages, ceded): (Vec<Vec<&GatedPlots>>, _) = match mode {
-        Association::Joint => (vec![gates.iter().collect()], BTreeSet::new()),
+    // Each gate's pair costs, worked out once for both.
+    let costed: Vec<Costed> = gates
+        .iter()
+        .map(|gate| Costed {
+            gate,
+            costs: pair_costs(gate, plots, threshold, (accuracy, standing)),
+        })
+        .collect();
+    let (stages, ceded): (Vec<Vec<&Costed>>, _) = match mode {
+        Association::Joint => (vec![costed.iter().collect()], BTreeSet::new()),
         Association::TwoStage | Association::TwoStageUnresolved => {
-            let (strong, weak): (Vec<_>, Vec<_>) = gates.iter().partition(|g| firm(g.track));
-            let ceded = ceded(&strong, &weak, plots, threshold, (accuracy, standing));
+            let (strong, weak): (Vec<_>, Vec<_>) = costed.iter().partition(|c| firm(c.gate.track));
+            let ceded = ceded(&strong, &weak);
             (vec![strong, weak], ceded)
         }
     };
     for stage in &stages {
         gnn(
             stage,
-            plots,
             threshold,
-            (accuracy, standing, &ceded),
+            &ceded,
             &mut taken,
             &mut assigned,
             &mut out,
@@ -338,23 +345,18 @@ pub const CEDE_WIDTH: f64 = 1.25;
 /// velocity left its ship's plot to a new track and coasted on to its loss: crossing, seed
 /// 6). Only the cheapest tentative pair is weighed: a runner-up as wide that also clears
 /// the margin is not, which errs towards the firm track keeping its plot.
-fn ceded(
-    firm: &[&GatedPlots],
-    tentative: &[&GatedPlots],
-    plots: &[EastNorth],
-    threshold: f64,
-    context: (Option<&PlotCovariances>, &StandingAt),
-) -> BTreeSet<(u16, u16)> {
+fn ceded(firm: &[&Costed], tentative: &[&Costed]) -> BTreeSet<(u16, u16)> {
     use std::collections::BTreeMap;
     let raw = |cost: Option<(f64, bool)>| cost.map(|(c, _)| c);
     // Per plot: the cheapest tentative pair's cost and that track's ln|S|, when the plot is
     // that track's cheapest too.
     let mut best: BTreeMap<u16, (f64, f64, bool)> = BTreeMap::new();
-    for g in tentative {
-        let width = ln_det(g.innovation_cov_m2);
-        let costs: Vec<(u16, f64)> = pair_costs(g, plots, threshold, context)
-            .into_iter()
-            .filter_map(|(p, c)| Some((p, raw(c)?)))
+    for t in tentative {
+        let width = ln_det(t.gate.innovation_cov_m2);
+        let costs: Vec<(u16, f64)> = t
+            .costs
+            .iter()
+            .filter_map(|&(p, c)| Some((p, raw(c)?)))
             .collect();
         let Some(&(own, _)) = costs.iter().min_by(|a, b| a.1.total_cmp(&b.1)) else {
             continue;
@@ -368,11 +370,11 @@ fn ceded(
     }
     // Per plot: every firm track with it in its refined gate, its cost and ln|S|.
     let mut holders: BTreeMap<u16, Vec<(u16, f64, f64)>> = BTreeMap::new();
-    for g in firm {
-        let width = ln_det(g.innovation_cov_m2);
-        for (p, c) in pair_costs(g, plots, threshold, context) {
+    for f in firm {
+        let width = ln_det(f.gate.innovation_cov_m2);
+        for &(p, c) in &f.costs {
             if let Some(c) = raw(c) {
-                holders.entry(p).or_default().push((g.track, c, width));
+                holders.entry(p).or_default().push((f.gate.track, c, width));
             }
         }
     }
@@ -426,6 +428,12 @@ fn ln_det(s: [f32; 3]) -> f64 {
     }
 }
 
+/// A gate with its pair costs ([`pair_costs`]).
+struct Costed<'a> {
+    gate: &'a GatedPlots,
+    costs: Vec<(u16, Option<(f64, bool)>)>,
+}
+
 /// Each plot of `g`'s rough gate known to this scan with its pair cost when it lies in the
 /// refined gate (`threshold`, d²; `None` when not), and whether it lies away from where the
 /// track's target stands still ([`gate_centre`]; the cost then wants the gate's
@@ -477,10 +485,9 @@ fn pair_costs(
 /// One GNN stage: assigns `gates`' tracks plots not yet `taken` (and marks those taken),
 /// pushing (track, plot) for every gate; never a pair (track, plot) in `ceded`.
 fn gnn(
-    gates: &[&GatedPlots],
-    plots: &[EastNorth],
+    gates: &[&Costed],
     threshold: f64,
-    (accuracy, standing, ceded): (Option<&PlotCovariances>, &StandingAt, &BTreeSet<(u16, u16)>),
+    ceded: &BTreeSet<(u16, u16)>,
     taken: &mut BTreeSet<u16>,
     assigned: &mut Vec<(u16, Option<u16>)>,
     out: &mut Associated,
@@ -491,7 +498,7 @@ fn gnn(
     // Columns: every plot some track may take, then one "miss" column per track.
     let candidates: Vec<u16> = gates
         .iter()
-        .flat_map(|g| g.plots.iter().copied())
+        .flat_map(|c| c.gate.plots.iter().copied())
         .filter(|p| !taken.contains(p))
         .collect::<BTreeSet<u16>>()
         .into_iter()
@@ -501,17 +508,19 @@ fn gnn(
     // Pair costs as [`pair_costs`] gives them. A miss costs the same for every track, more
     // than any pair inside a refined gate, so a track with a plot in its gate and no rival
     // takes it.
-    let ln_det: Vec<f64> = gates.iter().map(|g| ln_det(g.innovation_cov_m2)).collect();
-    let widest = ln_det.iter().copied().fold(0.0, f64::max);
+    let widest = gates
+        .iter()
+        .map(|c| ln_det(c.gate.innovation_cov_m2))
+        .fold(0.0, f64::max);
     let mut costs: Vec<Vec<(usize, f64)>> = Vec::with_capacity(n);
-    for g in gates {
+    for c in gates {
         let mut row = Vec::new();
-        for (p, cost) in pair_costs(g, plots, threshold, (accuracy, standing)) {
+        for &(p, cost) in &c.costs {
             let Ok(col) = candidates.binary_search(&p) else {
                 continue;
             };
             match cost {
-                Some(_) if ceded.contains(&(g.track, p)) => {}
+                Some(_) if ceded.contains(&(c.gate.track, p)) => {}
                 // Away from where a still target stands, a plot costs as if it were at the
                 // edge of the gate there at least: one inside is taken first, and the cost
                 // does not fall at the gate's edge.
@@ -542,17 +551,17 @@ fn gnn(
         rows.push(row);
     }
     let Ok(matrix) = Matrix::from_rows(rows) else {
-        assigned.extend(gates.iter().map(|g| (g.track, None)));
+        assigned.extend(gates.iter().map(|c| (c.gate.track, None)));
         return;
     };
     let (_, columns) = kuhn_munkres_min(&matrix);
-    for (i, (g, col)) in gates.iter().zip(columns).enumerate() {
+    for (i, (c, col)) in gates.iter().zip(columns).enumerate() {
         // Never a pair the gate refused, whatever the costs came to.
         let plot = (col < m && matrix[(i, col)] < FORBIDDEN).then(|| candidates[col]);
         if let Some(p) = plot {
             taken.insert(p);
         }
-        assigned.push((g.track, plot));
+        assigned.push((c.gate.track, plot));
     }
 }
 
