@@ -1066,7 +1066,9 @@ mod tests {
         let mut radar = SyntheticRadar::new(config, 9).unwrap();
         let mut extractor: Extractor = Extractor::new(ExtractorConfig::navico_4bit()).unwrap();
         let mut buf = [0u8; 1024];
-        let bearing_rad = 0.3f32.to_radians();
+        // Head-up, heading 040°: the seam is the bow, not north.
+        let heading_rad = 40f32.to_radians();
+        let bearing_rad = heading_rad + 0.3f32.to_radians();
         let rotations = 12;
         let mut plots = StdVec::new();
         for k in 0..rotations {
@@ -1078,7 +1080,7 @@ mod tests {
             }];
             let scene = Scene {
                 own_position_m: [0.0, 0.0],
-                heading_rad: 0.0,
+                heading_rad,
                 targets: &target,
                 rain: &[],
                 continues: true,
@@ -1097,7 +1099,9 @@ mod tests {
         // (strength 16 here, 2–3 spokes); the echo's own parts hold 45 and more.
         let ahead: StdVec<&RadarPlot> = plots
             .iter()
-            .filter(|p| !p.partial && geo::wrap_pi(p.bearing_rad).abs() < 3f32.to_radians())
+            .filter(|p| {
+                !p.partial && geo::wrap_pi(p.bearing_rad - heading_rad).abs() < 3f32.to_radians()
+            })
             .filter(|p| (2900.0..3500.0).contains(&p.range_m) && p.strength >= 40)
             .collect();
         let worst_deg = ahead
