@@ -380,7 +380,8 @@ impl SyntheticRadar {
     /// across the seam in a millisecond. Targets are matched to the last rotation's by
     /// their place in `scene.targets`, so a caller that reorders them must say the scene
     /// does not continue. Known limit: the carry takes every target within two beamwidths
-    /// of the seam, on either side, so a target coming into that reach paints one state
+    /// of the seam, on either side, so a target whose echo lies just after the seam is
+    /// painted a rotation late while there, one coming into that reach paints one state
     /// twice after the seam, and one leaving it skips one (a one-rotation stall and jump,
     /// of its motion in 2.5 s, once as it passes).
     ///
