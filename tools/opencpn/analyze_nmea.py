@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Check a recorded tracker NMEA stream the way OpenCPN will use it.
 usage: analyze_nmea.py TAPFILE   (lines: 'epoch sentence')"""
-import sys, math, collections
+import sys, math, collections, re
 def cks(s):
     body, _, ck = s[1:].partition('*')
     c = 0
@@ -35,7 +35,7 @@ def ll_to_en(lat0, lon0, lat, lon):
         n = a / math.sqrt(w2(lat0))
         return (math.radians(lon - lon0) * n * math.cos(math.radians(lat0)), math.radians(lat - lat0) * m)
 lines = [l.rstrip('\n').split(' ', 1) for l in open(sys.argv[1]) if ' ' in l]
-bad_ck = 0; too_long = 0; kinds = collections.Counter()
+bad_ck = 0; too_long = 0; kinds = collections.Counter(); ais_decoded = 0
 own = None; scans = []; cur = {'ttm': {}, 'tll': {}}
 for t, s in lines:
     t = float(t)
@@ -44,8 +44,16 @@ for t, s in lines:
     if len(s) > 82: too_long += 1
     f = s.split('*')[0].split(',')
     k = f[0][3:]; kinds[f[0]] += 1
+    # OpenCPN 5.10 runs TTM/TLL/OSD through its AIS reassembly: fields 1 and 2 read by atoi
+    # as part count and part number; equal and over 1, it decodes its buffer (a crash once
+    # the buffer is long: docs/nmea.md).
+    lead = lambda x: int(re.match(r'\d*', x).group() or 0)
+    if k in ('TTM', 'TLL', 'OSD') and len(f) > 2 and lead(f[1]) > 1 and lead(f[1]) == lead(f[2]):
+        ais_decoded += 1
     if k == 'TTM':
-        cur['ttm'][f[1]] = dict(t=t, rng=float(f[2] or 0), brg=float(f[3] or 0), spd=float(f[5] or 0), crs=float(f[6] or 0), motion_sent=bool(f[5] and f[6]),
+        # Units K (km, km/h) for a target whose number is its distance's whole NM (targets.rs).
+        per = 1.852 if f[10] == 'K' else 1.0
+        cur['ttm'][f[1]] = dict(t=t, rng=float(f[2] or 0) / per, brg=float(f[3] or 0), spd=float(f[5] or 0) / per, crs=float(f[6] or 0), motion_sent=bool(f[5] and f[6]),
                                 cpa=f[8], tcpa=f[9], name=f[11], st=f[12], raw=s)
     elif k == 'TLL':
         cur['tll'][f[1]] = dict(t=t, lat=dm(f[2], f[3]), lon=dm(f[4], f[5]), name=f[6], st=f[8])
@@ -56,6 +64,7 @@ for t, s in lines:
 if cur['ttm'] and own is not None:
     cur['own'] = own; scans.append(cur)
 print(f'sentences: {dict(kinds)}; bad checksums: {bad_ck}; longer than 82 chars: {too_long}; scans: {len(scans)}')
+print(f'sentences OpenCPN 5.10 would decode as an AIS message (its crash, docs/nmea.md): {ais_decoded}')
 nums = set(); stat = collections.Counter()
 # TTM vs TLL consistency (TTM range/bearing from the RMC sent in the same scan)
 dif = []; sec_split = 0

@@ -41,14 +41,34 @@ pub struct PlotterTarget<'a> {
 
 /// `TTM` for one target: number, distance (NM) and true bearing, speed (kn) and course,
 /// `T` (true) or `R` (relative: own ship's motion unknown), CPA (NM), TCPA (minutes,
-/// negative once passed), units N, name, status, no reference target, UTC, A (automatic
-/// acquisition). Bearings and courses are 0.0–359.9. A target whose motion is not known
+/// negative once passed), units N (K for some: below), name, status, no reference target,
+/// UTC, A (automatic acquisition). Bearings and courses are 0.0–359.9. A target whose motion is not known
 /// ([`TargetData::trend_known`]: one acquiring, `Q`, or an acquisition that failed, `L`) has
 /// its speed, course, CPA and TCPA as null fields (IEC 61162-1: a field whose value is not
 /// available is sent empty), so a plotter is given no vector the radar display does not
 /// show.
+///
+/// Distances and speed go in nautical miles and knots (units `N`), but for a target whose
+/// number (2 and over) is the whole part of its distance in nautical miles (target 06 at
+/// 6.040 NM), which go in kilometres and km/h (units `K`, IEC 61162-1 §8 `TTM` field 10;
+/// the whole part of the kilometres is then always more than the number): OpenCPN 5.10
+/// passes every `TTM`, `TLL` and `OSD` through its AIS multi-sentence reassembly (fixed in
+/// OpenCPN's PR #4633, 2025), reading field 1 as the number of sentences and field 2 as
+/// this sentence's, appending field 5 to a buffer each time; a `TTM` whose two were equal
+/// had the buffer, grown past its 820-byte copy over an hour of targets, decoded as an
+/// AIS message, and OpenCPN crashed (found in a new user's trial on the Solent run, 66
+/// minutes in, and reproduced on the recorded stream; docs/nmea.md). OpenCPN converts `K`.
 pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     let d = &t.data;
+    let number = t.number;
+    let range_nm = f64::from(d.range_m) / f64::from(METRES_PER_NM);
+    let in_nm = format!("{range_nm:.3}");
+    // Per nautical mile, kilometres (and km/h per knot).
+    let (unit, per_nm) = if number >= 2 && whole_part(&in_nm) == Some(u32::from(number)) {
+        ('K', f64::from(METRES_PER_NM) / 1000.0)
+    } else {
+        ('N', 1.0)
+    };
     // A course only where there is motion to have one: not for a target shown standing
     // still (true), nor one keeping its range (relative); the display shows `---` for
     // both, and `TTM` sent 0.0 and the noise's direction.
@@ -66,22 +86,28 @@ pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     } else {
         format!(
             "{:.1},{},{reference},{:.3},{:.2}",
-            f64::from(speed) / f64::from(MPS_PER_KNOT),
+            f64::from(speed) / f64::from(MPS_PER_KNOT) * per_nm,
             course.map_or_else(String::new, |c| angle_360(degrees(c), 1)),
-            f64::from(d.cpa_m) / f64::from(METRES_PER_NM),
+            f64::from(d.cpa_m) / f64::from(METRES_PER_NM) * per_nm,
             // Just past the CPA (under 0.3 s) is 0.00, not -0.00.
             super::shown_signed(f64::from(d.tcpa_s) / 60.0, 2),
         )
     };
-    let number = t.number;
     sentence(&format!(
-        "RATTM,{number:02},{:.3},{},T,{motion},N,{},{},,{},A",
-        f64::from(d.range_m) / f64::from(METRES_PER_NM),
+        "RATTM,{number:02},{:.3},{},T,{motion},{unit},{},{},,{},A",
+        range_nm * per_nm,
         angle_360(degrees(d.bearing_rad), 1),
         name_field(t),
         t.status,
         utc(time_s)
     ))
+}
+
+/// The whole part of a numeric field's text, as C's `atoi` reads it (OpenCPN's
+/// reassembly, [`ttm`]): its leading digits; `None` without one.
+fn whole_part(field: &str) -> Option<u32> {
+    let digits: String = field.chars().take_while(char::is_ascii_digit).collect();
+    digits.parse().ok()
 }
 
 /// The target name field: the name as IEC 61162-1 allows it in a field (printable ASCII
@@ -109,7 +135,9 @@ fn name_field(t: &PlotterTarget<'_>) -> String {
 /// (local, m; [`Origin::to_lat_lon_near`]), where the target's range and bearing put it,
 /// however far own ship has come from the origin. `None` when that is no place on the
 /// globe (own ship dead reckoned past a pole, a position not a number): no `TLL` is
-/// better than a broken one.
+/// better than a broken one. Nor within a degree of the equator where the latitude's
+/// whole minutes are the target's number (2 and over): OpenCPN 5.10 reads them as its
+/// sentence number ([`ttm`]), and the `TTM` carries the target.
 pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64) -> Option<String> {
     let d = &t.data;
     let f = |x: [f32; 2]| [f64::from(x[0]), f64::from(x[1])];
@@ -118,9 +146,13 @@ pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64)
         return None;
     }
     let number = t.number;
+    let lat_field = angle_field(lat, 2, 'N', 'S');
+    if number >= 2 && whole_part(&lat_field) == Some(u32::from(number)) {
+        return None;
+    }
     Some(sentence(&format!(
         "RATLL,{number:02},{},{},{},{},{},",
-        angle_field(lat, 2, 'N', 'S'),
+        lat_field,
         angle_field(lon, 3, 'E', 'W'),
         name_field(t),
         utc(time_s),
@@ -644,6 +676,79 @@ mod tests {
         };
         let s = ttm(&plotter(rel), 0.0);
         assert!(s.contains(",R,"), "{s}");
+    }
+
+    /// OpenCPN 5.10's reassembly ([`ttm`]): a sentence is taken as the last part of a
+    /// multi-sentence AIS message, and its buffer decoded, when its fields 1 and 2 read as
+    /// C's `atoi` reads them are equal and over 1.
+    fn opencpn_5_10_decodes_as_ais(s: &str) -> bool {
+        let f: Vec<&str> = s.trim().split(',').collect();
+        let atoi = |x: &str| whole_part(x).unwrap_or(0);
+        let (n, i) = (atoi(f[1]), atoi(f[2]));
+        n > 1 && i == n
+    }
+
+    #[test]
+    fn a_target_whose_number_is_its_distance_goes_in_kilometres() {
+        let t = crate::session::target::example();
+        let at = |number: u8, range_nm: f32| {
+            let mut p = plotter(TargetData {
+                range_m: range_nm * METRES_PER_NM,
+                ..t
+            });
+            p.number = number;
+            ttm(&p, 0.0)
+        };
+        // Target 06 at 6.040 NM: 11.186 km, its speed (5 m/s) 18.0 km/h, its CPA in km.
+        let s = at(6, 6.04);
+        let parsed = match nmea::parse_str(s.trim()).unwrap() {
+            nmea::ParseResult::TTM(d) => d,
+            other => panic!("{other:?}"),
+        };
+        assert_eq!(
+            parsed.speed_or_distance_unit,
+            Some(nmea::sentences::TtmDistanceUnit::Kilometer),
+            "{s}"
+        );
+        assert!(
+            (parsed.target_distance.unwrap() - 11.186).abs() < 1e-3,
+            "{s}"
+        );
+        assert!((parsed.target_speed.unwrap() - 18.0).abs() < 0.06, "{s}");
+        assert!(
+            (parsed.distance_of_cpa.unwrap() - t.cpa_m / 1000.0).abs() < 1e-3,
+            "{s}"
+        );
+        // Another number, or target 01, in nautical miles.
+        assert!(at(7, 6.04).contains(",N,TGT07,"));
+        assert!(at(1, 1.5).contains(",N,TGT01,"));
+        // Every number at distances about its own (the field's rounding included: 5.9996
+        // NM is sent as 6.000): none OpenCPN 5.10 would decode as AIS.
+        for number in 1..=99u8 {
+            let n = f32::from(number);
+            for range_nm in [n - 0.0004, n, n + 0.5, n + 0.9994, n + 0.9996] {
+                let s = at(number, range_nm);
+                assert!(!opencpn_5_10_decodes_as_ais(&s), "{s}");
+            }
+        }
+    }
+
+    #[test]
+    fn no_tll_whose_latitude_minutes_are_its_number() {
+        let t = crate::session::target::example();
+        let origin = Origin {
+            lat_deg: 0.0,
+            lon_deg: 10.0,
+        };
+        // The target 4 km north of the origin on the equator: 0°02.16′N, whole part 0002.
+        let mut p = plotter(t);
+        let s = tll(&p, &origin, [0.0, 0.0], 0.0).unwrap();
+        assert!(s.starts_with("$RATLL,07,0002.1"), "{s}");
+        p.number = 2;
+        assert_eq!(tll(&p, &origin, [0.0, 0.0], 0.0), None);
+        // Target 01 reads as a one-sentence message: no buffer is decoded.
+        p.number = 1;
+        assert!(tll(&p, &origin, [0.0, 0.0], 0.0).is_some());
     }
 
     #[test]
