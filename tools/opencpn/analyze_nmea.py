@@ -54,7 +54,7 @@ for t, s in lines:
         # Units K (km, km/h) for a target whose number is its distance's whole NM (targets.rs).
         per = 1.852 if f[10] == 'K' else 1.0
         cur['ttm'][f[1]] = dict(t=t, rng=float(f[2] or 0) / per, brg=float(f[3] or 0), spd=float(f[5] or 0) / per, crs=float(f[6] or 0), motion_sent=bool(f[5] and f[6]),
-                                cpa=f[8], tcpa=f[9], name=f[11], st=f[12], raw=s)
+                                cpa=(float(f[8]) / per if f[8] else None), tcpa=f[9], name=f[11], st=f[12], raw=s)
     elif k == 'TLL':
         cur['tll'][f[1]] = dict(t=t, lat=dm(f[2], f[3]), lon=dm(f[4], f[5]), name=f[6], st=f[8])
     elif k == 'RMC':

@@ -52,12 +52,14 @@ pub struct PlotterTarget<'a> {
 /// number (2 and over) is the whole part of its distance in nautical miles (target 06 at
 /// 6.040 NM), which go in kilometres and km/h (units `K`, IEC 61162-1 §8 `TTM` field 10;
 /// the whole part of the kilometres is then always more than the number): OpenCPN 5.10
-/// passes every `TTM`, `TLL` and `OSD` through its AIS multi-sentence reassembly (fixed in
-/// OpenCPN's PR #4633, 2025), reading field 1 as the number of sentences and field 2 as
-/// this sentence's, appending field 5 to a buffer each time; a `TTM` whose two were equal
-/// had the buffer, grown past its 820-byte copy over an hour of targets, decoded as an
-/// AIS message, and OpenCPN crashed (found in a new user's trial on the Solent run, 66
-/// minutes in, and reproduced on the recorded stream; docs/nmea.md). OpenCPN converts `K`.
+/// passes every `TTM`, `TLL` and `OSD` through its AIS multi-sentence reassembly, reading
+/// field 1 as the number of sentences and field 2 as this sentence's, appending field 5
+/// to a buffer each time; a `TTM` whose two were equal had the buffer, grown past its
+/// 820-byte copy over an hour of targets, decoded as an AIS message, and OpenCPN crashed
+/// (found in a new user's trial on the Solent run, 66 minutes in, and reproduced on the
+/// recorded stream; the same crash was reported with radar_pi's ARPA and a BridgeMaster's
+/// `TTM`s, radar_pi issue #251 and OpenCPN issue #1126; docs/nmea.md). OpenCPN converts
+/// `K`; a client that ignored field 10 would draw such a target 1.852 times too far.
 pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     let d = &t.data;
     let number = t.number;
@@ -81,12 +83,20 @@ pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
             'R',
         )
     };
+    // A target shown still (no course) is 0.0 however it is measured: its knots are
+    // rounded before they are turned into km/h.
+    let speed_kn = f64::from(speed) / f64::from(MPS_PER_KNOT);
+    let speed_kn = if course.is_none() {
+        (speed_kn * 10.0).round() / 10.0
+    } else {
+        speed_kn
+    };
     let motion = if t.status == 'Q' || !d.trend_known {
         format!(",,{reference},,")
     } else {
         format!(
             "{:.1},{},{reference},{:.3},{:.2}",
-            f64::from(speed) / f64::from(MPS_PER_KNOT) * per_nm,
+            speed_kn * per_nm,
             course.map_or_else(String::new, |c| angle_360(degrees(c), 1)),
             f64::from(d.cpa_m) / f64::from(METRES_PER_NM) * per_nm,
             // Just past the CPA (under 0.3 s) is 0.00, not -0.00.
@@ -683,9 +693,27 @@ mod tests {
     /// C's `atoi` reads them are equal and over 1.
     fn opencpn_5_10_decodes_as_ais(s: &str) -> bool {
         let f: Vec<&str> = s.trim().split(',').collect();
-        let atoi = |x: &str| whole_part(x).unwrap_or(0);
         let (n, i) = (atoi(f[1]), atoi(f[2]));
         n > 1 && i == n
+    }
+
+    /// C's `atoi` on the fields we send (no sign, no spaces): the leading digits' value.
+    fn atoi(x: &str) -> u64 {
+        x.bytes()
+            .take_while(u8::is_ascii_digit)
+            .fold(0, |a, b| a * 10 + u64::from(b - b'0'))
+    }
+
+    #[test]
+    fn atoi_reads_our_fields_as_c_does() {
+        assert_eq!(atoi("06"), 6);
+        assert_eq!(atoi("6.040"), 6);
+        assert_eq!(atoi("0.500"), 0);
+        assert_eq!(atoi("0002.16000"), 2);
+        assert_eq!(atoi("A"), 0);
+        assert_eq!(whole_part("06"), Some(6));
+        assert_eq!(whole_part("0002.16000"), Some(2));
+        assert_eq!(whole_part(".5"), None);
     }
 
     #[test]
@@ -719,6 +747,16 @@ mod tests {
             (parsed.distance_of_cpa.unwrap() - t.cpa_m / 1000.0).abs() < 1e-3,
             "{s}"
         );
+        // A target shown still (0.04 kn, no course) is 0.0 in km/h too, not 0.1.
+        let mut still = plotter(TargetData {
+            range_m: 6.04 * METRES_PER_NM,
+            speed_mps: 0.02,
+            ..t
+        });
+        still.number = 6;
+        let s = ttm(&still, 0.0);
+        let f: Vec<&str> = s.split(',').collect();
+        assert_eq!((f[5], f[6], f[10]), ("0.0", "", "K"), "{s}");
         // Another number, or target 01, in nautical miles.
         assert!(at(7, 6.04).contains(",N,TGT07,"));
         assert!(at(1, 1.5).contains(",N,TGT01,"));
