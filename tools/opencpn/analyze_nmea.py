@@ -59,10 +59,13 @@ for t, s in lines:
         cur['tll'][f[1]] = dict(t=t, lat=dm(f[2], f[3]), lon=dm(f[4], f[5]), name=f[6], st=f[8])
     elif k == 'RMC':
         own = dict(t=t, lat=dm(f[3], f[4]), lon=dm(f[5], f[6]), sog=float(f[7] or 0), cog=float(f[8] or 0), utc=f[1], date=f[9])
-        cur['own'] = own; scans.append(cur); cur = {'ttm': {}, 'tll': {}}
-# The run's end: every target still shown goes as L after the last scan's RMC.
-if cur['ttm'] and own is not None:
-    cur['own'] = own; scans.append(cur)
+        # A scan's own ship comes first, before its targets (since 2026-12-07; after them
+        # before): a scan runs from one RMC to the next.
+        if 'own' in cur: scans.append(cur)
+        cur = {'ttm': {}, 'tll': {}, 'own': own}
+# The last scan, and the run's end (every target still shown goes as L after it).
+if 'own' in cur:
+    scans.append(cur)
 print(f'sentences: {dict(kinds)}; bad checksums: {bad_ck}; longer than 82 chars: {too_long}; scans: {len(scans)}')
 print(f'sentences OpenCPN 5.10 would decode as an AIS message (its crash, docs/nmea.md): {ais_decoded}')
 nums = set(); stat = collections.Counter()

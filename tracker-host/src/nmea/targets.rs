@@ -352,7 +352,10 @@ impl TargetsOut {
         self.counts
     }
 
-    /// One scan's sentences: ends first, then tracked and acquiring targets (a confirmed
+    /// One scan's sentences: own ship's first (when sent: a plotter places a `TTM` target
+    /// from own ship's position as it has it, and with `RMC` after the targets OpenCPN put
+    /// them from the last scan's, 25 m behind at 20 kn, until their `TLL` came), then ends,
+    /// then tracked and acquiring targets (a confirmed
     /// target whose motion's trend is not known yet is sent as acquiring, `Q`, as IEC 62388
     /// draws it); targets still waiting for a number, and targets held hidden in another's
     /// echo, are not sent. Each target goes as `TTM` and `TLL`, `TTM` alone while own ship
@@ -372,13 +375,18 @@ impl TargetsOut {
         // would put it where the default frame starts, in another sea. (Dead reckoning goes
         // on sending TLL, from own ship's estimate, as RMC's status `V` tells.)
         let position_unknown = report.own.quality.no_fix_yet && !self.origin_known;
-        let mut out = Vec::new();
+        let mut out = if self.own_ship {
+            own_ship_sentences(&report.own, &self.origin, time_s)
+        } else {
+            Vec::new()
+        };
         // A target held hidden in another's echo (`report.in_echo`) is not sent: not drawn
         // on the display, its coasting track 60–150 m from the echo would be a second
         // symbol there; nor lost, so not `L` (told so, it went off the plotter and came
         // back one or a few scans later: 410 times in 20 minutes of the Solent, a new
         // user's trial, the symbols blinking). It stays on the plotter as last sent, where
-        // the two ships went into one echo, for at most the hold (16 scans).
+        // the two ships went into one echo, until the two are seen apart (not bounded by the
+        // hold's 16 scans: 32 at most on the Solent, docs/nmea.md).
         let groups = [
             (&report.ended, 'L'),
             (&report.targets, 'T'),
@@ -425,9 +433,6 @@ impl TargetsOut {
                         .insert(number, (name.map(str::to_string), data));
                 }
             }
-        }
-        if self.own_ship {
-            out.extend(own_ship_sentences(&report.own, &self.origin, time_s));
         }
         self.last = Some((time_s, report.own.position_m, position_unknown));
         out
