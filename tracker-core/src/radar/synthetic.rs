@@ -299,6 +299,15 @@ struct Polar {
     amplitude: f32,
 }
 
+impl Polar {
+    /// How far a spoke pointing at `pointing` (rad true) is off the target's edge, rad (0
+    /// across it).
+    fn off_edge_rad(&self, pointing: f32) -> f32 {
+        let off = geo::wrap_pi(self.bearing_rad - pointing).abs();
+        (off - self.half_size_m / self.range_m.max(1.0)).max(0.0)
+    }
+}
+
 impl SyntheticRadar {
     /// A radar whose first rotation starts at time 0.
     ///
@@ -517,12 +526,10 @@ impl SyntheticRadar {
             row.fill(0.0);
         }
         for t in targets {
-            if !reaches(t, pointing, c.beamwidth_rad) {
+            let beyond = t.off_edge_rad(pointing);
+            if beyond > 2.0 * c.beamwidth_rad {
                 continue;
             }
-            let off = geo::wrap_pi(t.bearing_rad - pointing).abs();
-            let half_angle = t.half_size_m / t.range_m.max(1.0);
-            let beyond = (off - half_angle).max(0.0);
             let x = 2.0 * beyond / c.beamwidth_rad;
             let amplitude = t.amplitude * libm::exp2f(-x * x);
             let reach = t.half_size_m + 2.0 * c.pulse_m;
@@ -600,9 +607,7 @@ impl SyntheticRadar {
 /// Whether `t`'s echo reaches the spoke pointing at `pointing` (rad true) of a beam
 /// `beamwidth_rad` wide: beyond two beamwidths off its edge it is below 2⁻¹⁶ of its peak.
 fn reaches(t: &Polar, pointing: f32, beamwidth_rad: f32) -> bool {
-    let off = geo::wrap_pi(t.bearing_rad - pointing).abs();
-    let half_angle = t.half_size_m / t.range_m.max(1.0);
-    off - half_angle <= 2.0 * beamwidth_rad
+    t.off_edge_rad(pointing) <= 2.0 * beamwidth_rad
 }
 
 /// A uniform draw in (0, 1] (never 0: its logarithm is taken).
@@ -660,6 +665,21 @@ mod tests {
         out
     }
 
+    /// A scene about own ship at the origin, drawn afresh (not continuing a last one).
+    fn at_origin<'a>(
+        targets: &'a [SyntheticTarget],
+        rain: &'a [RainPatch],
+        heading_rad: f32,
+    ) -> Scene<'a> {
+        Scene {
+            own_position_m: [0.0, 0.0],
+            heading_rad,
+            targets,
+            rain,
+            continues: false,
+        }
+    }
+
     #[test]
     fn the_same_seed_paints_the_same_spokes() {
         let config = SyntheticConfig {
@@ -673,13 +693,7 @@ mod tests {
             size_m: 0.0,
             amplitude: 12.0,
         }];
-        let scene = Scene {
-            own_position_m: [0.0, 0.0],
-            heading_rad: 0.3,
-            targets: &target,
-            rain: &[],
-            continues: false,
-        };
+        let scene = at_origin(&target, &[], 0.3);
         let paint = |seed| {
             let mut radar = SyntheticRadar::new(config, seed).unwrap();
             let mut buf = [0u8; 256];
@@ -729,13 +743,7 @@ mod tests {
             radius_m: 1000.0,
             sigma: 4.0,
         }];
-        let scene = Scene {
-            own_position_m: [0.0, 0.0],
-            heading_rad: 0.0,
-            targets: &target,
-            rain: &rain,
-            continues: false,
-        };
+        let scene = at_origin(&target, &rain, 0.0);
         let mut buf = [0u8; 1024];
         let (mut far, mut near, mut in_rain, mut peak) = (0.0f64, 0.0f64, 0.0f64, 0u8);
         let (mut n_far, mut n_near, mut n_rain) = (0, 0, 0);
@@ -806,13 +814,7 @@ mod tests {
                 radius_m: 60.0,
                 sigma: 8.0,
             }];
-            let scene = Scene {
-                own_position_m: [0.0, 0.0],
-                heading_rad: 0.0,
-                targets: &target,
-                rain: &rain,
-                continues: false,
-            };
+            let scene = at_origin(&target, &rain, 0.0);
             let mut buf = [0u8; 1024];
             let [mut far, mut near, mut in_rain, mut echo] = [0.0f64; 4];
             let [mut n_far, mut n_near, mut n_rain, mut n_echo] = [0u32; 4];
@@ -891,13 +893,7 @@ mod tests {
                 size_m: 0.0,
                 amplitude: 8.0,
             }];
-            let scene = Scene {
-                own_position_m: [0.0, 0.0],
-                heading_rad: 0.0,
-                targets: &target,
-                rain: &[],
-                continues: false,
-            };
+            let scene = at_origin(&target, &[], 0.0);
             let target_cell = (400.0 / config.sample_m()) as usize;
             let mut buf = [0u8; 1024];
             let (mut sum, mut n) = (0.0f64, 0u32);
@@ -949,13 +945,7 @@ mod tests {
             };
             let mut radar = SyntheticRadar::new(config, seed).unwrap();
             let mut extractor: Extractor = Extractor::new(extractor_config).unwrap();
-            let scene = Scene {
-                own_position_m: [0.0, 0.0],
-                heading_rad: 0.0,
-                targets: &[],
-                rain: &[],
-                continues: false,
-            };
+            let scene = at_origin(&[], &[], 0.0);
             let mut buf = [0u8; 1024];
             for _ in 0..6 {
                 radar
@@ -1004,13 +994,7 @@ mod tests {
             size_m: 0.0,
             amplitude: 15.0,
         });
-        let scene = Scene {
-            own_position_m: [0.0, 0.0],
-            heading_rad: 0.0,
-            targets: &targets,
-            rain: &rain,
-            continues: false,
-        };
+        let scene = at_origin(&targets, &rain, 0.0);
         let mut buf = [0u8; 1024];
         let (mut plots, mut extended) = (StdVec::new(), StdVec::new());
         let rotations = 20;
@@ -1080,11 +1064,8 @@ mod tests {
                 amplitude: 15.0,
             }];
             let scene = Scene {
-                own_position_m: [0.0, 0.0],
-                heading_rad,
-                targets: &target,
-                rain: &[],
                 continues: true,
+                ..at_origin(&target, &[], heading_rad)
             };
             radar
                 .rotation(&scene, &mut buf, |s| {
@@ -1217,13 +1198,7 @@ mod tests {
                     amplitude: config.target_amplitude,
                 })
                 .collect();
-            let scene = Scene {
-                own_position_m: [0.0, 0.0],
-                heading_rad: heading,
-                targets: &targets,
-                rain: &[],
-                continues: false,
-            };
+            let scene = at_origin(&targets, &[], heading);
             // Each rotation is scored on its own: flushed at its end (the picture changes
             // between rotations here, unlike a real one).
             let mut plots = StdVec::new();
