@@ -66,7 +66,7 @@ pub fn ttm(t: &PlotterTarget<'_>, time_s: f64) -> String {
     let range_nm = f64::from(d.range_m) / f64::from(METRES_PER_NM);
     let in_nm = format!("{range_nm:.3}");
     // Per nautical mile, kilometres (and km/h per knot).
-    let (unit, per_nm) = if number >= 2 && whole_part(&in_nm) == Some(u32::from(number)) {
+    let (unit, per_nm) = if read_as_last_part(number, &in_nm) {
         ('K', f64::from(METRES_PER_NM) / 1000.0)
     } else {
         ('N', 1.0)
@@ -120,6 +120,13 @@ fn whole_part(field: &str) -> Option<u32> {
     digits.parse().ok()
 }
 
+/// Whether OpenCPN 5.10's reassembly ([`ttm`]) would take a sentence of target `number`
+/// whose second field is `field` as the last part of a multi-sentence AIS message and
+/// decode its buffer: the number 2 and over, and the field's whole part equal to it.
+fn read_as_last_part(number: u8, field: &str) -> bool {
+    number >= 2 && whole_part(field) == Some(u32::from(number))
+}
+
 /// The target name field: the name as IEC 61162-1 allows it in a field (printable ASCII
 /// without the reserved `$ ! * , \\ ^ ~` and the delimiters, at most 20 characters), else
 /// `TGTnn`.
@@ -157,7 +164,7 @@ pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64)
     }
     let number = t.number;
     let lat_field = angle_field(lat, 2, 'N', 'S');
-    if number >= 2 && whole_part(&lat_field) == Some(u32::from(number)) {
+    if read_as_last_part(number, &lat_field) {
         return None;
     }
     Some(sentence(&format!(
