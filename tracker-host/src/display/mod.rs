@@ -818,6 +818,16 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     }
     let full: u16 = TABLE_WIDTHS.iter().sum::<u16>() + TABLE_WIDTHS.len() as u16 - 1 + 2;
     let compact = area.width < full;
+    // The compact table's AIS column takes what the other columns leave; too narrow for an
+    // MMSI and a count, it is left out rather than cut (at 80 columns a new user's trial saw
+    // the column's name as `A` and every MMSI as its first digit).
+    let ais_room = if compact {
+        let others = COMPACT_WIDTHS.iter().sum::<u16>() + COMPACT_WIDTHS.len() as u16 + 2;
+        area.width.saturating_sub(others)
+    } else {
+        AIS_COLUMN_WIDTH
+    };
+    let show_ais = ais_room >= AIS_COLUMN_MIN_WIDTH;
     // Without own ship's motion over ground the targets' true course and speed are not
     // known: the columns give the relative ones, and say so (a new user's trial read a
     // moored radar's relative motion under `CRS °T` and `SPD kn` without a fix).
@@ -853,8 +863,16 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             "AIS",
         ]
     };
-    let header =
-        Row::new(names.map(|h| Cell::from(h).style(Style::default().add_modifier(Modifier::BOLD))));
+    let shown_names = if show_ais {
+        &names[..]
+    } else {
+        &names[..names.len() - 1]
+    };
+    let header = Row::new(
+        shown_names
+            .iter()
+            .map(|h| Cell::from(*h).style(Style::default().add_modifier(Modifier::BOLD))),
+    );
     // Rows that fit under the borders and the header. When fewer than the targets, the
     // nearest are shown, unless the selected target is further down: then the table is
     // scrolled so that it is the last row (a navigator who selects a target sees its data),
@@ -897,7 +915,7 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
         } else {
             t.speed_mps
         };
-        Row::new(vec![
+        let mut cells = vec![
             t.label(),
             if compact {
                 short_status(t).to_string()
@@ -914,12 +932,14 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
             } else {
                 "---".to_string()
             },
-            ais_column(view, t.track),
-        ])
-        .style(style)
+        ];
+        if show_ais {
+            cells.push(ais_column_within(view, t.track, usize::from(ais_room)));
+        }
+        Row::new(cells).style(style)
     });
     let widths = if compact {
-        column_widths(&COMPACT_WIDTHS, true)
+        column_widths(&COMPACT_WIDTHS, show_ais)
     } else {
         column_widths(&TABLE_WIDTHS, false)
     };
@@ -983,13 +1003,23 @@ fn draw_table<'a>(
 /// The table's AIS column, characters: an AIS name is at most 20.
 pub const AIS_COLUMN_WIDTH: u16 = 20;
 
+/// The narrowest AIS column the compact table draws, characters: an MMSI (9 digits, shown
+/// for a ship whose name is not heard) and a count of more ships (`? +9`), never cut.
+pub const AIS_COLUMN_MIN_WIDTH: u16 = 13;
+
 /// The table's AIS column, at most [`AIS_COLUMN_WIDTH`] characters: the paired AIS target's
 /// name; or, while a radar target is shown as AIS targets (its pair being confirmed, or
 /// ships it does not tell apart), the nearest one's name with a `?` and how many more
 /// (`+1`), the name cut short to fit.
 pub(crate) fn ais_column(view: &ScanReport, track: u16) -> String {
+    ais_column_within(view, track, usize::from(AIS_COLUMN_WIDTH))
+}
+
+/// [`ais_column`] in at most `width` characters: a name cut short to fit (a word), an MMSI
+/// whole (a figure: the caller gives at least [`AIS_COLUMN_MIN_WIDTH`]).
+fn ais_column_within(view: &ScanReport, track: u16, width: usize) -> String {
     if let Some(p) = view.paired.iter().find(|p| p.track == track) {
-        return fit(&p.label, "");
+        return fit(&p.label, "", width);
     }
     let Some(x) = view.targets.iter().find(|t| t.track == track) else {
         return String::new();
@@ -1013,12 +1043,12 @@ pub(crate) fn ais_column(view: &ScanReport, track: u16) -> String {
         0 => "?".to_string(),
         n => format!("? +{n}"),
     };
-    fit(&nearest.label, &more)
+    fit(&nearest.label, &more, width)
 }
 
-/// `name` cut short so that it and `suffix` fill at most [`AIS_COLUMN_WIDTH`] characters.
-fn fit(name: &str, suffix: &str) -> String {
-    let room = usize::from(AIS_COLUMN_WIDTH).saturating_sub(suffix.chars().count());
+/// `name` cut short so that it and `suffix` fill at most `width` characters.
+fn fit(name: &str, suffix: &str, width: usize) -> String {
+    let room = width.saturating_sub(suffix.chars().count());
     let mut out = name
         .chars()
         .take(room)
@@ -1796,6 +1826,42 @@ pub(crate) mod tests {
         // One ↑ from there moves the rows at once.
         state.key('↑', Some(&view));
         assert!(title(&state).0.contains("–59 of 60"));
+    }
+
+    /// An associated ship known by its MMSI alone: at any width the table shows the MMSI
+    /// whole or leaves the AIS column out, never a cut figure (at 80 columns a new user's
+    /// trial saw the column named `A` and each MMSI as its first digit).
+    #[test]
+    fn an_mmsi_in_the_table_is_whole_or_not_shown() {
+        let mut view = one_associated_ship(eleventh_scan(), true);
+        view.paired[0].label = "235000001".into();
+        view.ais[0].label = "235000001".into();
+        let mut state = DisplayState::new("inproc".into());
+        state.observe(&view);
+        let mut shown_at = Vec::new();
+        for width in (80..=200).step_by(4) {
+            let text = screen_at(&state, &view, width, 30);
+            let row = text
+                .lines()
+                .find(|l| l.contains(&format!("│{} ", view.targets[0].label())))
+                .unwrap_or_else(|| panic!("no row at {width}: {text}"))
+                .to_string();
+            if row.contains("235000001") {
+                shown_at.push(width);
+            } else {
+                // Nothing of it: the column is out, its name too.
+                assert!(!row.contains("2350"), "cut at {width}: {row}");
+                let header = text.lines().find(|l| l.contains("TGT")).unwrap_or("");
+                let table_header = header.rsplit("TGT").next().unwrap_or("");
+                let last = table_header.trim_end_matches(['│', ' ']);
+                assert!(
+                    last.ends_with("TCPA") || last.ends_with("TCPA min"),
+                    "{width}: {text}"
+                );
+            }
+        }
+        assert!(shown_at.contains(&160), "{shown_at:?}");
+        assert!(shown_at.len() < 31, "left out somewhere: {shown_at:?}");
     }
 
     /// `i` shows the AIS targets in the table's place, nearest first, an associated one with
