@@ -1277,6 +1277,65 @@ fn a_recording_without_dates_falls_on_the_captures_day_and_one_apart_is_told() {
     assert!(told[0].contains("its next at 2018-08-20"), "{told:?}");
 }
 
+/// A log of an earlier voyage (GoFree, 2014: its first sentences undated, AIS among them
+/// before its first fix) played with the 4G's capture of 2015: its times fall on its own
+/// first date and it is told so; its AIS is not heard in the capture's picture (a new
+/// user's trial saw its ships among the capture's: its undated start had been put on the
+/// capture's day, the AIS before its first time taken at the first scan); own ship is told
+/// lost since the log's last fix, not dead reckoned from it.
+#[test]
+fn a_log_of_an_earlier_voyage_brings_no_ais_and_is_told_by_its_own_date() {
+    let name = "radar_pi-4g-noheading-merrimac.pcap.gz";
+    let mmsis = |t: &Tracked| -> std::collections::BTreeSet<u32> {
+        t.reports
+            .iter()
+            .flat_map(|r| r.ais.iter().map(|a| a.mmsi))
+            .collect()
+    };
+    let alone = mmsis(&track(name, None));
+    let t = track_with(
+        name,
+        None,
+        OwnShipOptions {
+            nmea_in: Some(tracker_host::nmea::input::InSpec::File(realdata::file(
+                "nmea/signalk-gofree-merrimac.log",
+            ))),
+            ..OwnShipOptions::default()
+        },
+    );
+    let with_log = mmsis(&t);
+    assert!(!alone.is_empty());
+    assert_eq!(
+        with_log,
+        alone,
+        "the log's ships: {:?}",
+        with_log.difference(&alone)
+    );
+    let events = t.run.report("inproc").events;
+    let told: Vec<&String> = events
+        .iter()
+        .filter(|e| e.contains("has no time within 5 min of the scan at 2015-10-18 14:20:07Z"))
+        .collect();
+    assert_eq!(told.len(), 1, "{events:?}");
+    assert!(
+        told[0].contains("its last time before it at 2014-04-16"),
+        "{told:?}"
+    );
+    assert!(
+        events
+            .iter()
+            .any(|e| e.contains("AIS sentences of the recording not taken")),
+        "{events:?}"
+    );
+    for r in &t.reports {
+        let q = r.own.quality;
+        assert!(
+            !q.motion_known && (q.no_fix_yet || q.dead_reckoning_s.is_some()),
+            "{q:?}"
+        );
+    }
+}
+
 /// A moored radar without GNSS (the Garmin's: no NMEA, no heading in its spokes), its
 /// position given (`--origin … --fixed-position`): own ship stands at the origin, stopped
 /// and known, every scan; no "no fix" alarm; the plots and tracks are those of the run

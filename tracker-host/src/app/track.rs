@@ -159,9 +159,13 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     // A recording's times before its first date (a log of GGA and GLL only has none) are
     // the capture's day's, not today's: today's put a log of the capture's own voyage
     // years after its scans, and own ship had no fix on any.
+    // A recording that has a date is on its own: its times before that date fall on it, as
+    // when it is played alone (a log of 2014 whose first sentences had no date was put on
+    // a 2015 capture's day, and told as hours ahead of it instead of a year and a half).
     let mut own_ship_dated = o.own_ship.clone();
-    if let (Some(t), Some(InSpec::File(_))) = (capture_s, &o.own_ship.nmea_in) {
-        own_ship_dated.nmea.provisional_day = undated_day(recording.as_ref(), t);
+    if let (Some(t), Some(InSpec::File(path))) = (capture_s, &o.own_ship.nmea_in) {
+        own_ship_dated.nmea.provisional_day = crate::own_ship::recording::first_day_of(path)
+            .unwrap_or_else(|| undated_day(recording.as_ref(), t));
     }
     let own_ship = own_ship_source(&own_ship_dated, origin)?;
     let config = SessionConfig {

@@ -599,8 +599,12 @@ fn own_ship_words(own: &crate::own_ship::OwnShip, narrow: bool) -> String {
         "NO FIX".to_string()
     } else if q.fixed_position {
         "FIXED".to_string()
-    } else if let Some(age) = q.dead_reckoning_s {
+    } else if let Some(age) = q.dead_reckoning_s.filter(|_| q.motion_known) {
         format!("DR {age:.0} s")
+    } else if q.dead_reckoning_s.is_some() {
+        // Past dead reckoning's reach: the alarm says since when (a log of another voyage
+        // read to its end showed `DR 47499628 s`).
+        "POS LOST".to_string()
     } else {
         "fix".to_string()
     };

@@ -192,9 +192,14 @@ impl OwnShip {
                     "OWN SHIP: position lost, dead reckoning for {age:.0} s"
                 ));
             } else {
+                // Days for a recording's fix of another voyage (it said 791660 min).
+                let ago = if age >= 2.0 * 86_400.0 {
+                    format!("{:.0} days", age / 86_400.0)
+                } else {
+                    format!("{:.0} min", age / 60.0)
+                };
                 a.push(format!(
-                    "OWN SHIP: position lost {:.0} min ago, motion unknown: true vectors off",
-                    age / 60.0
+                    "OWN SHIP: position lost {ago} ago, motion unknown: true vectors off"
                 ));
             }
         }
@@ -341,6 +346,9 @@ pub struct NmeaOwnShip {
     apart_told: bool,
     /// Whether the recording was told to have ended before the run.
     ended_told: bool,
+    /// A recording's AIS sentences not taken: heard, by the recording's own times, more
+    /// than [`nav::MAX_DEAD_RECKONING_S`] before the scan they were read at.
+    ais_stale: u64,
     clock_events: crate::event_log::EventLog,
 }
 
@@ -387,6 +395,7 @@ impl NmeaOwnShip {
             first_timed_read_s: None,
             untimed_told: false,
             apart_told: false,
+            ais_stale: 0,
             ended_told: false,
             clock_events: crate::event_log::EventLog::default(),
         }
@@ -480,8 +489,28 @@ impl NmeaOwnShip {
             return;
         };
         while let Some(line) = file.peek(0) {
+            let timed = self.nav.time_of(line);
+            // Untimed lines before the recording's first time wait for it: they were sent
+            // then (a log of another voyage's AIS before its first fix was taken at the
+            // first scan, its ships shown among a capture's of a year later).
+            let first_ahead = || {
+                (1..LOOK_AHEAD_LINES)
+                    .filter_map(|i| file.peek(i).map(|l| self.nav.time_of(l)))
+                    .flatten()
+                    .next()
+            };
+            let sent_s = match timed {
+                Some(t) => Some(t),
+                None => self.nav.newest_s().or_else(first_ahead),
+            };
+            if timed.is_none()
+                && self.nav.newest_s().is_none()
+                && sent_s.is_some_and(|first| first > time_s + 1e-6)
+            {
+                break;
+            }
             // Untimed lines are taken as they come; a timed one is checked first.
-            if let Some(t) = self.nav.time_of(line) {
+            if let Some(t) = timed {
                 let reference = self.nav.newest_s().unwrap_or(t).min(time_s);
                 if t > reference + OUT_OF_SEQUENCE_S {
                     let back = (1..LOOK_AHEAD_LINES)
@@ -500,6 +529,13 @@ impl NmeaOwnShip {
                 }
             }
             if let Some(line) = file.next_line() {
+                // AIS the recording heard long before this scan (a log of another voyage,
+                // every line of it due at once) is not heard now: its ships are not here.
+                let stale = sent_s.is_some_and(|at| time_s - at > nav::MAX_DEAD_RECKONING_S);
+                if stale && crate::ais::fragment::is_ais(&line) {
+                    self.ais_stale += 1;
+                    continue;
+                }
                 take(
                     &mut self.nav,
                     &mut self.ais,
@@ -517,7 +553,11 @@ impl NmeaOwnShip {
         // (A recording told ended, below, is not told apart too when the run goes on past
         // dead reckoning's reach: it is the same news.)
         if !self.apart_told && !self.ended_told {
-            let next = file.peek(0).and_then(|l| self.nav.time_of(l));
+            // The next time ahead (untimed lines before the recording's first wait for it).
+            let next = (0..LOOK_AHEAD_LINES)
+                .filter_map(|i| file.peek(i).map(|l| self.nav.time_of(l)))
+                .flatten()
+                .next();
             let last = self.nav.newest_s();
             let far = |at: f64| (at - time_s).abs() > nav::MAX_DEAD_RECKONING_S;
             let apart = (next.is_some() || last.is_some())
@@ -618,6 +658,13 @@ impl OwnShipSource for NmeaOwnShip {
     fn events(&self) -> Vec<String> {
         let mut e = self.nav.events();
         e.extend(self.clock_events.lines("clock"));
+        if self.ais_stale > 0 {
+            e.push(format!(
+                "{} AIS sentences of the recording not taken: sent more than {:.0} min before the scan they were read at (another voyage's log, or a gap)",
+                self.ais_stale,
+                nav::MAX_DEAD_RECKONING_S / 60.0
+            ));
+        }
         let first = match &self.input {
             NmeaIn::Live(live) => Some(live),
             NmeaIn::File(_) => None,

@@ -179,6 +179,14 @@ impl RecordedTrack {
     }
 }
 
+/// The day the recording at `path` starts on ([`first_day`]); `None` when it gives no date
+/// or cannot be read.
+pub fn first_day_of(path: &Path) -> Option<i64> {
+    crate::nmea::input::open_recording(path)
+        .ok()
+        .and_then(|f| first_day(std::io::BufReader::new(f)))
+}
+
 /// The day the recording starts on: the first date a sentence gives, the day before when
 /// the time of day fell between the first timed sentence and that one (midnight passed).
 fn first_day(mut reader: impl std::io::BufRead) -> Option<i64> {
