@@ -882,11 +882,26 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     // scrolled so that it is the last row (a navigator who selects a target sees its data),
     // and the title says which rows these are.
     let room = usize::from(area.height.saturating_sub(3));
+    // Too short for every target, the targets in alarm come first (each nearest first), so
+    // that the alarm box's list of them by number has their figures on screen (at 80×24 a
+    // new user's trial saw `soonest first (2): 17 12` over six rows that held neither).
+    let n = view.targets.len();
+    let alarms_first = n > room && view.targets.iter().any(|t| t.dangerous(&state.limits));
+    let order: Vec<&TargetData> = if alarms_first {
+        let (alarmed, rest): (Vec<&TargetData>, Vec<&TargetData>) = view
+            .targets
+            .iter()
+            .partition(|t| t.dangerous(&state.limits));
+        alarmed.into_iter().chain(rest).collect()
+    } else {
+        view.targets.iter().collect()
+    };
     let skip = state
         .selected
-        .and_then(|id| view.targets.iter().position(|t| t.track == id))
+        .and_then(|id| order.iter().position(|t| t.track == id))
         .map_or(0, |i| (i + 1).saturating_sub(room));
-    let rows = view.targets.iter().skip(skip).map(|t: &TargetData| {
+    let rows = order.iter().skip(skip).map(|t: &&TargetData| {
+        let t = *t;
         // Selected: a background (red for a target in alarm, whose row is red anyway).
         let style = match (t.dangerous(&state.limits), state.selected == Some(t.track)) {
             (true, true) => Style::default().fg(Color::White).bg(Color::Red),
@@ -947,15 +962,19 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     } else {
         column_widths(&TABLE_WIDTHS, false)
     };
-    let n = view.targets.len();
+    let first = if alarms_first {
+        "alarms first"
+    } else {
+        "nearest first"
+    };
     let title = if skip > 0 {
         format!(
-            " targets, nearest first: {}–{} of {n} shown ",
+            " targets, {first}: {}–{} of {n} shown ",
             skip + 1,
             skip + room
         )
     } else if n > room {
-        format!(" targets, nearest first: {room} of {n} shown ")
+        format!(" targets, {first}: {room} of {n} shown ")
     } else {
         " targets, nearest first ".to_string()
     };
@@ -2199,6 +2218,23 @@ pub(crate) mod tests {
         let n = view.targets.len();
         assert!(listed < n, "80×24 lists fewer than the demo's {n} targets");
         assert!(text.contains(&format!("{listed} of {n} shown")), "{text}");
+        // The targets in alarm come first, their figures on screen (the alarm box lists
+        // them by number alone when it is short of room).
+        let alarmed: Vec<String> = (view.targets.iter())
+            .filter(|t| t.dangerous(&state.limits))
+            .map(|t| t.label())
+            .collect();
+        assert!(
+            !alarmed.is_empty() && alarmed.len() <= listed,
+            "{alarmed:?}"
+        );
+        assert!(text.contains("alarms first"), "{text}");
+        for label in &alarmed {
+            assert!(
+                rows.iter().any(|r| r.contains(&format!("│{label} "))),
+                "{label}: {text}"
+            );
+        }
         // Selecting the farthest target scrolls the table to it: its row is the last, the
         // nearest is off the table, and the title says which rows are shown.
         let (i, last) = (view.targets.iter().enumerate().rev())
