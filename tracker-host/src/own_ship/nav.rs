@@ -138,6 +138,28 @@ impl NavCounts {
         }
     }
 
+    /// The kinds ignored most, with their counts, for the summary (`GSV 426, MWV 282, XDR
+    /// 141, 5 more kinds; `): the whole list is the JSON's [`NavCounts::ignored_by_type`].
+    /// A new user's trial read "2590 ignored" and could not tell which without the JSON.
+    fn most_ignored(&self) -> String {
+        const SHOWN: usize = 4;
+        let mut kinds: Vec<(&String, &u64)> = self.ignored_by_type.iter().collect();
+        kinds.sort_by(|a, b| b.1.cmp(a.1).then(a.0.cmp(b.0)));
+        let mut out: Vec<String> = kinds
+            .iter()
+            .take(SHOWN)
+            .map(|(k, n)| format!("{k} {n}"))
+            .collect();
+        if kinds.len() > SHOWN {
+            out.push(format!("{} more kinds", kinds.len() - SHOWN));
+        }
+        if out.is_empty() {
+            String::new()
+        } else {
+            format!("{}; ", out.join(", "))
+        }
+    }
+
     fn ignore(&mut self, kind: &str) {
         self.ignored += 1;
         *self.ignored_by_type.entry(kind.to_string()).or_default() += 1;
@@ -148,10 +170,11 @@ impl std::fmt::Display for NavCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} lines: {} used, {} ignored ({} of another talker), {} rejected (bad checksum {}, malformed {}, void {}, stale {}, time jump {}, implausible {}, out of range {}, not true {}, no variation {}), {} annotations",
+            "{} lines: {} used, {} ignored ({}{} of another talker), {} rejected (bad checksum {}, malformed {}, void {}, stale {}, time jump {}, implausible {}, out of range {}, not true {}, no variation {}), {} annotations",
             self.lines,
             self.used,
             self.ignored,
+            self.most_ignored(),
             self.other_source,
             self.rejected(),
             self.bad_checksum,
@@ -1195,6 +1218,12 @@ mod tests {
         assert_eq!(c.malformed, 2, "{c}");
         assert_eq!(c.ignored, 1, "{c}");
         assert_eq!(c.ignored_by_type.get("TTM"), Some(&1));
+        // The summary names what was ignored.
+        assert!(
+            c.to_string()
+                .contains("1 ignored (TTM 1; 0 of another talker)"),
+            "{c}"
+        );
         assert_eq!((c.annotations, c.no_variation), (1, 1), "{c}");
         assert_eq!(c.out_of_range, 1, "{c}");
         assert_eq!(nav.own_ship_at(T0 + 100.0), before);
@@ -1256,5 +1285,24 @@ mod tests {
             nav.counts().implausible,
             4 + CONSISTENT_FIXES_TO_JUMP as u64 - 1
         );
+    }
+
+    #[test]
+    fn the_kinds_ignored_most_are_named_in_the_summary() {
+        let mut c = NavCounts::default();
+        for (kind, n) in [
+            ("GSV", 3),
+            ("MWV", 5),
+            ("XDR", 1),
+            ("DBT", 2),
+            ("MTW", 2),
+            ("P", 4),
+        ] {
+            for _ in 0..n {
+                c.ignore(kind);
+            }
+        }
+        assert_eq!(c.most_ignored(), "MWV 5, P 4, GSV 3, DBT 2, 2 more kinds; ");
+        assert_eq!(NavCounts::default().most_ignored(), "");
     }
 }
