@@ -383,9 +383,12 @@ fn caption(last: &Last, scale_nm: f64, vector_min: f32) -> String {
     } else {
         "relative"
     };
+    // The rings at quarters of the range (a new user's trial read "range 24 NM" over four
+    // rings and could not tell their spacing).
     format!(
-        "scan {}, range {scale_nm} NM, north up, {vectors} vectors {vector_min} min",
-        last.scan
+        "scan {}, range {scale_nm} NM, rings {} NM, north up, {vectors} vectors {vector_min} min",
+        last.scan,
+        (scale_nm / 4.0 * 1000.0).round() / 1000.0
     )
 }
 
@@ -597,6 +600,7 @@ mod tests {
         // The title says which vectors are drawn: relative without own ship's motion (a new
         // user's trial read "true vectors" on a capture with no fix).
         assert!(caption(&last, 0.5, 0.5).contains("true vectors 0.5 min"));
+        assert!(caption(&last, 24.0, 6.0).contains("range 24 NM, rings 6 NM"));
         let unknown = Last {
             motion_known: false,
             ..last.clone()
