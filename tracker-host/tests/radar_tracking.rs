@@ -343,7 +343,7 @@ fn every_capture_is_tracked_to_its_end() {
         ("radar_pi-halo-velocitytrack-away.pcap.gz", None),
     ];
     println!(
-        "| capture | scans | period s | range m | point plots/scan | extended/scan | targets shown | stationary echoes (radius m) | settled tracks < 1 kn | ≥ 1 kn | tracks not settled | untracked | settled speeds, median / max kn | echo scatter, median / 95 % m (plot σ m) | tracks shown ≥ 5 kn (target-scans, with CPA alarm) + target-scans ≥ 5 kn without their motion shown yet |"
+        "| capture | scans | period s | farthest plot m | point plots/scan | extended/scan | targets shown | stationary echoes (radius m) | settled tracks < 1 kn | ≥ 1 kn | tracks not settled | untracked | settled speeds, median / max kn | echo scatter, median / 95 % m (plot σ m) | tracks shown ≥ 5 kn (target-scans, with CPA alarm) + target-scans ≥ 5 kn without their motion shown yet |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (name, heading) in captures {

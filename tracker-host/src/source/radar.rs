@@ -85,6 +85,10 @@ pub struct RadarCounts {
     /// Scans handed to the tracker (rotations, the first partial one included; a capture's
     /// last, ended mid-rotation, only when no whole rotation came before it).
     pub scans: u64,
+    /// How far the spokes of the last scan reached, m (the radar's range scale as its spokes
+    /// give it; a new user's trial found no capture's range in the summary).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub spoke_range_m: Option<f32>,
     /// Point plots extracted from a capture's last rotation, ended mid-rotation by the
     /// capture: not tracked (the targets in the sector it did not sweep would each count a
     /// miss). NMEA and AIS heard during it are counted, and not taken.
@@ -165,9 +169,12 @@ impl std::fmt::Display for RadarCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "{} scans, {} spokes, {:.1} point plots and {:.1} extended returns a scan; {} plots without heading, {} over the {} limit, {} blobs dropped, {} extraction restarts (a new range scale or spoke format, spokes out of order)",
+            "{} scans, {} spokes{}, {:.1} point plots and {:.1} extended returns a scan; {} plots without heading, {} over the {} limit, {} blobs dropped, {} extraction restarts (a new range scale or spoke format, spokes out of order)",
             self.scans,
             self.spokes,
+            self.spoke_range_m
+                .map(|r| format!(" reaching {r:.0} m"))
+                .unwrap_or_default(),
             self.plots_per_scan(),
             self.extended_per_scan(),
             self.plots_without_heading,
@@ -404,6 +411,7 @@ impl RadarPlotSource {
         (c.yaw_measured, c.yaw_unmatched) = self.yaw.counts();
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
         c.capture_nmea = Some(self.nav.counts().clone()).filter(|n| n.lines > 0);
+        c.spoke_range_m = self.scan_range_m;
         c
     }
 
