@@ -156,9 +156,9 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             )
         }
     };
-    // A recording's times before its first date (a log of GGA and GLL only has none) are
-    // the capture's day's, not today's: today's put a log of the capture's own voyage
-    // years after its scans, and own ship had no fix on any.
+    // A recording with no date at all (a log of GGA and GLL only) is on the capture's day,
+    // not today's: today's put a log of the capture's own voyage years after its scans,
+    // and own ship had no fix on any.
     // A recording that has a date is on its own: its times before that date fall on it, as
     // when it is played alone (a log of 2014 whose first sentences had no date was put on
     // a 2015 capture's day, and told as hours ahead of it instead of a year and a half).

@@ -112,6 +112,9 @@ pub struct DisplayState {
     /// The AIS table's rows as last drawn (the pane's height decides them): ↓ stops where
     /// the last target is on the pane's last row.
     ais_rows_drawn: std::cell::Cell<usize>,
+    /// The rows the radar targets' table last held ([`table_order`] depends on it, and
+    /// ↑↓ step through the targets in the order drawn).
+    table_rows_drawn: std::cell::Cell<usize>,
     /// How a ship with a radar target and an AIS target associated is drawn.
     pub associated: AssociatedSymbol,
     /// A live radar silent this long, s (raised after a few antenna periods): the
@@ -161,6 +164,7 @@ impl DisplayState {
             ais_table: false,
             ais_first_row: 0,
             ais_rows_drawn: std::cell::Cell::new(1),
+            table_rows_drawn: std::cell::Cell::new(usize::MAX),
             associated: AssociatedSymbol::default(),
             radar_silent_s: None,
             trails: BTreeMap::new(),
@@ -335,7 +339,10 @@ impl DisplayState {
     }
 
     fn select_step(&mut self, view: &ScanReport, step: isize) {
-        let ids: Vec<u16> = view.targets.iter().map(|t| t.track).collect();
+        let ids: Vec<u16> = table_order(view, &self.limits, self.table_rows_drawn.get())
+            .iter()
+            .map(|t| t.track)
+            .collect();
         if ids.is_empty() {
             self.selected = None;
             return;
@@ -599,12 +606,14 @@ fn own_ship_words(own: &crate::own_ship::OwnShip, narrow: bool) -> String {
         "NO FIX".to_string()
     } else if q.fixed_position {
         "FIXED".to_string()
-    } else if let Some(age) = q.dead_reckoning_s.filter(|_| q.motion_known) {
-        format!("DR {age:.0} s")
-    } else if q.dead_reckoning_s.is_some() {
-        // Past dead reckoning's reach: the alarm says since when (a log of another voyage
-        // read to its end showed `DR 47499628 s`).
-        "POS LOST".to_string()
+    } else if let Some(age) = q.dead_reckoning_s {
+        // Past dead reckoning's reach: lost, the alarm says since when (a log of another
+        // voyage read to its end showed `DR 47499628 s`).
+        if f64::from(age) > crate::own_ship::nav::MAX_DEAD_RECKONING_S {
+            "POS LOST".to_string()
+        } else {
+            format!("DR {age:.0} s")
+        }
     } else {
         "fix".to_string()
     };
@@ -803,6 +812,20 @@ const TABLE_WIDTHS: [u16; 9] = [5, 9, 7, 7, 7, 7, 7, 9, AIS_COLUMN_WIDTH];
 /// number to one digit at 40 columns.
 const COMPACT_WIDTHS: [u16; 8] = [3, 4, 5, 3, 3, 4, 5, 6];
 
+/// The radar targets in the order the table lists them, when it holds `room` rows: nearest
+/// first; too short for every target, the targets in alarm first (each group nearest
+/// first), so that the alarm box's list of them by number has their figures on screen (at
+/// 80×24 a new user's trial saw `soonest first (2): 17 12` over six rows that held
+/// neither).
+fn table_order<'a>(view: &'a ScanReport, limits: &AlarmLimits, room: usize) -> Vec<&'a TargetData> {
+    if view.targets.len() <= room {
+        return view.targets.iter().collect();
+    }
+    let (alarmed, rest): (Vec<&TargetData>, Vec<&TargetData>) =
+        view.targets.iter().partition(|t| t.dangerous(limits));
+    alarmed.into_iter().chain(rest).collect()
+}
+
 /// A target's status in four characters, for the compact table.
 fn short_status(t: &TargetData) -> &'static str {
     match shown_status(t) {
@@ -882,20 +905,10 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     // scrolled so that it is the last row (a navigator who selects a target sees its data),
     // and the title says which rows these are.
     let room = usize::from(area.height.saturating_sub(3));
-    // Too short for every target, the targets in alarm come first (each nearest first), so
-    // that the alarm box's list of them by number has their figures on screen (at 80×24 a
-    // new user's trial saw `soonest first (2): 17 12` over six rows that held neither).
+    state.table_rows_drawn.set(room);
     let n = view.targets.len();
+    let order = table_order(view, &state.limits, room);
     let alarms_first = n > room && view.targets.iter().any(|t| t.dangerous(&state.limits));
-    let order: Vec<&TargetData> = if alarms_first {
-        let (alarmed, rest): (Vec<&TargetData>, Vec<&TargetData>) = view
-            .targets
-            .iter()
-            .partition(|t| t.dangerous(&state.limits));
-        alarmed.into_iter().chain(rest).collect()
-    } else {
-        view.targets.iter().collect()
-    };
     let skip = state
         .selected
         .and_then(|id| order.iter().position(|t| t.track == id))
@@ -962,19 +975,19 @@ fn render_table(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Scan
     } else {
         column_widths(&TABLE_WIDTHS, false)
     };
-    let first = if alarms_first {
+    let order_words = if alarms_first {
         "alarms first"
     } else {
         "nearest first"
     };
     let title = if skip > 0 {
         format!(
-            " targets, {first}: {}–{} of {n} shown ",
+            " targets, {order_words}: {}–{} of {n} shown ",
             skip + 1,
             skip + room
         )
     } else if n > room {
-        format!(" targets, {first}: {room} of {n} shown ")
+        format!(" targets, {order_words}: {room} of {n} shown ")
     } else {
         " targets, nearest first ".to_string()
     };
@@ -1027,8 +1040,8 @@ fn draw_table<'a>(
 pub const AIS_COLUMN_WIDTH: u16 = 20;
 
 /// The narrowest AIS column the compact table draws, characters: an MMSI (9 digits, shown
-/// for a ship whose name is not heard) and a count of more ships (`? +9`), never cut.
-pub const AIS_COLUMN_MIN_WIDTH: u16 = 13;
+/// for a ship whose name is not heard) and a count of more ships (`? +99`), never cut.
+pub const AIS_COLUMN_MIN_WIDTH: u16 = 14;
 
 /// The table's AIS column, at most [`AIS_COLUMN_WIDTH`] characters: the paired AIS target's
 /// name; or, while a radar target is shown as AIS targets (its pair being confirmed, or
@@ -2162,6 +2175,45 @@ pub(crate) mod tests {
         assert_eq!(state.message, None);
     }
 
+    /// Own ship's position dead reckoned is `DR n s` up to dead reckoning's reach, then
+    /// `POS LOST`, its alarm saying since when, in days when days (a log of another voyage
+    /// read to its end showed `DR 47499628 s` and `position lost 791660 min ago`).
+    #[test]
+    fn own_ship_past_dead_reckonings_reach_is_lost() {
+        let mut own = crate::own_ship::OwnShip::at([0.0, 0.0], [0.0, 3.0]);
+        own.quality.dead_reckoning_s = Some(100.0);
+        assert!(
+            own_ship_line(&own).contains("DR 100 s"),
+            "{}",
+            own_ship_line(&own)
+        );
+        // Motion not measured yet: still dead reckoned (from where it was), not lost.
+        own.quality.motion_known = false;
+        assert!(
+            own_ship_line(&own).contains("DR 100 s"),
+            "{}",
+            own_ship_line(&own)
+        );
+        own.quality.dead_reckoning_s = Some(600.0);
+        assert!(
+            own_ship_line(&own).contains("POS LOST"),
+            "{}",
+            own_ship_line(&own)
+        );
+        assert!(own
+            .alarms()
+            .iter()
+            .any(|a| a.contains("position lost 10 min ago")));
+        own.quality.dead_reckoning_s = Some(550.0 * 86_400.0);
+        assert!(
+            own.alarms()
+                .iter()
+                .any(|a| a.contains("position lost 550 days ago")),
+            "{:?}",
+            own.alarms()
+        );
+    }
+
     #[test]
     fn an_80_by_24_terminal_cuts_words_not_figures() {
         let options = DemoOptions::new(
@@ -2235,6 +2287,12 @@ pub(crate) mod tests {
                 "{label}: {text}"
             );
         }
+        // ↓ steps through the targets in the order drawn: the first in alarm first.
+        let first_alarmed = view.targets.iter().find(|t| t.dangerous(&state.limits));
+        assert_eq!(state.selected, None);
+        state.key('↓', Some(&view));
+        assert_eq!(state.selected, first_alarmed.map(|t| t.track));
+        state.selected = None;
         // Selecting the farthest target scrolls the table to it: its row is the last, the
         // nearest is off the table, and the title says which rows are shown.
         let (i, last) = (view.targets.iter().enumerate().rev())

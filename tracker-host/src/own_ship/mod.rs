@@ -315,6 +315,25 @@ pub struct NmeaOptions {
 /// it, is out of sequence (one corrupt time with a valid checksum), s.
 const OUT_OF_SEQUENCE_S: f64 = 60.0;
 
+/// A recording's AIS is taken only when the recording heard it within this of the scan it
+/// is read at, s (by the recording's own times): dead reckoning's reach, past which own
+/// ship's position from the same recording is lost too.
+const RECORDED_AIS_WINDOW_S: f64 = nav::MAX_DEAD_RECKONING_S;
+
+/// Lines looked ahead for a recording's first time (the time of its AIS before it), at
+/// most: a receiver's cold start of a minute at 50 AIS lines a second, and more.
+const FIRST_TIME_LOOK_AHEAD_LINES: usize = 8192;
+
+/// The time of the first timed sentence among the next [`FIRST_TIME_LOOK_AHEAD_LINES`]
+/// lines of `file`, s; `None` when there is none within them. The lines looked at stay
+/// buffered in `file` until read (about 80 bytes each).
+fn first_time_ahead(file: &mut crate::nmea::input::FileLines, nav: &OwnShipNav) -> Option<f64> {
+    (0..FIRST_TIME_LOOK_AHEAD_LINES)
+        .map_while(|i| file.peek(i).map(|l| nav.time_of(l)))
+        .flatten()
+        .next()
+}
+
 /// A recording's lines counted past the run's last scan, at most (a count this large reads
 /// "at least").
 pub const MAX_UNREAD_COUNTED: u64 = 1_000_000;
@@ -347,8 +366,11 @@ pub struct NmeaOwnShip {
     /// Whether the recording was told to have ended before the run.
     ended_told: bool,
     /// A recording's AIS sentences not taken: heard, by the recording's own times, more
-    /// than [`nav::MAX_DEAD_RECKONING_S`] before the scan they were read at.
+    /// than [`RECORDED_AIS_WINDOW_S`] from the scan they were read at.
     ais_stale: u64,
+    /// A recording's first time, s, once looked for ([`first_time_ahead`]): the time of its
+    /// AIS before any timed sentence.
+    first_time_s: Option<Option<f64>>,
     clock_events: crate::event_log::EventLog,
 }
 
@@ -396,6 +418,7 @@ impl NmeaOwnShip {
             untimed_told: false,
             apart_told: false,
             ais_stale: 0,
+            first_time_s: None,
             ended_told: false,
             clock_events: crate::event_log::EventLog::default(),
         }
@@ -490,25 +513,6 @@ impl NmeaOwnShip {
         };
         while let Some(line) = file.peek(0) {
             let timed = self.nav.time_of(line);
-            // Untimed lines before the recording's first time wait for it: they were sent
-            // then (a log of another voyage's AIS before its first fix was taken at the
-            // first scan, its ships shown among a capture's of a year later).
-            let first_ahead = || {
-                (1..LOOK_AHEAD_LINES)
-                    .filter_map(|i| file.peek(i).map(|l| self.nav.time_of(l)))
-                    .flatten()
-                    .next()
-            };
-            let sent_s = match timed {
-                Some(t) => Some(t),
-                None => self.nav.newest_s().or_else(first_ahead),
-            };
-            if timed.is_none()
-                && self.nav.newest_s().is_none()
-                && sent_s.is_some_and(|first| first > time_s + 1e-6)
-            {
-                break;
-            }
             // Untimed lines are taken as they come; a timed one is checked first.
             if let Some(t) = timed {
                 let reference = self.nav.newest_s().unwrap_or(t).min(time_s);
@@ -529,12 +533,20 @@ impl NmeaOwnShip {
                 }
             }
             if let Some(line) = file.next_line() {
-                // AIS the recording heard long before this scan (a log of another voyage,
-                // every line of it due at once) is not heard now: its ships are not here.
-                let stale = sent_s.is_some_and(|at| time_s - at > nav::MAX_DEAD_RECKONING_S);
-                if stale && crate::ais::fragment::is_ais(&line) {
-                    self.ais_stale += 1;
-                    continue;
+                // AIS the recording heard far from this scan's time is not heard now: its
+                // ships are not here (a log of another voyage read with a capture brought
+                // its ships into the capture's picture). Its time is the timed sentence's
+                // before it, or, before any, the recording's first time.
+                if crate::ais::fragment::is_ais(&line) {
+                    let sent_s = self.nav.newest_s().or_else(|| {
+                        *self
+                            .first_time_s
+                            .get_or_insert_with(|| first_time_ahead(file, &self.nav))
+                    });
+                    if sent_s.is_some_and(|at| (time_s - at).abs() > RECORDED_AIS_WINDOW_S) {
+                        self.ais_stale += 1;
+                        continue;
+                    }
                 }
                 take(
                     &mut self.nav,
@@ -553,11 +565,7 @@ impl NmeaOwnShip {
         // (A recording told ended, below, is not told apart too when the run goes on past
         // dead reckoning's reach: it is the same news.)
         if !self.apart_told && !self.ended_told {
-            // The next time ahead (untimed lines before the recording's first wait for it).
-            let next = (0..LOOK_AHEAD_LINES)
-                .filter_map(|i| file.peek(i).map(|l| self.nav.time_of(l)))
-                .flatten()
-                .next();
+            let next = file.peek(0).and_then(|l| self.nav.time_of(l));
             let last = self.nav.newest_s();
             let far = |at: f64| (at - time_s).abs() > nav::MAX_DEAD_RECKONING_S;
             let apart = (next.is_some() || last.is_some())
@@ -660,9 +668,9 @@ impl OwnShipSource for NmeaOwnShip {
         e.extend(self.clock_events.lines("clock"));
         if self.ais_stale > 0 {
             e.push(format!(
-                "{} AIS sentences of the recording not taken: sent more than {:.0} min before the scan they were read at (another voyage's log, or a gap)",
+                "{} AIS sentences of the recording not taken: heard more than {:.0} min from the scan they were read at (another voyage's log, or a gap)",
                 self.ais_stale,
-                nav::MAX_DEAD_RECKONING_S / 60.0
+                RECORDED_AIS_WINDOW_S / 60.0
             ));
         }
         let first = match &self.input {
@@ -1058,6 +1066,90 @@ mod tests {
             "{:?}",
             own.events()
         );
+    }
+
+    /// A recording's AIS is heard at the recording's own times: before its first timed
+    /// sentence at that sentence's time, after it at the last one's. Far (over 5 min) from
+    /// the scan it is read at, it is not taken but counted and told (a log of another
+    /// voyage brought its ships into a radar capture's picture); near, it is taken. An
+    /// untimed line before a corrupt time far ahead does not hold the replay up.
+    #[test]
+    fn a_recordings_ais_far_from_the_scan_is_not_taken() {
+        use std::io::Write as _;
+        let origin = Origin::default();
+        let t0 = 1_767_225_600.0 + 10.0 * 3600.0;
+        // A class A position report (pyais's sample).
+        let vdm = "!AIVDM,1,1,,B,15M67FC000G?ufbE`FepT@3n00Sa,0*5C\r\n";
+        let run = |first_fix_s: f64, scans_from_s: f64, lines_before: &[String]| {
+            let mut file = tempfile::NamedTempFile::new().unwrap();
+            for l in lines_before {
+                file.write_all(l.as_bytes()).unwrap();
+            }
+            file.write_all(vdm.as_bytes()).unwrap();
+            for k in 0..20 {
+                let t = first_fix_s + f64::from(k);
+                for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t) {
+                    file.write_all(l.as_bytes()).unwrap();
+                }
+                // AIS after each epoch: heard then.
+                file.write_all(vdm.as_bytes()).unwrap();
+            }
+            file.flush().unwrap();
+            let o = NmeaOptions {
+                provisional_day: clock::day_of_s(first_fix_s),
+                ..NmeaOptions::default()
+            };
+            let spec = InSpec::File(file.path().to_path_buf());
+            let mut own = NmeaOwnShip::open(&spec, origin, &o).unwrap();
+            let (mut heard, mut fixed) = (0, 0);
+            for scan in 0..10u32 {
+                let time_s = scans_from_s + 2.5 * f64::from(scan);
+                let got = own
+                    .own_ship(&SourceScan {
+                        radar: crate::source::RadarScan {
+                            scan,
+                            time_s,
+                            plots: Vec::new(),
+                        },
+                        ..SourceScan::default()
+                    })
+                    .unwrap();
+                fixed +=
+                    usize::from(got.quality.dead_reckoning_s.is_none() && !got.quality.no_fix_yet);
+                heard += own.take_ais().len();
+            }
+            (heard, fixed, own.ais_stale, own.events())
+        };
+        // Played from its start: all 21 reports heard, none refused.
+        let (heard, fixed, stale, _) = run(t0, t0, &[]);
+        assert_eq!((heard, stale), (21, 0));
+        assert!(fixed >= 8, "{fixed}");
+        // An hour before its first fix (the report before it) and a day after its last.
+        for scans_from_s in [t0 - 3600.0, t0 + 86_400.0] {
+            let (heard, _, stale, events) = run(t0, scans_from_s, &[]);
+            let before = usize::from(scans_from_s < t0);
+            assert_eq!(
+                (heard, stale),
+                (0, 21 - 20 * before as u64),
+                "{scans_from_s}"
+            );
+            assert!(
+                events
+                    .iter()
+                    .any(|e| e.contains("AIS sentences of the recording not taken")),
+                "{events:?}"
+            );
+        }
+        // An untimed line, then a corrupt time an hour ahead (valid checksum) whose next
+        // timed neighbour is back: refused, and the replay goes on.
+        let corrupt = own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t0 + 3600.0);
+        let lines = [
+            crate::nmea::sentence::sentence("HEHDT,000.0,T"),
+            corrupt[0].clone(),
+        ];
+        let (heard, fixed, stale, _) = run(t0, t0, &lines);
+        assert_eq!((heard, stale), (21, 0));
+        assert!(fixed >= 8, "{fixed}");
     }
 
     #[test]

@@ -139,7 +139,8 @@ impl NavCounts {
     }
 
     /// The kinds ignored most, with their counts, for the summary (`GSV 426, MWV 282, XDR
-    /// 141, 5 more kinds; `): the whole list is the JSON's [`NavCounts::ignored_by_type`].
+    /// 141, DBT 120, 5 more kinds; `): the whole list is the JSON's
+    /// [`NavCounts::ignored_by_type`].
     /// A new user's trial read "2590 ignored" and could not tell which without the JSON.
     fn most_ignored(&self) -> String {
         const SHOWN: usize = 4;
