@@ -179,8 +179,9 @@ impl RecordedTrack {
     }
 }
 
-/// The day the recording at `path` starts on ([`first_day`]); `None` when it gives no date
-/// or cannot be read.
+/// The day the recording at `path` starts on (days since 1970): the first date a sentence
+/// gives, the day before when the time of day fell between the first timed sentence and
+/// that one (midnight passed); `None` when it gives no date or cannot be read.
 pub fn first_day_of(path: &Path) -> Option<i64> {
     crate::nmea::input::open_recording(path)
         .ok()
