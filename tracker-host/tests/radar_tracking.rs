@@ -80,6 +80,14 @@ struct Tracked {
     first_range_m: f32,
 }
 
+/// Own ship from the NMEA recording at `path` (`--nmea-in file:PATH`).
+fn nmea_file(path: PathBuf) -> OwnShipOptions {
+    OwnShipOptions {
+        nmea_in: Some(tracker_host::nmea::input::InSpec::File(path)),
+        ..OwnShipOptions::default()
+    }
+}
+
 fn track(name: &str, heading_deg: Option<f32>) -> Tracked {
     track_with(name, heading_deg, OwnShipOptions::default())
 }
@@ -844,12 +852,9 @@ fn the_cut_last_rotation_is_counted_not_tracked() {
 fn a_heading_in_the_capture_is_own_ships_with_nmea_in_too() {
     let name = "radar_pi-4g-noheading-merrimac.pcap.gz";
     let alone = track(name, None);
-    let nmea_in = OwnShipOptions {
-        nmea_in: Some(tracker_host::nmea::input::InSpec::File(realdata::file(
-            "nmea/radar_pi-4g-noheading-merrimac-tcp2000.log",
-        ))),
-        ..OwnShipOptions::default()
-    };
+    let nmea_in = nmea_file(realdata::file(
+        "nmea/radar_pi-4g-noheading-merrimac-tcp2000.log",
+    ));
     let with = track_with(name, None, nmea_in);
     assert_eq!(alone.reports.len(), with.reports.len());
     let mut both = 0;
@@ -910,12 +915,8 @@ fn a_given_heading_is_own_ships_with_a_gnss_on_nmea_in() {
     let dir = tempfile::tempdir().unwrap();
     let gnss = dir.path().join("gnss.log");
     std::fs::write(&gnss, garmin_gnss_log("5048.30720,N,00117.90400,W")).unwrap();
-    let nmea_in = |path: PathBuf| OwnShipOptions {
-        nmea_in: Some(tracker_host::nmea::input::InSpec::File(path)),
-        ..OwnShipOptions::default()
-    };
     let alone = track(name, Some(0.0));
-    let with = track_with(name, Some(0.0), nmea_in(gnss));
+    let with = track_with(name, Some(0.0), nmea_file(gnss));
     assert_eq!(alone.reports.len(), with.reports.len());
     assert!(with.reports.len() >= 30);
     for (a, w) in alone.reports.iter().zip(&with.reports) {
@@ -935,7 +936,7 @@ fn a_given_heading_is_own_ships_with_a_gnss_on_nmea_in() {
     let other = track_with(
         name,
         Some(0.0),
-        nmea_in(realdata::file(
+        nmea_file(realdata::file(
             "nmea/radar_pi-4g-noheading-merrimac-tcp2000.log",
         )),
     );
@@ -959,14 +960,7 @@ fn a_recordings_first_fix_is_the_origin_for_a_capture_without_one() {
     let dir = tempfile::tempdir().unwrap();
     let gnss = dir.path().join("sydney.log");
     std::fs::write(&gnss, garmin_gnss_log("3351.00000,S,15112.00000,E")).unwrap();
-    let t = track_with(
-        "radar_pi-garmin_xhd.pcap.gz",
-        Some(0.0),
-        OwnShipOptions {
-            nmea_in: Some(tracker_host::nmea::input::InSpec::File(gnss)),
-            ..OwnShipOptions::default()
-        },
-    );
+    let t = track_with("radar_pi-garmin_xhd.pcap.gz", Some(0.0), nmea_file(gnss));
     assert!(t.reports.len() >= 30);
     for r in &t.reports[1..] {
         let [east, north] = r.own.position_m;
@@ -1123,10 +1117,7 @@ fn a_radars_heading_that_stops_is_lost_not_held() {
         }
         let file = dir.path().join(if gyro { "gyro.log" } else { "gnss.log" });
         std::fs::write(&file, log).unwrap();
-        OwnShipOptions {
-            nmea_in: Some(tracker_host::nmea::input::InSpec::File(file)),
-            ..OwnShipOptions::default()
-        }
+        nmea_file(file)
     };
     let whole = track("radar_pi-halo-velocitytrack-away.pcap.gz", None);
     let alone = OwnShipOptions::default();
@@ -1231,16 +1222,7 @@ fn heading_cut_at(cut_s: f64, whole: &Tracked, t: &Tracked, after: After) {
 #[test]
 fn a_recording_without_dates_falls_on_the_captures_day_and_one_apart_is_told() {
     let name = "radar_pi-4g-noheading-merrimac.pcap.gz";
-    let with_log = |path: PathBuf| {
-        track_with(
-            name,
-            None,
-            OwnShipOptions {
-                nmea_in: Some(tracker_host::nmea::input::InSpec::File(path)),
-                ..OwnShipOptions::default()
-            },
-        )
-    };
+    let with_log = |path: PathBuf| track_with(name, None, nmea_file(path));
     let dir = tempfile::tempdir().unwrap();
     let undated = dir.path().join("4g-without-rmc.log");
     let log = std::fs::read_to_string(realdata::file(
@@ -1296,12 +1278,7 @@ fn a_log_of_an_earlier_voyage_brings_no_ais_and_is_told_by_its_own_date() {
     let t = track_with(
         name,
         None,
-        OwnShipOptions {
-            nmea_in: Some(tracker_host::nmea::input::InSpec::File(realdata::file(
-                "nmea/signalk-gofree-merrimac.log",
-            ))),
-            ..OwnShipOptions::default()
-        },
+        nmea_file(realdata::file("nmea/signalk-gofree-merrimac.log")),
     );
     let with_log = mmsis(&t);
     assert!(!alone.is_empty());

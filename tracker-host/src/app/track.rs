@@ -164,8 +164,13 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
     // a 2015 capture's day, and told as hours ahead of it instead of a year and a half).
     let mut own_ship_dated = o.own_ship.clone();
     if let (Some(t), Some(InSpec::File(path))) = (capture_s, &o.own_ship.nmea_in) {
-        own_ship_dated.nmea.provisional_day = crate::own_ship::recording::first_day_of(path)
-            .unwrap_or_else(|| undated_day(recording.as_ref(), t));
+        // Its first date as read with its fixes; read again only when it had none.
+        let first_day = match &recording {
+            Some(r) => r.first_day,
+            None => crate::own_ship::recording::first_day_of(path),
+        };
+        own_ship_dated.nmea.provisional_day =
+            first_day.unwrap_or_else(|| undated_day(recording.as_ref(), t));
     }
     let own_ship = own_ship_source(&own_ship_dated, origin)?;
     let config = SessionConfig {

@@ -836,6 +836,18 @@ impl OwnShipSource for SimulatedBridge {
 mod tests {
     use super::*;
 
+    /// A scan at `time_s` (s since 1970) with no plots and no own ship of its own.
+    fn scan_at(scan: u32, time_s: f64) -> SourceScan {
+        SourceScan {
+            radar: crate::source::RadarScan {
+                scan,
+                time_s,
+                plots: Vec::new(),
+            },
+            ..SourceScan::default()
+        }
+    }
+
     /// A source without a fix gives the recording no position (it was a GNSS fix at the
     /// origin); one with a fix does.
     #[test]
@@ -844,13 +856,8 @@ mod tests {
         let path = dir.path().join("bridge.nmea");
         let mut bridge = SimulatedBridge::create(&path, Origin::default()).unwrap();
         let scan = |t: f64, own: OwnShip| SourceScan {
-            radar: crate::source::RadarScan {
-                scan: 1,
-                time_s: t,
-                plots: Vec::new(),
-            },
             own_ship: Some(own),
-            ..SourceScan::default()
+            ..scan_at(1, t)
         };
         let t0 = 1.5e9;
         for k in 0..3 {
@@ -993,14 +1000,7 @@ mod tests {
             let spec = InSpec::File(file.path().to_path_buf());
             let mut own = NmeaOwnShip::open(&spec, origin, &NmeaOptions::default()).unwrap();
             for scan in 0..3 {
-                let scan = SourceScan {
-                    radar: crate::source::RadarScan {
-                        scan,
-                        time_s: t0 + 2.5 * f64::from(scan),
-                        plots: Vec::new(),
-                    },
-                    ..SourceScan::default()
-                };
+                let scan = scan_at(scan, t0 + 2.5 * f64::from(scan));
                 own.own_ship(&scan).unwrap();
             }
             let told = own
@@ -1042,16 +1042,7 @@ mod tests {
         // Past dead reckoning's reach too (5 min): told ended, not also "apart".
         for scan in 0..140u32 {
             let time_s = t0 + 2.5 * f64::from(scan);
-            let got = own
-                .own_ship(&SourceScan {
-                    radar: crate::source::RadarScan {
-                        scan,
-                        time_s,
-                        plots: Vec::new(),
-                    },
-                    ..SourceScan::default()
-                })
-                .unwrap();
+            let got = own.own_ship(&scan_at(scan, time_s)).unwrap();
             // Told once dead reckoning has begun, not while the recording still reaches.
             let reckoned = got.quality.dead_reckoning_s.is_some();
             assert_eq!(ended(&own), usize::from(reckoned), "scan {scan}: {got:?}");
@@ -1104,16 +1095,7 @@ mod tests {
             let (mut heard, mut fixed) = (0, 0);
             for scan in 0..10u32 {
                 let time_s = scans_from_s + 2.5 * f64::from(scan);
-                let got = own
-                    .own_ship(&SourceScan {
-                        radar: crate::source::RadarScan {
-                            scan,
-                            time_s,
-                            plots: Vec::new(),
-                        },
-                        ..SourceScan::default()
-                    })
-                    .unwrap();
+                let got = own.own_ship(&scan_at(scan, time_s)).unwrap();
                 fixed +=
                     usize::from(got.quality.dead_reckoning_s.is_none() && !got.quality.no_fix_yet);
                 heard += own.take_ais().len();
@@ -1171,14 +1153,7 @@ mod tests {
             ..NmeaOptions::default()
         };
         let mut own = NmeaOwnShip::open(&spec, origin, &options).unwrap();
-        let scan = SourceScan {
-            radar: crate::source::RadarScan {
-                scan: 0,
-                time_s: t0 + 1.0,
-                plots: Vec::new(),
-            },
-            ..SourceScan::default()
-        };
+        let scan = scan_at(0, t0 + 1.0);
         own.own_ship(&scan).unwrap();
         assert_eq!(own.nmea_counts().unwrap().lines, per_epoch);
         own.finish();
@@ -1243,14 +1218,7 @@ mod tests {
         // A class A position report (pyais's sample).
         let vdm = "!AIVDM,1,1,,B,15M67FC000G?ufbE`FepT@3n00Sa,0*5C\r\n";
         tx.send_to(vdm.as_bytes(), ("127.0.0.1", ais)).unwrap();
-        let scan = SourceScan {
-            radar: crate::source::RadarScan {
-                scan: 0,
-                time_s: now + 0.5,
-                plots: Vec::new(),
-            },
-            ..SourceScan::default()
-        };
+        let scan = scan_at(0, now + 0.5);
         let deadline = std::time::Instant::now() + std::time::Duration::from_secs(5);
         let (mut fixed, mut heard) = (false, Vec::new());
         while (!fixed || heard.is_empty()) && std::time::Instant::now() < deadline {

@@ -25,6 +25,9 @@ pub struct RecordedTrack {
     /// Fixes set apart from the track: more than [`MAX_FIX_GAP_S`] from the stretch of the
     /// recording that holds the most fixes (a stray sentence of another date).
     pub set_apart: usize,
+    /// The day the recording starts on ([`first_day_of`]), days since 1970; `None` when
+    /// it gives no date.
+    pub first_day: Option<i64>,
 }
 
 /// Fixes further apart than this are not one voyage, s (a day). A recording's track is
@@ -82,7 +85,8 @@ impl RecordedTrack {
             }
             Ok(nav)
         };
-        let nav = read(first_day(open()?).unwrap_or(o.provisional_day), None)?;
+        let day = first_day(open()?);
+        let nav = read(day.unwrap_or(o.provisional_day), None)?;
         let fixes = nav.fixes().to_vec();
         if fixes.is_empty() {
             anyhow::bail!(
@@ -114,6 +118,7 @@ impl RecordedTrack {
             fixes,
             timed,
             set_apart,
+            first_day: day,
         })
     }
 
