@@ -52,6 +52,10 @@ struct Expected {
     rotation_spokes: &'static [u32],
     /// Ranges in order, m (truncated to whole metres).
     ranges_m: &'static [u32],
+    /// The range scales a Navico reported as chosen (state report `02 C4`, `u32@2` dm, on
+    /// the report group paired with the spokes), m, in order (read apart from the product
+    /// by a throw-away Python reader of the captures' reports, 2026-12-07).
+    range_settings_m: &'static [u32],
     range_changes: u64,
     out_of_order: u64,
     /// Heading in degrees true: the lowest and highest seen, or none.
@@ -75,6 +79,7 @@ const EXPECTED: [Expected; 5] = [
         rotations: 3,
         rotation_spokes: &[2048, 2048],
         ranges_m: &[25465],
+        range_settings_m: &[14816],
         range_changes: 0,
         out_of_order: 0,
         heading_deg: Some((295.93, 296.02)),
@@ -94,6 +99,7 @@ const EXPECTED: [Expected; 5] = [
         rotations: 21,
         rotation_spokes: &[2048; 20],
         ranges_m: &[195],
+        range_settings_m: &[100],
         range_changes: 0,
         out_of_order: 0,
         heading_deg: None,
@@ -115,6 +121,7 @@ const EXPECTED: [Expected; 5] = [
         // (before the range change) that are dropped here.
         rotation_spokes: &[2016, 2032, 1520, 2000],
         ranges_m: &[1633, 3273],
+        range_settings_m: &[926, 1852],
         range_changes: 1,
         out_of_order: 2,
         heading_deg: Some((1.49, 1.93)),
@@ -134,6 +141,7 @@ const EXPECTED: [Expected; 5] = [
         rotations: 10,
         rotation_spokes: &[2048; 9],
         ranges_m: &[796],
+        range_settings_m: &[463],
         range_changes: 0,
         out_of_order: 0,
         heading_deg: Some((226.14, 226.23)),
@@ -153,6 +161,7 @@ const EXPECTED: [Expected; 5] = [
         rotations: 31,
         rotation_spokes: &[1440; 30],
         ranges_m: &[4167],
+        range_settings_m: &[],
         range_changes: 0,
         out_of_order: 0,
         heading_deg: None,
@@ -211,8 +220,8 @@ fn the_five_captures_decode_as_measured() {
         "|---|---|---|---|---|---|---|---|---|---|---|---|---|".to_string(),
     ];
     let mut counters = vec![
-        "| capture | UDP datagrams | TCP segments | other datagrams | frames | scanner reports | ranges guessed | heading true / not true / none / invalid | packets refused | spokes skipped | NMEA lines (not NMEA) |".to_string(),
-        "|---|---|---|---|---|---|---|---|---|---|---|".to_string(),
+        "| capture | UDP datagrams | TCP segments | other datagrams | frames | scanner reports | range scales reported, m | ranges guessed | heading true / not true / none / invalid | packets refused | spokes skipped | NMEA lines (not NMEA) |".to_string(),
+        "|---|---|---|---|---|---|---|---|---|---|---|---|".to_string(),
     ];
     for e in &EXPECTED {
         let r = run(&capture(e.file));
@@ -258,13 +267,14 @@ fn the_five_captures_decode_as_measured() {
         ));
         let n = &r.stats.navico;
         counters.push(format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} / {} / {} / {} | {} | {} | {} ({}) |",
+            "| {} | {} | {} | {} | {} | {} | {:?} | {} | {} / {} / {} / {} | {} | {} | {} ({}) |",
             e.file,
             c.udp_datagrams,
             c.tcp_segments,
             r.stats.other_datagrams,
             n.frames,
             r.stats.navico_reports,
+            r.stats.navico_range_settings_m,
             n.range_guessed,
             n.heading_true,
             n.heading_not_true,
@@ -344,8 +354,29 @@ fn the_five_captures_decode_as_measured() {
                 // Each capture has its scanner-type report before its first frame.
                 assert!(r.stats.navico_reports > 0, "{at}: scanner-type reports");
                 assert_eq!(n.range_guessed, 0, "{at}: ranges guessed");
+                // The range chosen, from the radar's own report: the spokes reach 1.6–2
+                // times it on every capture, each spoke range against the range scale it
+                // was sent on (the 4G's 195 m on its 100 m scale: 1.95; read as 780 m,
+                // `small` in metres, it would be 7.8).
+                let settings: Vec<u32> = r
+                    .stats
+                    .navico_range_settings_m
+                    .iter()
+                    .map(|&m| m as u32)
+                    .collect();
+                assert_eq!(settings, e.range_settings_m, "{at}: range settings");
+                assert_eq!(settings.len(), ranges.len(), "{at}: a setting a range");
+                for (reach, setting) in ranges.iter().zip(&settings) {
+                    let ratio = f64::from(*reach) / f64::from(*setting);
+                    assert!(
+                        (1.6..=2.0).contains(&ratio),
+                        "{at}: {reach} m on {setting} m"
+                    );
+                }
+                assert_eq!(r.stats.range_disagreements, 0, "{at}");
             }
             RadarKind::Garmin => {
+                assert!(r.stats.navico_range_settings_m.is_empty(), "{at}");
                 assert_eq!(s.samples_per_spoke, 695, "{at}");
                 assert_eq!(r.stats.garmin.selected_range_m, Some(3704), "{at}");
             }

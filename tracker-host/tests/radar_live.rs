@@ -3,8 +3,9 @@
 //! loopback interface (nothing leaves the machine), received by the binary, decoded,
 //! extracted and tracked, then ended with Ctrl-C once it has tracked every whole rotation. The spokes, rotations and plots must be
 //! those of the same capture read as a file, and nothing may be lost on the way; a second
-//! radar sending the same spokes to the same group from another address is ignored. (The
-//! binary listens where a real 3G sends, 236.6.7.8:6678: anything else sending there on this
+//! radar sending the same spokes to the same group from another address is ignored; the
+//! radar's reports give its range scales, as in the file. (The binary listens where a real
+//! 3G sends, 236.6.7.8:6678 and 236.6.7.9:6679: anything else sending there on this
 //! machine while the test runs, a replay or a radar, is counted too and fails it.)
 #![cfg(target_os = "linux")]
 
@@ -89,7 +90,7 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
         .unwrap();
     let mut out = BufReader::new(live.stdout.take().unwrap());
     let deadline = Instant::now() + Duration::from_secs(20);
-    while !udp_port_bound(6678) {
+    while !(udp_port_bound(6678) && udp_port_bound(6679)) {
         assert!(
             Instant::now() < deadline,
             "the binary never joined the 3G's group"
@@ -174,13 +175,24 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
     let (file, live) = (summary(&file_json), summary(&live_json));
     let (f, l) = (&file["radar"], &live["radar"]);
     println!("file: {f}\nlive: {l}");
-    // Only the spoke group is joined (the radar's reports go to others).
+    // The spoke group and the report group beside it are joined (its reports give the
+    // model and the range scale); the radar's other groups are not.
     let spoke_datagrams = datagrams.iter().filter(|d| d.1.port() == 6678).count();
+    let report_datagrams = datagrams.iter().filter(|d| d.1.port() == 6679).count();
+    assert!(report_datagrams > 0);
     assert_eq!(
         l["live"]["received"],
-        2 * spoke_datagrams + junk,
-        "spoke datagrams sent by the two radars, and the junk, received"
+        2 * (spoke_datagrams + report_datagrams) + junk,
+        "spoke and report datagrams sent by the two radars, and the junk, received"
     );
+    // The range scales the radar reported, live as in the file: ½ NM, then 1 NM.
+    assert_eq!(
+        l["range_settings_m"],
+        serde_json::json!([926.0, 1852.0]),
+        "{l}"
+    );
+    assert_eq!(f["range_settings_m"], l["range_settings_m"]);
+    assert!(stdout.contains("(the radar on 0.5 NM, 1 NM)"), "{stdout}");
     assert!(junk > 10, "{junk}");
     assert_eq!(l["spoke_packets_refused"], junk, "{l}");
     assert!(

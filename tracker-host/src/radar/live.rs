@@ -42,6 +42,29 @@ pub const NAVICO_SPOKE_GROUPS: [Endpoint; 2] = [
     },
 ];
 
+/// Navico state-report groups paired with [`NAVICO_SPOKE_GROUPS`], seen in the captures:
+/// BR24/3G/4G (236.6.7.9:6679) and HALO (236.6.9.51:7061). Their reports give the model
+/// (which the range of a 4G/HALO spoke depends on) and the range the user chose (which
+/// checks the spokes' range).
+pub const NAVICO_REPORT_GROUPS: [Endpoint; 2] = [
+    Endpoint {
+        group: Ipv4Addr::new(236, 6, 7, 9),
+        port: 6679,
+    },
+    Endpoint {
+        group: Ipv4Addr::new(236, 6, 9, 51),
+        port: 7061,
+    },
+];
+
+/// What a live Navico radar is heard on: its spoke groups, then its report groups.
+pub const NAVICO_GROUPS: [Endpoint; 4] = [
+    NAVICO_SPOKE_GROUPS[0],
+    NAVICO_SPOKE_GROUPS[1],
+    NAVICO_REPORT_GROUPS[0],
+    NAVICO_REPORT_GROUPS[1],
+];
+
 /// The Garmin xHD spoke group (fixed).
 pub const GARMIN_SPOKE_GROUPS: [Endpoint; 1] = [Endpoint {
     group: Ipv4Addr::new(239, 254, 2, 0),

@@ -19,8 +19,8 @@
 //! - otherwise the 4G/HALO form: `u16@6` "large", `u16@12` "small"; large = 0x80 gives
 //!   small/4 m (0xFFFF: none); otherwise HALO large·small/512 m, 4G large·64 m.
 //!
-//! The range is what the 1,024 samples span, about 1.7–2 times the range the user chose
-//! (that one is only in the radar's state report). A 3G sends its *magnetic* heading with the
+//! The range is what the 1,024 samples span, about 1.6–2 times the range the user chose
+//! (that one is only in the radar's state report, [`range_setting_report_m`]). A 3G sends its *magnetic* heading with the
 //! true flag set; nothing in the spoke tells, so its heading is passed on as true (see
 //! [`NavicoDecoder`]).
 //!
@@ -92,6 +92,28 @@ pub fn scanner_type_report(payload: &[u8]) -> Option<u32> {
     }
     le_u32(payload, 30)
 }
+
+/// The range the user chose on the radar, m, from a Navico state report `02 C4` (99
+/// bytes): `u32@2` in decimetres, as radar_pi reads it; `None` for any other datagram or a
+/// range of 0.
+///
+/// The spokes span more than this (the corners of the picture): 1.62–1.95 times it in every
+/// reading checked (3G ½ and 1 NM, 1,633 and 3,274 m; HALO ¼ and 8 NM, 796 and 25,465 m; 4G
+/// 100 m, 195 m; a 4G at 500 m, 808 m, radar_pi issue #299), so it checks the spokes' own
+/// range ([`SPOKE_REACH_PER_RANGE_SETTING`]).
+pub fn range_setting_report_m(payload: &[u8]) -> Option<f64> {
+    if payload.len() != 99 || payload.get(..2)? != [0x02, 0xC4] {
+        return None;
+    }
+    let dm = le_u32(payload, 2)?;
+    (dm > 0).then(|| f64::from(dm) / 10.0)
+}
+
+/// How far the spokes may reach, as multiples of the range the radar reports as chosen
+/// ([`range_setting_report_m`]), before their range is taken for misread: 1.62–1.95 in every
+/// reading checked; a range read 4 times too long or too short (`small` taken as metres,
+/// or the 4G's `large · 64` against HALO's `large · small / 512`) falls outside.
+pub const SPOKE_REACH_PER_RANGE_SETTING: std::ops::RangeInclusive<f64> = 1.25..=2.5;
 
 /// A spoke header's heading field, read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -617,6 +639,24 @@ mod tests {
         assert_eq!(d.feed(&frame[..frame.len() - 1], 0), Err(Fault::BadLength));
         assert!(!d.advance());
         assert!(d.spoke().is_none());
+    }
+
+    #[test]
+    fn the_range_report_gives_the_range_chosen() {
+        let mut r = vec![0u8; 99];
+        r[..2].copy_from_slice(&[0x02, 0xC4]);
+        // The 4G capture's: 1,000 dm, the 4G's 100 m range.
+        r[2..6].copy_from_slice(&1000u32.to_le_bytes());
+        assert_eq!(range_setting_report_m(&r), Some(100.0));
+        // The 3G capture's ½ NM.
+        r[2..6].copy_from_slice(&9260u32.to_le_bytes());
+        assert_eq!(range_setting_report_m(&r), Some(926.0));
+        assert_eq!(range_setting_report_m(&r[..98]), None);
+        r[0] = 0x03;
+        assert_eq!(range_setting_report_m(&r), None);
+        r[0] = 0x02;
+        r[2..6].copy_from_slice(&0u32.to_le_bytes());
+        assert_eq!(range_setting_report_m(&r), None);
     }
 
     #[test]

@@ -19,8 +19,11 @@
 //! Datagrams are told apart by structure (a Navico frame's length and header byte, a
 //! Garmin packet type) and, for the spoke ports, by port: so a capture's other traffic
 //! (state reports, NMEA, anything) passes as "other", while a damaged packet on a spoke port
-//! is counted as the decoder's fault. A Navico scanner-type report in a capture sets the
-//! model the Navico ranges are read with.
+//! is counted as the decoder's fault. A Navico scanner-type report sets the model the Navico
+//! ranges are read with; a Navico range report (on [`NAVICO_REPORT_GROUPS`]) gives the range
+//! the user chose, told when it changes and held against the spokes' own range: spokes that
+//! reach outside [`navico::SPOKE_REACH_PER_RANGE_SETTING`] times it for
+//! [`RANGE_DISAGREEMENT_S`] are told as a range likely misread.
 
 use std::net::Ipv4Addr;
 use std::path::Path;
@@ -31,7 +34,10 @@ use tracker_core::radar::Spoke;
 
 use super::capture::{CaptureOptions, CaptureReader, CaptureStats};
 use super::garmin::{self, GarminCounts, GarminDecoder};
-use super::live::{Endpoint, LiveReceiver, LiveStats, GARMIN_SPOKE_GROUPS, NAVICO_SPOKE_GROUPS};
+use super::live::{
+    Endpoint, LiveReceiver, LiveStats, GARMIN_SPOKE_GROUPS, NAVICO_REPORT_GROUPS,
+    NAVICO_SPOKE_GROUPS,
+};
 use super::navico::{self, NavicoCounts, NavicoDecoder};
 use super::spec::{RadarKind, RadarSpec};
 use super::stats::{SpokeMeta, SpokeStats};
@@ -54,6 +60,16 @@ pub struct RadarStats {
     pub other_datagrams: u64,
     /// Navico scanner-type reports taken.
     pub navico_reports: u64,
+    /// Navico range reports taken (the range the user chose, on the report group paired
+    /// with the spokes taken).
+    pub navico_range_reports: u64,
+    /// The ranges the radar reported as chosen, m, in the order first reported (the first
+    /// [`super::stats::KEPT_RANGES`]).
+    pub navico_range_settings_m: Vec<f32>,
+    /// Times the spokes' range stood outside
+    /// [`navico::SPOKE_REACH_PER_RANGE_SETTING`] times the range reported as chosen for
+    /// [`RANGE_DISAGREEMENT_S`]: a range likely misread (each told as an event).
+    pub range_disagreements: u64,
     /// The radar tracked: the sender of the first spoke datagram.
     pub radar_address: Option<Ipv4Addr>,
     /// Spoke datagrams from another sender on the same groups (a second radar on the
@@ -95,9 +111,102 @@ impl RadarStats {
 /// no-radar-data alarm comes at the same time).
 pub const RADAR_GONE_S: f64 = 10.0;
 
+/// The spokes' range must disagree with the range reported as chosen this long, s, before
+/// it is told: a range change reaches the spokes and the report at different moments (the
+/// 3G capture's report 20 ms before its spokes; a 4G reports every 5 s).
+pub const RANGE_DISAGREEMENT_S: f64 = 10.0;
+
+/// The range the radar reports as chosen, and the spokes' range held against it.
+#[derive(Clone, Debug, Default)]
+struct RangeSetting {
+    reports: u64,
+    now_m: Option<f32>,
+    seen_m: Vec<f32>,
+    /// Since when (capture or arrival time, s) the spokes have disagreed with it, and
+    /// whether this disagreement was told.
+    disagreeing_since: Option<(f64, bool)>,
+    disagreements: u64,
+}
+
 enum Input {
     Capture(Box<CaptureReader>),
     Live(LiveReceiver),
+}
+
+impl RangeSetting {
+    /// Takes a range the radar reports as chosen at `time_s`; a new one is told (on
+    /// standard error too when `told`).
+    fn note(
+        &mut self,
+        range_m: f32,
+        time_s: f64,
+        told: bool,
+        events: &mut crate::event_log::EventLog,
+    ) {
+        self.reports += 1;
+        if self.now_m == Some(range_m) {
+            return;
+        }
+        let first = self.now_m.is_none();
+        self.now_m = Some(range_m);
+        self.disagreeing_since = None;
+        if !self.seen_m.contains(&range_m) && self.seen_m.len() < super::stats::KEPT_RANGES {
+            self.seen_m.push(range_m);
+        }
+        let event = format!(
+            "{}: the radar {} {}",
+            crate::utc::date_time_label(time_s),
+            if first {
+                "reports its range scale as"
+            } else {
+                "changed its range scale to"
+            },
+            range_scale_in_metres(range_m)
+        );
+        if told {
+            eprintln!("{event}");
+        }
+        events.push(event);
+    }
+
+    /// Holds the range of a rotation's first spoke, taken at `time_s`, against the range
+    /// reported as chosen; a disagreement that stands [`RANGE_DISAGREEMENT_S`] is counted
+    /// and told once (on standard error too when `told`).
+    fn check(
+        &mut self,
+        spoke_range_m: f32,
+        time_s: f64,
+        told: bool,
+        events: &mut crate::event_log::EventLog,
+    ) {
+        let Some(setting_m) = self.now_m else {
+            return;
+        };
+        let ratio = f64::from(spoke_range_m) / f64::from(setting_m);
+        if navico::SPOKE_REACH_PER_RANGE_SETTING.contains(&ratio) {
+            self.disagreeing_since = None;
+            return;
+        }
+        let (since, said) = self.disagreeing_since.get_or_insert((time_s, false));
+        if *said || time_s - *since < RANGE_DISAGREEMENT_S {
+            return;
+        }
+        *said = true;
+        self.disagreements += 1;
+        let (lo, hi) = (
+            navico::SPOKE_REACH_PER_RANGE_SETTING.start(),
+            navico::SPOKE_REACH_PER_RANGE_SETTING.end(),
+        );
+        let event = format!(
+            "{}: the spokes reach {spoke_range_m:.0} m, {ratio:.2} times the radar's range scale of {} (expected {lo}–{hi} times): the spokes' range may be misread, and every range and speed with it",
+            crate::utc::date_time_label(time_s),
+            range_scale_in_metres(setting_m)
+        );
+        if told {
+            eprintln!("{event}");
+        }
+        events.push(event);
+    }
 }
 
 /// Spokes from a capture file or the radar, one at a time. See the module documentation.
@@ -113,6 +222,7 @@ pub struct SpokeSource {
     datagrams: u64,
     other_datagrams: u64,
     navico_reports: u64,
+    range_setting: RangeSetting,
     radar_address: Option<Ipv4Addr>,
     other_radar: Option<(Ipv4Addr, u64)>,
     radar_changes: u64,
@@ -145,7 +255,7 @@ impl SpokeSource {
         match spec {
             RadarSpec::Capture(path) => Self::from_capture(path, CaptureOptions::default()),
             RadarSpec::Live { kind, interface } => {
-                Self::from_live(kind.spoke_endpoints(), *interface)
+                Self::from_live(kind.live_endpoints(), *interface)
             }
         }
     }
@@ -181,6 +291,7 @@ impl SpokeSource {
             datagrams: 0,
             other_datagrams: 0,
             navico_reports: 0,
+            range_setting: RangeSetting::default(),
             radar_address: None,
             other_radar: None,
             radar_changes: 0,
@@ -292,6 +403,12 @@ impl SpokeSource {
                 None => {
                     self.other_datagrams += 1;
                     self.navico_reports += u64::from(self.navico.note_report(d.payload));
+                    if NAVICO_REPORT_GROUPS.iter().any(|e| e.port == d.dst.port()) {
+                        if let Some(m) = navico::range_setting_report_m(d.payload) {
+                            let (r, events) = (&mut self.range_setting, &mut self.events);
+                            r.note(m as f32, d.time_s, told, events);
+                        }
+                    }
                     false
                 }
             };
@@ -317,7 +434,13 @@ impl SpokeSource {
         let Some(spoke) = spoke else {
             bail!("radar source: the {kind} decoder lost its spoke");
         };
-        self.last = Some((kind, stream.observe(&spoke, self.time_s)));
+        let meta = stream.observe(&spoke, self.time_s);
+        self.last = Some((kind, meta));
+        if kind == RadarKind::Navico && meta.new_rotation {
+            let told = matches!(self.input, Input::Live(_)) && self.live_deadline.is_none();
+            self.range_setting
+                .check(spoke.range_m, self.time_s, told, &mut self.events);
+        }
         if matches!(self.input, Input::Live(_)) {
             self.spoke_at = Instant::now();
             self.spokeless_notes = 0;
@@ -353,6 +476,11 @@ impl SpokeSource {
         }
     }
 
+    /// The range the radar last reported as chosen, m (a Navico's state report).
+    pub fn range_setting_m(&self) -> Option<f32> {
+        self.range_setting.now_m
+    }
+
     /// Everything counted so far.
     pub fn stats(&self) -> RadarStats {
         let (capture, live) = match &self.input {
@@ -368,11 +496,36 @@ impl SpokeSource {
             other_radar: self.other_radar,
             radar_changes: self.radar_changes,
             navico_reports: self.navico_reports,
+            navico_range_reports: self.range_setting.reports,
+            navico_range_settings_m: self.range_setting.seen_m.clone(),
+            range_disagreements: self.range_setting.disagreements,
             navico: *self.navico.counts(),
             navico_spokes: self.navico_spokes.clone(),
             garmin: *self.garmin.counts(),
             garmin_spokes: self.garmin_spokes.clone(),
         }
+    }
+}
+
+/// A range scale as a navigator names it: `0.5 NM` (a whole number of eighths of a mile,
+/// to the metre), else `100 m`.
+pub fn range_scale_label(range_m: f32) -> String {
+    let eighths = (f64::from(range_m) / 1852.0 * 8.0).round();
+    if eighths >= 1.0 && (eighths * 1852.0 / 8.0 - f64::from(range_m)).abs() < 1.0 {
+        format!("{} NM", eighths / 8.0)
+    } else {
+        format!("{range_m:.0} m")
+    }
+}
+
+/// A range scale named, with its metres when it is named in miles: `0.5 NM (926 m)`,
+/// `100 m`.
+fn range_scale_in_metres(range_m: f32) -> String {
+    let label = range_scale_label(range_m);
+    if label.ends_with(" NM") {
+        format!("{label} ({range_m:.0} m)")
+    } else {
+        label
     }
 }
 
@@ -386,5 +539,66 @@ fn route(payload: &[u8], dst_port: u16) -> Option<RadarKind> {
         Some(RadarKind::Garmin)
     } else {
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_range_scale_is_named_as_a_navigator_names_it() {
+        assert_eq!(range_scale_label(926.0), "0.5 NM");
+        assert_eq!(range_scale_label(14_816.0), "8 NM");
+        assert_eq!(range_scale_label(463.0), "0.25 NM");
+        assert_eq!(range_scale_label(100.0), "100 m");
+        assert_eq!(range_scale_label(1500.0), "1500 m");
+    }
+
+    /// The spokes' range against the range reported as chosen: a 4G on 100 m whose spokes
+    /// reach 195 m agrees; read as 780 m (`small` taken for metres) it is told once, after
+    /// 10 s; a range change that reaches the report a few seconds before the spokes is not.
+    #[test]
+    fn spokes_reaching_far_past_the_range_chosen_are_told_once() {
+        let mut events = crate::event_log::EventLog::default();
+        let mut r = RangeSetting::default();
+        r.check(780.0, 0.0, false, &mut events);
+        assert_eq!(
+            r.disagreements, 0,
+            "no report yet: nothing to hold it against"
+        );
+        r.note(100.0, 0.0, false, &mut events);
+        r.note(100.0, 5.0, false, &mut events);
+        assert_eq!((r.reports, r.seen_m.as_slice()), (2, &[100.0][..]));
+        for k in 0..10 {
+            r.check(195.0, 2.5 * f64::from(k), false, &mut events);
+        }
+        assert_eq!(r.disagreements, 0);
+        for k in 0..20 {
+            r.check(780.0, 30.0 + 2.5 * f64::from(k), false, &mut events);
+        }
+        assert_eq!(r.disagreements, 1);
+        // The range chosen changes; the spokes follow 5 s later: no disagreement.
+        r.note(1852.0, 100.0, false, &mut events);
+        r.check(195.0, 101.0, false, &mut events);
+        r.check(195.0, 103.5, false, &mut events);
+        r.check(3274.0, 106.0, false, &mut events);
+        r.check(3274.0, 120.0, false, &mut events);
+        assert_eq!(r.disagreements, 1);
+        let told: Vec<&String> = events
+            .as_slice()
+            .iter()
+            .filter(|e| e.contains("misread"))
+            .collect();
+        assert_eq!(told.len(), 1, "{:?}", events.as_slice());
+        assert!(
+            told[0].contains("7.80 times the radar's range scale of 100 m"),
+            "{}",
+            told[0]
+        );
+        assert!(events
+            .as_slice()
+            .iter()
+            .any(|e| e.contains("changed its range scale to 1 NM (1852 m)")));
     }
 }

@@ -5,7 +5,7 @@ use std::fmt;
 use std::net::Ipv4Addr;
 use std::path::PathBuf;
 
-use super::live::{Endpoint, GARMIN_SPOKE_GROUPS, NAVICO_SPOKE_GROUPS};
+use super::live::{Endpoint, GARMIN_SPOKE_GROUPS, NAVICO_GROUPS};
 
 /// A radar brand, as far as its spoke format goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -17,10 +17,11 @@ pub enum RadarKind {
 }
 
 impl RadarKind {
-    /// The multicast groups its spokes go to.
-    pub fn spoke_endpoints(self) -> &'static [Endpoint] {
+    /// The multicast groups a live radar is heard on: its spokes' (first) and, for a
+    /// Navico, its state reports' (its model and the range chosen).
+    pub fn live_endpoints(self) -> &'static [Endpoint] {
         match self {
-            RadarKind::Navico => &NAVICO_SPOKE_GROUPS,
+            RadarKind::Navico => &NAVICO_GROUPS,
             RadarKind::Garmin => &GARMIN_SPOKE_GROUPS,
         }
     }

@@ -89,6 +89,14 @@ pub struct RadarCounts {
     /// give it; a new user's trial found no capture's range in the summary).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub spoke_range_m: Option<f32>,
+    /// The ranges a Navico reported as chosen by its user, m, in the order first reported
+    /// (its state report; the spokes reach 1.6–2 times it): the range scale a navigator
+    /// knows the radar by.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub range_settings_m: Vec<f32>,
+    /// Times the spokes' range stood outside 1.25–2.5 times the range reported as chosen
+    /// for 10 s: a range likely misread (each told as an event).
+    pub range_disagreements: u64,
     /// Point plots extracted from a capture's last rotation, ended mid-rotation by the
     /// capture: not tracked (the targets in the sector it did not sweep would each count a
     /// miss). NMEA and AIS heard during it are counted, and not taken.
@@ -165,6 +173,20 @@ impl RadarCounts {
     }
 }
 
+/// The range scales the radar reported, for the summary: ` (the radar on 0.5 NM, 1 NM)`, in
+/// the order first reported.
+fn range_settings_text(settings_m: &[f32]) -> String {
+    let list: Vec<String> = settings_m
+        .iter()
+        .map(|r| crate::radar::source::range_scale_label(*r))
+        .collect();
+    if list.is_empty() {
+        String::new()
+    } else {
+        format!(" (the radar on {})", list.join(", "))
+    }
+}
+
 impl std::fmt::Display for RadarCounts {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
@@ -174,7 +196,8 @@ impl std::fmt::Display for RadarCounts {
             self.spokes,
             self.spoke_range_m
                 .map(|r| format!(" reaching {r:.0} m"))
-                .unwrap_or_default(),
+                .unwrap_or_default()
+                + &range_settings_text(&self.range_settings_m),
             self.plots_per_scan(),
             self.extended_per_scan(),
             self.plots_without_heading,
@@ -183,6 +206,13 @@ impl std::fmt::Display for RadarCounts {
             self.blobs_dropped,
             self.restarts
         )?;
+        if self.range_disagreements > 0 {
+            write!(
+                f,
+                "; the spokes' range disagreed with the radar's {} times: it may be misread (events)",
+                self.range_disagreements
+            )?;
+        }
         if self.yaw_measured + self.yaw_unmatched > 0 {
             write!(
                 f,
@@ -412,6 +442,8 @@ impl RadarPlotSource {
         c.yaw_deg = self.yaw.yaw_rad().to_degrees();
         c.capture_nmea = Some(self.nav.counts().clone()).filter(|n| n.lines > 0);
         c.spoke_range_m = self.scan_range_m;
+        c.range_settings_m = stats.navico_range_settings_m.clone();
+        c.range_disagreements = stats.range_disagreements;
         c
     }
 
