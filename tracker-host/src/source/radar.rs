@@ -90,8 +90,8 @@ pub struct RadarCounts {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub spoke_range_m: Option<f32>,
     /// The ranges a Navico reported as chosen by its user, m, in the order first reported
-    /// (its state report; the spokes reach 1.6–2 times it): the range scale a navigator
-    /// knows the radar by.
+    /// (its state report; the spokes reach 1.6–2 times it), or the one a Garmin's last spoke
+    /// gave: the range scale a navigator knows the radar by.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub range_settings_m: Vec<f32>,
     /// Times the spokes' range stood outside 1.25–2.5 times the range reported as chosen
@@ -443,6 +443,10 @@ impl RadarPlotSource {
         c.capture_nmea = Some(self.nav.counts().clone()).filter(|n| n.lines > 0);
         c.spoke_range_m = self.scan_range_m;
         c.range_settings_m = stats.navico_range_settings_m.clone();
+        // A Garmin gives the range chosen in every spoke: the last.
+        if let (true, Some(m)) = (c.range_settings_m.is_empty(), stats.garmin.selected_range_m) {
+            c.range_settings_m.push(m as f32);
+        }
         c.range_disagreements = stats.range_disagreements;
         c
     }
