@@ -13,6 +13,7 @@
 #      MINIMAL_CONF=1 to write a from-scratch opencpn.conf instead of patching the template,
 #      DEMO_ARGS to run another picture (default "--duration 900"; e.g. real Solent traffic:
 #      "--ais-truth ../shared/realdata/ais/stonesoup-SolentAIS_20160112_130211.csv --own-mmsi 234586000").
+#      TRACK_ARGS to run `track` instead of the demo (e.g. "--radar pcap:../shared/realdata/radar/radar_pi-3g-trueheading.pcap.gz --speedup 0.1"),
 #      PYTHON (default python3; .venv/bin/python has geographiclib for the TTM/TLL check).
 # Leaves in /tmp/opencpn-check: TAG-1.png, TAG-2.png (a minute later), TAG-list.png (AIS
 # target list sorted by range), TAG-overview.png (zoomed out x2), TAG-nmea.txt (the stream
@@ -85,9 +86,17 @@ if ! xdpyinfo >/dev/null 2>&1; then
   Xvfb :$DISP -screen 0 1600x1000x24 -nolisten tcp > "$D/$TAG-xvfb.log" 2>&1 & PIDS+=($!)
   sleep 2
 fi
-# DEMO_ARGS replaces the demo's own arguments (e.g. "--ais-truth FILE --own-mmsi N").
-read -r -a DEMO <<< "${DEMO_ARGS:---duration 900}"
-(cd "$CALLER" && exec "$TRACKER_HOST" --link inproc demo --plain --speedup 1 "${DEMO[@]}" \
+# DEMO_ARGS replaces the demo's own arguments (e.g. "--ais-truth FILE --own-mmsi N");
+# TRACK_ARGS runs `track` with them instead of the demo (e.g. "--radar pcap:CAPTURE
+# --speedup 0.1": a capture's few seconds, slowed, since OpenCPN takes about 10 s to connect).
+if [ -n "${TRACK_ARGS:-}" ]; then
+  read -r -a ARGS <<< "$TRACK_ARGS"
+  COMMAND=(track --plain "${ARGS[@]}")
+else
+  read -r -a DEMO <<< "${DEMO_ARGS:---duration 900}"
+  COMMAND=(demo --plain --speedup 1 "${DEMO[@]}")
+fi
+(cd "$CALLER" && exec "$TRACKER_HOST" --link inproc "${COMMAND[@]}" \
   --nmea-out tcp:$PORT --nmea-out-own-ship "${ORIGIN_ARG[@]}") > "$D/$TAG-tracker.out" 2>&1 & TRACKER=$!; PIDS+=($TRACKER)
 sleep 2
 tracker_alive() {

@@ -149,3 +149,62 @@ fn every_real_ais_message_decodes_as_pyais_decodes_it() {
         assert!(c.decoded() > 0, "{name}: nothing decoded");
     }
 }
+
+/// `track --nmea-in` alone, no radar: the AIS targets and own ship of a real recording, a
+/// scan every 2.5 s of the recording's own time from its first fix to its last. Every AIS
+/// sentence of the recording is taken (none refused, none told as heard too far from the
+/// scans: before the recording's times were put on its own first date, the sentences ahead
+/// of its first dated one fell on today's and 509 of the NAIS-400's were not taken), and
+/// the scans cover the recording.
+#[test]
+fn ais_alone_without_a_radar_takes_every_sentence_of_a_recording() {
+    for (file, span_s) in [
+        ("ais/signalk-nais400-merrimac.log", 14.0),
+        ("nmea/signalk-gofree-merrimac.log", 135.0),
+    ] {
+        let path = realdata::file(file);
+        let dir = tempfile::tempdir().unwrap();
+        let json = dir.path().join("summary.json");
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_tracker-host"))
+            .args(["--link", "inproc", "track", "--plain", "--nmea-in"])
+            .arg(format!("file:{}", path.display()))
+            .arg("--summary-json")
+            .arg(&json)
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            out.status.success(),
+            "{file}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let in_file = text.lines().filter(|l| l.contains("!AIVD")).count() as u64;
+        let ais = &s["ais"]["sentences"];
+        assert_eq!(ais["sentences"].as_u64(), Some(in_file), "{file}: {ais}");
+        assert_eq!(ais["rejected"], serde_json::json!({}), "{file}: {ais}");
+        let events = s["events"].as_array().unwrap();
+        assert!(
+            !events
+                .iter()
+                .any(|e| e.as_str().unwrap().contains("not taken")),
+            "{file}: {events:?}"
+        );
+        assert!(s["ais"]["targets_now"].as_u64().unwrap() > 100, "{file}");
+        assert_eq!(
+            s["own_ship_nmea"]["after_last_scan"].as_u64(),
+            Some(0),
+            "{file}"
+        );
+        let scans = s["scans"].as_u64().unwrap();
+        assert!(
+            (scans as f64 - 1.0) * 2.5 >= span_s - 2.5,
+            "{file}: {scans} scans for {span_s} s"
+        );
+        // The plain table's header says own ship has its fix, and no radar target shows.
+        assert!(stdout.contains(" fix  AIS "), "{file}: {stdout}");
+        assert_eq!(s["targets_seen"].as_u64(), Some(0), "{file}");
+    }
+}

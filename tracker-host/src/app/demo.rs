@@ -138,7 +138,13 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
     let session = Session::start(client, config)?;
     // The origin is own ship's when given or a recording's first fix (the simulator's own
     // ship always has a fix).
-    let sinks = sinks(&o.outputs, origin, own_ship.origin.is_some(), o.alarms)?;
+    let sinks = sinks(
+        &o.outputs,
+        true,
+        origin,
+        own_ship.origin.is_some(),
+        o.alarms,
+    )?;
     Ok(Run::new(source, own, session, sinks)
         .with_origin(origin)
         .with_associated_data(o.outputs.associated_data))

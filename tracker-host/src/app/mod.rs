@@ -190,12 +190,15 @@ pub fn today() -> i64 {
     crate::own_ship::clock::day_of_s(crate::utc::now_s())
 }
 
-/// The sinks `o` asks for; the snapshot draws alarms at `alarms`, the session's limits.
+/// The sinks `o` asks for; the snapshot draws alarms at `alarms`, the session's limits;
+/// with `simulated` (`demo`), the targets sent to plotters are named as a simulation's
+/// ([`crate::nmea::targets::TargetsOut::with_simulated`]).
 ///
 /// # Errors
 /// A file cannot be created or a socket not opened.
 pub fn sinks(
     o: &Outputs,
+    simulated: bool,
     origin: Origin,
     origin_known: bool,
     alarms: crate::session::target::AlarmLimits,
@@ -203,7 +206,13 @@ pub fn sinks(
     let mut sinks: Vec<Box<dyn ScanSink>> = Vec::new();
     if let Some(spec) = &o.nmea_out {
         let out = crate::nmea::targets::TargetsOut::open(spec, origin, o.nmea_out_own_ship)?
-            .with_origin_known(origin_known);
+            .with_origin_known(origin_known)
+            .with_simulated(simulated);
+        if simulated {
+            eprintln!(
+                "nmea out: the demo's targets are simulated: plotters are sent them named SIMnn (SIM NAME as an AIS target)"
+            );
+        }
         // The port plotters connect to, told (`tcp:0` takes a free one, which was not said).
         if let (OutSpec::Tcp(_), Ok(addr)) = (spec, out.local_addr()) {
             eprintln!("nmea out: plotters connect to TCP port {}", addr.port());

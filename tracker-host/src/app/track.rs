@@ -14,6 +14,7 @@ use crate::origin::Origin;
 use crate::own_ship::recording::RecordedTrack;
 use crate::radar::RadarSpec;
 use crate::session::{Session, SessionConfig, PLOT_SIGMA_M};
+use crate::source::no_radar::NoRadarSource;
 use crate::source::plots_file::PlotsFileSource;
 use crate::source::radar::{CaptureSurvey, RadarOptions, RadarPlotSource};
 use crate::source::truth_file::TruthFile;
@@ -33,6 +34,9 @@ pub enum TrackInput {
     },
     /// A radar's spokes, plots extracted.
     Radar(RadarOptions),
+    /// No radar: own ship and the AIS targets from `--nmea-in` alone, a scan every
+    /// [`crate::source::no_radar::PERIOD_S`] ([`NoRadarSource`]).
+    NoRadar,
 }
 
 /// What `track` runs.
@@ -105,6 +109,26 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             }
             (Box::new(source), o.own_ship.origin(), sigma_m)
         }
+        TrackInput::NoRadar => {
+            // The scans follow a recording's own time, from its first fix to its last (the
+            // frame about its first fix), or this computer's clock for a live source.
+            let source = match &o.own_ship.nmea_in {
+                Some(InSpec::File(path)) => {
+                    let track = RecordedTrack::read(path, &o.own_ship.nmea)?;
+                    let (start_s, end_s) = track.window_s();
+                    let first_fix = track.first_position();
+                    origin_known = true;
+                    let origin = o.own_ship.origin.unwrap_or(first_fix);
+                    recording = Some(track);
+                    (NoRadarSource::over_recording(start_s, end_s), origin)
+                }
+                Some(_) => (NoRadarSource::live(), o.own_ship.origin()),
+                None => anyhow::bail!(
+                    "track without a radar or plots takes own ship and AIS from --nmea-in"
+                ),
+            };
+            (Box::new(source.0), source.1, PLOT_SIGMA_M)
+        }
         TrackInput::Radar(radar) => {
             // A capture's own frame is around its first fix, wherever on earth it was made;
             // its plots are as accurate as its range scale allows.
@@ -172,6 +196,14 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
         own_ship_dated.nmea.provisional_day =
             first_day.unwrap_or_else(|| undated_day(recording.as_ref(), t));
     }
+    // Without a radar, a recording's times before its first date fall on that date, as the
+    // scans' times do (today's put the AIS heard before its first dated sentence twelve
+    // years from the scans, and none was taken).
+    if let (TrackInput::NoRadar, Some(day)) =
+        (&o.input, recording.as_ref().and_then(|r| r.first_day))
+    {
+        own_ship_dated.nmea.provisional_day = day;
+    }
     let own_ship = own_ship_source(&own_ship_dated, origin)?;
     let config = SessionConfig {
         association: o.association,
@@ -179,7 +211,7 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
         ..SessionConfig::tracking_plots_of(o.filter, sigma_m)
     };
     let session = Session::start(client, config)?;
-    let sinks = sinks(&o.outputs, origin, origin_known, o.alarms)?;
+    let sinks = sinks(&o.outputs, false, origin, origin_known, o.alarms)?;
     Ok(Run::new(source, own_ship, session, sinks)
         .with_origin(origin)
         .with_associated_data(o.outputs.associated_data))

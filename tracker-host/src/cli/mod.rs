@@ -123,8 +123,10 @@ pub enum Command {
     },
     /// The tracker on recorded plots (a plots file; see the README for its columns) or on
     /// a radar (spokes from a capture or live, plots extracted), with the same display,
-    /// table and outputs as `demo`; given the truth, the same scored summary.
-    #[command(group = clap::ArgGroup::new("input").required(true).args(["plots", "radar"]))]
+    /// table and outputs as `demo`; given the truth, the same scored summary. With
+    /// `--nmea-in` alone (no radar): own ship and the AIS targets, their table and CPA/TCPA
+    /// alarm.
+    #[command(group = clap::ArgGroup::new("input").args(["plots", "radar"]))]
     Track {
         /// The plots file.
         #[arg(long, value_name = "PATH")]
@@ -450,7 +452,7 @@ where
             crate::app::interrupt::install().context("installing the Ctrl-C handler")?;
             let (client, link) = cli.connect()?;
             let tracking = demo::start(client, &options)?;
-            track_to_end(&link, tracking, run, &command)
+            track_to_end(&link, tracking, run, &command, (true, false))
         }
         Command::Track {
             plots,
@@ -479,7 +481,13 @@ where
                     o.plot_sigma_m = *plot_sigma_m;
                     track::TrackInput::Radar(o)
                 }
-                (None, None) => anyhow::bail!("track: --plots or --radar"),
+                (None, None) if run.nmea_in.is_empty() => anyhow::bail!(
+                    "track: --radar (a radar), --plots (recorded plots), or --nmea-in alone (own ship and AIS targets, no radar)"
+                ),
+                (None, None) if heading_deg.is_some() || plot_sigma_m.is_some() => anyhow::bail!(
+                    "--heading-deg and --plot-sigma-m are for a radar (track --radar); --nmea-in alone has no radar"
+                ),
+                (None, None) => track::TrackInput::NoRadar,
             };
             let capture = match radar {
                 Some(crate::radar::RadarSpec::Capture(p)) => Some(("--radar", p.as_path())),
@@ -494,6 +502,7 @@ where
             .flatten()
             .collect();
             run.check_outputs(None, &read)?;
+            let no_radar = input == track::TrackInput::NoRadar;
             let options = track::TrackOptions {
                 input,
                 filter: run.filter,
@@ -507,7 +516,7 @@ where
             crate::app::interrupt::install().context("installing the Ctrl-C handler")?;
             let (client, link) = cli.connect()?;
             let tracking = track::start(client, &options)?;
-            track_to_end(&link, tracking, run, &command)
+            track_to_end(&link, tracking, run, &command, (false, no_radar))
         }
         Command::LinkCheck { frames, seed } => {
             let (mut client, _) = cli.connect()?;
@@ -633,13 +642,16 @@ fn exit(ok: bool) -> ExitCode {
     }
 }
 
-/// Runs a wired tracking run to its end: the radar display in a terminal, else the plain
-/// table (`--plain`) or progress lines; then the summary, and the JSON summary if asked.
+/// Runs a wired tracking run to its end: the radar display in a terminal (titled as a
+/// simulation's with `simulated`; with `ais_first`, the AIS target table shown first, as
+/// without a radar), else the plain table (`--plain`) or progress lines; then the summary,
+/// and the JSON summary if asked.
 fn track_to_end(
     link: &LinkSpec,
     mut tracking: Run,
     args: &RunArgs,
     command: &[String],
+    (simulated, ais_first): (bool, bool),
 ) -> anyhow::Result<ExitCode> {
     let limits = tracking.session().config().alarms;
     let link = link.to_string();
@@ -650,6 +662,8 @@ fn track_to_end(
         let mut state = crate::display::DisplayState::new(link.clone());
         state.limits = limits;
         state.associated = args.associated_symbol.into();
+        state.simulated = simulated;
+        state.ais_table = ais_first;
         let ran = crate::display::run_tui(&mut tracking, &mut state, args.speedup());
         // Finished whatever happened: plotters are told the targets are gone, recordings
         // flushed.

@@ -96,6 +96,9 @@ pub struct DisplayState {
     pub limits: AlarmLimits,
     /// Link name for the title.
     pub link: String,
+    /// The targets are a simulation's (`demo`): the title says `SIM` (as the targets sent
+    /// to plotters are named `SIMnn`), so that no one takes the picture for the sea's.
+    pub simulated: bool,
     /// The answer to the last operator command (done, or the device's refusal), shown
     /// until the next command.
     pub message: Option<String>,
@@ -158,6 +161,7 @@ impl DisplayState {
             ended: false,
             limits: AlarmLimits::default(),
             link,
+            simulated: false,
             message: None,
             scale_chosen: false,
             echoes: true,
@@ -522,8 +526,13 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     // Set apart from the counts by a bar outside its reverse video: without colours (tmux,
     // a log of the screen) `q to quit scan 5` read as one phrase (a new user's trial).
     let sep = if run_state.is_empty() { "" } else { " | " };
+    let title = if state.simulated {
+        "ARPA SIM "
+    } else {
+        "ARPA "
+    };
     let fits =
-        |line: &str| "ARPA ".len() + run_state.len() + sep.len() + line.chars().count() <= inner;
+        |line: &str| title.len() + run_state.len() + sep.len() + line.chars().count() <= inner;
     if !fits(&first) {
         first = counts(" ", "", &state.link, "trk", "acq", "held");
     }
@@ -532,7 +541,7 @@ fn render_header(frame: &mut Frame, area: Rect, state: &DisplayState, view: &Sca
     }
     let text = vec![
         Line::from(vec![
-            Span::styled("ARPA ", Style::default().add_modifier(Modifier::BOLD)),
+            Span::styled(title, Style::default().add_modifier(Modifier::BOLD)),
             Span::styled(
                 run_state,
                 Style::default().add_modifier(Modifier::REVERSED | Modifier::BOLD),
@@ -1826,7 +1835,7 @@ pub(crate) mod tests {
             let text = screen_at(state, &view, 80, 24);
             let line = text
                 .lines()
-                .find(|l| l.contains("AIS, nearest first"))
+                .find(|l| l.contains("AIS, alarms first"))
                 .unwrap_or_else(|| panic!("{text}"))
                 .to_string();
             (line, text)
@@ -1919,10 +1928,13 @@ pub(crate) mod tests {
         view.ais.insert(0, far);
         let mut state = DisplayState::new("inproc".into());
         state.observe(&view);
-        assert!(!screen(&state, &view).contains("AIS targets, nearest first"));
+        assert!(!screen(&state, &view).contains("AIS targets, alarms then nearest first"));
         assert_eq!(state.key('i', Some(&view)), Action::None);
         let text = screen(&state, &view);
-        assert!(text.contains("AIS targets, nearest first"), "{text}");
+        assert!(
+            text.contains("AIS targets, alarms then nearest first"),
+            "{text}"
+        );
         let row_of = |text: &str, what: &str| -> (usize, String) {
             text.lines()
                 .enumerate()
@@ -1967,7 +1979,7 @@ pub(crate) mod tests {
             "{narrow}"
         );
         state.key('i', Some(&view));
-        assert!(!screen(&state, &view).contains("AIS targets, nearest first"));
+        assert!(!screen(&state, &view).contains("AIS targets, alarms then nearest first"));
         // Asked with no AIS heard: answered.
         let mut none = view.clone();
         none.ais.clear();

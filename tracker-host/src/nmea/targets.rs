@@ -147,6 +147,15 @@ fn name_field(t: &PlotterTarget<'_>) -> String {
     }
 }
 
+/// A simulated target's name: `SIMnn`, or `SIM NAME` (cut to 20 characters where sent)
+/// for one shown as the AIS target `NAME`.
+fn simulated_name(number: u8, name: Option<&str>) -> String {
+    match name.map(str::trim).filter(|n| !n.is_empty()) {
+        Some(n) => format!("SIM {n}"),
+        None => format!("SIM{number:02}"),
+    }
+}
+
 /// `TLL` for one target: number, latitude and longitude (longitude wrapped to ±180°),
 /// name, UTC, status, no reference target. The position is taken about own ship at `own_m`
 /// (local, m; [`Origin::to_lat_lon_near`]), where the target's range and bearing put it,
@@ -293,7 +302,7 @@ impl std::fmt::Display for NmeaOutSummary {
             ),
             (None, None) => write!(
                 f,
-                "; UDP: {} datagrams refused by the system",
+                "; UDP: {} datagrams refused by the system (UDP cannot tell whether a plotter listens)",
                 self.udp_failures
             ),
         }
@@ -314,6 +323,9 @@ pub struct TargetsOut {
     on_plotter: std::collections::BTreeMap<u8, (Option<String>, TargetData)>,
     /// The last scan's time, own ship's position and whether `TLL` could go.
     last: Option<(f64, [f32; 2], bool)>,
+    /// The targets are a simulation's (`demo`): sent named `SIMnn` (`SIM NAME` for one
+    /// shown as an AIS target), so that no plotter shows them as ships.
+    simulated: bool,
 }
 
 impl TargetsOut {
@@ -336,7 +348,19 @@ impl TargetsOut {
             counts: TargetsOutCounts::default(),
             on_plotter: std::collections::BTreeMap::new(),
             last: None,
+            simulated: false,
         }
+    }
+
+    /// With `simulated`, the targets are a simulation's: each is sent named `SIMnn`, or
+    /// `SIM NAME` for one shown as an AIS target. A new user's trial ran the README's
+    /// `demo --nmea-in tcp:… --nmea-out tcp:…` against a real multiplexer: OpenCPN drew
+    /// the demo's 40 ships as `TGT01`–`TGT40` about the real own ship, one in CPA alarm, and
+    /// nothing said they were not there. (NMEA 0183 `TTM` has no field for it; the name is
+    /// what every plotter shows.)
+    pub fn with_simulated(mut self, simulated: bool) -> Self {
+        self.simulated = simulated;
+        self
     }
 
     /// With `known`, the origin is own ship's position (`--origin`, a recording's first
@@ -413,9 +437,14 @@ impl TargetsOut {
                     .then(|| self.on_plotter.get(&number))
                     .flatten()
                     .map(|(name, _)| name.clone());
-                let name = match &last_name {
-                    Some(name) => name.as_deref(),
-                    None => ais_name(report, d.track),
+                // A simulation's target is marked (an end goes under the name last sent,
+                // marked already).
+                let marked = (last_name.is_none() && self.simulated)
+                    .then(|| simulated_name(number, ais_name(report, d.track)));
+                let name = match (&last_name, &marked) {
+                    (Some(name), _) => name.as_deref(),
+                    (None, Some(m)) => Some(m.as_str()),
+                    (None, None) => ais_name(report, d.track),
                 };
                 let data = *d;
                 let t = PlotterTarget {
@@ -639,6 +668,37 @@ mod tests {
         let end = out.scan_sentences(&view).remove(0);
         let f: Vec<&str> = end.split(',').collect();
         assert_eq!((f[11], f[12]), ("SHIP", "L"), "{end}");
+    }
+
+    /// A simulation's targets (`demo`) are named as such on the plotter: `SIMnn`, `SIM
+    /// NAME` for one paired with an AIS target, and their ends under the same name.
+    #[test]
+    fn a_simulations_targets_are_sent_named_as_simulated() {
+        use crate::display::tests::{eleventh_scan, one_associated_ship};
+        let rx = std::net::UdpSocket::bind("127.0.0.1:0").unwrap();
+        let spec = crate::nmea::OutSpec::Udp(rx.local_addr().unwrap().to_string());
+        let open = || {
+            TargetsOut::open(&spec, Origin::default(), false)
+                .unwrap()
+                .with_simulated(true)
+        };
+        let fields = |s: &str| s.split(',').map(str::to_string).collect::<Vec<_>>();
+        let mut out = open();
+        let mut view = one_associated_ship(eleventh_scan(), true);
+        let sent = out.scan_sentences(&view);
+        assert_eq!(fields(&sent[0])[11], "SIM SHIP", "{sent:?}");
+        // The TLL's name is the TTM's.
+        assert_eq!(fields(&sent[1])[6], "SIM SHIP", "{sent:?}");
+        view.ended = std::mem::take(&mut view.targets);
+        view.paired.clear();
+        let end = fields(&out.scan_sentences(&view)[0]);
+        assert_eq!((end[11].as_str(), end[12].as_str()), ("SIM SHIP", "L"));
+        let unpaired = open().scan_sentences(&one_associated_ship(eleventh_scan(), false));
+        let name = &fields(&unpaired[0])[11];
+        assert!(
+            name.starts_with("SIM") && name[3..].parse::<u8>().is_ok(),
+            "{unpaired:?}"
+        );
     }
 
     #[test]

@@ -685,9 +685,17 @@ impl OwnShipSource for NmeaOwnShip {
                 String::new()
             };
             if live.drops > 0 {
+                let times = |n: u64| {
+                    if n == 1 {
+                        "once".to_string()
+                    } else {
+                        format!("{n} times")
+                    }
+                };
                 e.push(format!(
-                    "NMEA source{which} dropped {} times, reconnected {} times",
-                    live.drops, live.reconnects
+                    "NMEA source{which} dropped {}, reconnected {}",
+                    times(live.drops),
+                    times(live.reconnects)
                 ));
             }
             if live.kernel_drops > 0 {

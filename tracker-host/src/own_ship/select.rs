@@ -171,14 +171,14 @@ impl Selector {
                     .is_some_and(|l| now_s - l.time_s <= SILENT_S)
             });
             if !beaten && current.as_ref().is_some_and(|(c, _)| c != talker) {
-                self.tell(q, talker, format!("{} source: {talker}", q.name()));
+                self.tell(q, talker, format!("{} source: talker {talker}", q.name()));
             }
             return !beaten;
         }
         match current {
             None => {
                 if self.told.get(&q).is_none_or(|t| t != talker) {
-                    self.tell(q, talker, format!("{} source: {talker}", q.name()));
+                    self.tell(q, talker, format!("{} source: talker {talker}", q.name()));
                 }
                 true
             }
@@ -191,7 +191,7 @@ impl Selector {
             // log beside the Garmin's capture: over a hundred such events in 31 scans).
             Some((c, last_s)) if c == AIS_TALKER && delivering && now_s + SILENT_S >= last_s => {
                 let event = format!(
-                    "{} source: {talker} (not the AIS transponder's {c})",
+                    "{} source: talker {talker} (not the AIS transponder's {c})",
                     q.name()
                 );
                 self.tell(q, talker, event);
@@ -199,7 +199,7 @@ impl Selector {
             }
             Some((c, last_s)) if now_s - last_s > SILENT_S => {
                 let event = format!(
-                    "{} source: {c} silent for {:.0} s, now {talker}",
+                    "{} source: talker {c} silent for {:.0} s, now talker {talker}",
                     q.name(),
                     now_s - last_s
                 );
@@ -209,7 +209,7 @@ impl Selector {
             Some((c, last_s)) if now_s + SILENT_S < last_s => {
                 if self.dated_before_told.insert((q, talker.to_string())) {
                     self.events.push(format!(
-                        "{} source: {talker}'s readings are dated {:.0} s before {c}'s: not taken (another voyage's log, or a clock far off)",
+                        "{} source: talker {talker}'s readings are dated {:.0} s before {c}'s: not taken (another voyage's log, or a clock far off)",
                         q.name(),
                         last_s - now_s
                     ));
@@ -320,7 +320,7 @@ mod tests {
         let told = |s: &Selector| {
             s.events()
                 .iter()
-                .filter(|e| e.contains("velocity source: BM"))
+                .filter(|e| e.contains("velocity source: talker BM"))
                 .count()
         };
         assert!(s.admit("BM", &sog(5.0), None, 0.0));
@@ -332,7 +332,10 @@ mod tests {
         // Another talker first after the restart is told.
         s.forget_times();
         assert!(s.admit("GP", &sog(5.0), None, 2_000_000.0));
-        assert!(s.events().iter().any(|e| e.contains("velocity source: GP")));
+        assert!(s
+            .events()
+            .iter()
+            .any(|e| e.contains("velocity source: talker GP")));
     }
 
     #[test]

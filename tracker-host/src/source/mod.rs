@@ -8,6 +8,7 @@
 //! | a radar: spokes from a capture or live, plots extracted | [`radar`] (own ship's yaw from the picture when it has no heading: [`radar_yaw`]) |
 //! | the simulator through a synthetic radar and the extractor (`demo --video`) | [`video`] |
 //! | real traffic: recorded AIS tracks as truth, plots from the radar model, AIS sent (`demo --ais-truth`) | [`ais_truth`] |
+//! | no radar: scans without plots, for AIS and own ship alone (`track --nmea-in` alone) | [`no_radar`] |
 //!
 //! and [`truth_file`] reads the truth beside a plots file, for scoring.
 //!
@@ -16,6 +17,7 @@
 //! session ignores both; own-ship sources and the scorer use them.
 
 pub mod ais_truth;
+pub mod no_radar;
 pub mod plots_file;
 pub mod radar;
 pub mod radar_yaw;
