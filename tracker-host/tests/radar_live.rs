@@ -135,7 +135,13 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
             std::thread::sleep(wait);
         }
         sender.send_to(payload, dst).unwrap();
-        second.send_to(payload, dst).unwrap();
+        // The second radar on another range scale (5 km): its reports are not the tracked
+        // radar's, and must not be taken for its scale.
+        let mut theirs = payload.clone();
+        if theirs.len() == 99 && theirs[..2] == [0x02, 0xC4] {
+            theirs[2..6].copy_from_slice(&50_000u32.to_le_bytes());
+        }
+        second.send_to(&theirs, dst).unwrap();
         if k % 20 == 0 && dst.port() == 6678 {
             sender
                 .send_to(b"not a spoke: junk on the group", dst)
@@ -185,7 +191,8 @@ fn a_live_radar_is_tracked_as_its_capture_is() {
         2 * (spoke_datagrams + report_datagrams) + junk,
         "spoke and report datagrams sent by the two radars, and the junk, received"
     );
-    // The range scales the radar reported, live as in the file: ½ NM, then 1 NM.
+    // The range scales the radar reported, live as in the file: ½ NM, then 1 NM (not the
+    // second radar's 5 km).
     assert_eq!(
         l["range_settings_m"],
         serde_json::json!([926.0, 1852.0]),

@@ -138,9 +138,13 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
     let session = Session::start(client, config)?;
     // The origin is own ship's when given or a recording's first fix (the simulator's own
     // ship always has a fix).
+    let simulated = super::Simulated {
+        targets: true,
+        own_ship: o.own_ship.nmea_in.is_none(),
+    };
     let sinks = sinks(
         &o.outputs,
-        true,
+        simulated,
         origin,
         own_ship.origin.is_some(),
         o.alarms,

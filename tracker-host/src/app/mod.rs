@@ -190,15 +190,25 @@ pub fn today() -> i64 {
     crate::own_ship::clock::day_of_s(crate::utc::now_s())
 }
 
+/// What of a run is a simulation's, for the outputs to say so.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Simulated {
+    /// The targets (`demo`).
+    pub targets: bool,
+    /// Own ship (`demo` without `--nmea-in`).
+    pub own_ship: bool,
+}
+
 /// The sinks `o` asks for; the snapshot draws alarms at `alarms`, the session's limits;
-/// with `simulated` (`demo`), the targets sent to plotters are named as a simulation's
-/// ([`crate::nmea::targets::TargetsOut::with_simulated`]).
+/// `simulated`: the targets are a simulation's (`demo`), named so on plotters
+/// ([`crate::nmea::targets::TargetsOut::with_simulated`]), and own ship is one's too
+/// (`demo` without `--nmea-in`), sent so.
 ///
 /// # Errors
 /// A file cannot be created or a socket not opened.
 pub fn sinks(
     o: &Outputs,
-    simulated: bool,
+    simulated: Simulated,
     origin: Origin,
     origin_known: bool,
     alarms: crate::session::target::AlarmLimits,
@@ -207,8 +217,9 @@ pub fn sinks(
     if let Some(spec) = &o.nmea_out {
         let out = crate::nmea::targets::TargetsOut::open(spec, origin, o.nmea_out_own_ship)?
             .with_origin_known(origin_known)
-            .with_simulated(simulated);
-        if simulated {
+            .with_simulated(simulated.targets)
+            .with_simulated_own_ship(simulated.own_ship);
+        if simulated.targets {
             eprintln!(
                 "nmea out: the demo's targets are simulated: plotters are sent them named SIMnn (SIM NAME as an AIS target)"
             );
@@ -231,7 +242,8 @@ pub fn sinks(
     if let Some(p) = &o.snapshot {
         sinks.push(Box::new(
             crate::record::snapshot::Snapshot::new(p.clone(), alarms, o.associated_symbol)
-                .with_range_nm(o.snapshot_range_nm),
+                .with_range_nm(o.snapshot_range_nm)
+                .with_simulated(simulated.targets),
         ));
     }
     Ok(sinks)

@@ -110,17 +110,36 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             (Box::new(source), o.own_ship.origin(), sigma_m)
         }
         TrackInput::NoRadar => {
+            // Plotters take the AIS from the transponder themselves: without a radar
+            // there are no targets of ours to send, only own ship.
+            if o.outputs.nmea_out.is_some() && !o.outputs.nmea_out_own_ship {
+                eprintln!(
+                    "nmea out: without a radar there are no radar targets to send (plotters take AIS from the transponder): add --nmea-out-own-ship to send own ship"
+                );
+            }
             // The scans follow a recording's own time, from its first fix to its last (the
             // frame about its first fix), or this computer's clock for a live source.
             let source = match &o.own_ship.nmea_in {
                 Some(InSpec::File(path)) => {
                     let track = RecordedTrack::read(path, &o.own_ship.nmea)?;
+                    if track.set_apart > 0 {
+                        eprintln!(
+                            "{}: {} position fix(es) set apart, more than a day from the stretch of the recording that holds the most (a stray sentence of another date, or another voyage); the run follows that stretch's {} fixes",
+                            path.display(),
+                            track.set_apart,
+                            track.fixes.len()
+                        );
+                    }
                     let (start_s, end_s) = track.window_s();
                     let first_fix = track.first_position();
                     origin_known = true;
                     let origin = o.own_ship.origin.unwrap_or(first_fix);
+                    let timed = track.timed;
                     recording = Some(track);
-                    (NoRadarSource::over_recording(start_s, end_s), origin)
+                    (
+                        NoRadarSource::over_recording(start_s, end_s).with_utc(timed),
+                        origin,
+                    )
                 }
                 Some(_) => (NoRadarSource::live(), o.own_ship.origin()),
                 None => anyhow::bail!(
@@ -196,13 +215,12 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
         own_ship_dated.nmea.provisional_day =
             first_day.unwrap_or_else(|| undated_day(recording.as_ref(), t));
     }
-    // Without a radar, a recording's times before its first date fall on that date, as the
-    // scans' times do (today's put the AIS heard before its first dated sentence twelve
-    // years from the scans, and none was taken).
-    if let (TrackInput::NoRadar, Some(day)) =
-        (&o.input, recording.as_ref().and_then(|r| r.first_day))
-    {
-        own_ship_dated.nmea.provisional_day = day;
+    // Without a radar, the recording is replayed on its track's own day, within its
+    // track's window, as `demo` replays one (today's day put the AIS heard before its first
+    // dated sentence twelve years from the scans, and none was taken).
+    if let (TrackInput::NoRadar, Some(r)) = (&o.input, &recording) {
+        own_ship_dated.nmea.provisional_day = crate::own_ship::clock::day_of_s(r.start_s());
+        own_ship_dated.nmea.recording_window_s = Some(r.window_s());
     }
     let own_ship = own_ship_source(&own_ship_dated, origin)?;
     let config = SessionConfig {
@@ -211,7 +229,13 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
         ..SessionConfig::tracking_plots_of(o.filter, sigma_m)
     };
     let session = Session::start(client, config)?;
-    let sinks = sinks(&o.outputs, false, origin, origin_known, o.alarms)?;
+    let sinks = sinks(
+        &o.outputs,
+        super::Simulated::default(),
+        origin,
+        origin_known,
+        o.alarms,
+    )?;
     Ok(Run::new(source, own_ship, session, sinks)
         .with_origin(origin)
         .with_associated_data(o.outputs.associated_data))

@@ -676,7 +676,7 @@ fn track_to_end(
         } else {
             PlainMode::Progress { every: 24 }
         };
-        tracking.add_sink(Box::new(Plain::new(mode, limits)));
+        tracking.add_sink(Box::new(Plain::new(mode, limits).with_simulated(simulated)));
         if let Err(e) = tracking.run_to_end(args.speedup(), |_| {}) {
             let _ = tracking.finish();
             return Err(e);

@@ -1997,6 +1997,39 @@ pub(crate) mod tests {
         assert_eq!(state.message, None);
     }
 
+    /// The AIS table lists the targets in CPA/TCPA alarm first, each group nearest first:
+    /// a farther ship closing to 0.1 NM in 3 min above a nearer one passing 5 NM off.
+    #[test]
+    fn the_ais_table_lists_its_targets_in_alarm_first() {
+        let mut view = one_associated_ship(eleventh_scan(), true);
+        let template = view.ais[0].clone();
+        let ship = |mmsi: u32, range_nm: f32, cpa_nm: f32| {
+            let mut a = template.clone();
+            a.mmsi = mmsi;
+            a.label = format!("S{mmsi}");
+            a.range_m = range_nm * METRES_PER_NM;
+            a.active = true;
+            a.cpa = Some(tracker_core::geo::Cpa {
+                cpa_m: cpa_nm * METRES_PER_NM,
+                tcpa_s: 180.0,
+            });
+            a.rel_speed_mps = Some(5.0);
+            a
+        };
+        view.ais = vec![ship(1, 1.0, 5.0), ship(2, 4.0, 0.1), ship(3, 2.0, 4.0)];
+        view.paired.clear();
+        let state = DisplayState::new("inproc".into());
+        let rows = ais_table::rows(&view, &state, 1, 0, 10);
+        let order: Vec<(&str, bool)> = rows
+            .iter()
+            .map(|r| (r.cells[1].as_str(), r.dangerous))
+            .collect();
+        assert_eq!(order, [("S2", true), ("S1", false), ("S3", false)]);
+        // Scrolled past the first: the rest, in that order.
+        let rest = ais_table::rows(&view, &state, 1, 1, 10);
+        assert_eq!(rest[0].cells[1], "S1");
+    }
+
     /// The demo's eleventh scan: targets confirmed, with courses and speeds.
     pub(crate) fn eleventh_scan() -> ScanReport {
         let mut d = demo();

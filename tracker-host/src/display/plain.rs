@@ -26,6 +26,7 @@ pub struct Plain {
     mode: PlainMode,
     limits: AlarmLimits,
     closed: bool,
+    simulated: bool,
 }
 
 impl Plain {
@@ -35,7 +36,14 @@ impl Plain {
             mode,
             limits,
             closed: false,
+            simulated: false,
         }
+    }
+
+    /// With `simulated`, each header starts `SIM` (`demo`'s picture is a simulation's).
+    pub fn with_simulated(mut self, simulated: bool) -> Self {
+        self.simulated = simulated;
+        self
     }
 }
 
@@ -107,13 +115,14 @@ impl ScanSink for Plain {
         if self.closed {
             return Ok(());
         }
+        let sim = if self.simulated { "SIM " } else { "" };
         let text = match self.mode {
-            PlainMode::Table => format!("{}\n{}", header(r), self.table(r)),
+            PlainMode::Table => format!("{sim}{}\n{}", header(r), self.table(r)),
             // A silence of the radar is told when it ends, whatever the scan's number.
             PlainMode::Progress { every }
                 if r.scan.is_multiple_of(every.max(1)) || r.silence.is_some() =>
             {
-                format!("{}\n", header(r))
+                format!("{sim}{}\n", header(r))
             }
             PlainMode::Progress { .. } => return Ok(()),
         };

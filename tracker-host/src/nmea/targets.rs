@@ -192,13 +192,26 @@ pub fn tll(t: &PlotterTarget<'_>, origin: &Origin, own_m: [f32; 2], time_s: f64)
 /// its motion is unknown, the course also at 0.0 kn), `HDT` when a heading is
 /// known, and `OSD` (own ship data: heading, course, speed, and their references).
 pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<String> {
+    own_ship_sentences_of(own, origin, time_s, false)
+}
+
+/// As [`own_ship_sentences`]; with `simulated` (a simulation's own ship: `demo` without
+/// `--nmea-in`) the `RMC` says so, mode `S` (simulator) and status `V`, so that no plotter
+/// takes a made-up position for own ship's fix.
+pub fn own_ship_sentences_of(
+    own: &OwnShip,
+    origin: &Origin,
+    time_s: f64,
+    simulated: bool,
+) -> Vec<String> {
     let p = [f64::from(own.position_m[0]), f64::from(own.position_m[1])];
     let (lat, lon) = origin.to_lat_lon(p);
     let q = own.quality;
     // The position's validity: a fix whose motion is not measured yet is still a fix; a
     // position entered by hand is not (NMEA 0183 2.30 and later: status V for every mode
     // but A and D).
-    let status = if q.dead_reckoning_s.is_none() && !q.no_fix_yet && !q.fixed_position {
+    let status = if q.dead_reckoning_s.is_none() && !q.no_fix_yet && !q.fixed_position && !simulated
+    {
         'A'
     } else {
         'V'
@@ -221,6 +234,8 @@ pub fn own_ship_sentences(own: &OwnShip, origin: &Origin, time_s: f64) -> Vec<St
         // (dead reckoning), A autonomous.
         if q.no_fix_yet {
             'N'
+        } else if simulated {
+            'S'
         } else if q.fixed_position {
             'M'
         } else if status == 'A' {
@@ -326,6 +341,9 @@ pub struct TargetsOut {
     /// The targets are a simulation's (`demo`): sent named `SIMnn` (`SIM NAME` for one
     /// shown as an AIS target), so that no plotter shows them as ships.
     simulated: bool,
+    /// Own ship is a simulation's too (`demo` without `--nmea-in`): its `RMC` goes with mode
+    /// `S` and status `V`.
+    simulated_own_ship: bool,
 }
 
 impl TargetsOut {
@@ -349,6 +367,7 @@ impl TargetsOut {
             on_plotter: std::collections::BTreeMap::new(),
             last: None,
             simulated: false,
+            simulated_own_ship: false,
         }
     }
 
@@ -360,6 +379,13 @@ impl TargetsOut {
     /// what every plotter shows.)
     pub fn with_simulated(mut self, simulated: bool) -> Self {
         self.simulated = simulated;
+        self
+    }
+
+    /// With `simulated`, own ship is a simulation's too: sent (`--nmea-out-own-ship`) with
+    /// `RMC` mode `S` and status `V` ([`own_ship_sentences_of`]).
+    pub fn with_simulated_own_ship(mut self, simulated: bool) -> Self {
+        self.simulated_own_ship = simulated;
         self
     }
 
@@ -407,7 +433,7 @@ impl TargetsOut {
         // on sending TLL, from own ship's estimate, as RMC's status `V` tells.)
         let position_unknown = report.own.quality.no_fix_yet && !self.origin_known;
         let mut out = if self.own_ship {
-            own_ship_sentences(&report.own, &self.origin, time_s)
+            own_ship_sentences_of(&report.own, &self.origin, time_s, self.simulated_own_ship)
         } else {
             Vec::new()
         };
@@ -633,6 +659,13 @@ mod tests {
         assert!(
             none.starts_with("$RARMC,000000.00,V,,,,,,,010170,,,N*"),
             "{none}"
+        );
+        // A simulation's own ship: mode S, never a valid fix.
+        let sim = OwnShip::at([0.0, 0.0], [0.0, 3.0]);
+        let simulated = own_ship_sentences_of(&sim, &origin, 0.0, true)[0].clone();
+        assert!(
+            simulated.contains(",V,5040.00000,N,") && simulated.contains(",,,S*"),
+            "{simulated}"
         );
         // A fixed position (`--fixed-position`): the position, stopped, entered by hand.
         let fixed = crate::own_ship::fixed::fixed_at_origin(own);

@@ -126,7 +126,12 @@ struct RangeSetting {
     /// whether this disagreement was told.
     disagreeing_since: Option<(f64, bool)>,
     disagreements: u64,
+    /// Before the radar tracked is known: each sender's last range report (sender, m, s).
+    pending: Vec<(Ipv4Addr, f32, f64)>,
 }
+
+/// Senders whose range reports are kept before the first spoke.
+const MAX_PENDING_REPORTERS: usize = 8;
 
 enum Input {
     Capture(Box<CaptureReader>),
@@ -360,7 +365,7 @@ impl SpokeSource {
             if told && self.spoke_at.elapsed() >= note {
                 self.spokeless_notes += 1;
                 eprintln!(
-                    "no radar spokes for {} s though datagrams come ({} not a radar's spokes, {} spoke packets refused so far): is this the radar's spoke group, and is the radar transmitting?",
+                    "no radar spokes for {} s though datagrams come ({} not a radar's spokes, {} spoke packets refused so far): is this the radar's spoke group, and is the radar transmitting (not in standby)?",
                     self.spoke_at.elapsed().as_secs(),
                     self.other_datagrams,
                     refused(self.navico.counts(), self.garmin.counts())
@@ -395,6 +400,9 @@ impl SpokeSource {
                 }
                 self.events.push(change);
                 self.radar_address = None;
+                // The new radar's range scale is its own, from its next report.
+                self.range_setting.now_m = None;
+                self.range_setting.disagreeing_since = None;
                 self.radar_changes += 1;
             }
             let fed = match kind {
@@ -403,11 +411,27 @@ impl SpokeSource {
                 None => {
                     self.other_datagrams += 1;
                     self.navico_reports += u64::from(self.navico.note_report(d.payload));
-                    if NAVICO_REPORT_GROUPS.iter().any(|e| e.port == d.dst.port()) {
-                        if let Some(m) = navico::range_setting_report_m(d.payload) {
+                    // The range scale of the radar tracked only (a second radar on the
+                    // network reports to the same group); before its first spoke, each
+                    // sender's last is kept until it is known which one is tracked.
+                    let range = NAVICO_REPORT_GROUPS
+                        .iter()
+                        .any(|e| e.port == d.dst.port())
+                        .then(|| navico::range_setting_report_m(d.payload))
+                        .flatten();
+                    match (range, self.radar_address) {
+                        (Some(m), Some(a)) if a == from => {
                             let (r, events) = (&mut self.range_setting, &mut self.events);
                             r.note(m as f32, d.time_s, told, events);
                         }
+                        (Some(m), None) => {
+                            let p = &mut self.range_setting.pending;
+                            p.retain(|(s, _, _)| *s != from);
+                            if p.len() < MAX_PENDING_REPORTERS {
+                                p.push((from, m as f32, d.time_s));
+                            }
+                        }
+                        _ => {}
                     }
                     false
                 }
@@ -415,7 +439,15 @@ impl SpokeSource {
             if fed {
                 self.active = kind;
                 self.time_s = d.time_s;
-                self.radar_address.get_or_insert(from);
+                if self.radar_address.is_none() {
+                    self.radar_address = Some(from);
+                    // Its range scale, if it reported one before its first spoke.
+                    let pending = std::mem::take(&mut self.range_setting.pending);
+                    if let Some(&(_, m, t)) = pending.iter().find(|p| p.0 == from) {
+                        let (r, events) = (&mut self.range_setting, &mut self.events);
+                        r.note(m, t, told, events);
+                    }
+                }
             }
         }
         let (kind, spoke, stream) = match self.active {

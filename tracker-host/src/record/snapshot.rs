@@ -76,6 +76,8 @@ struct Last {
     /// is unknown, m/s: own ship's velocity where its position moves with it, none where it
     /// stands (the tracks are relative already; [`crate::own_ship::OwnShip::track_frame_velocity_mps`]).
     frame_velocity_mps: [f32; 2],
+    /// The picture is a simulation's (`demo`): its title says so.
+    simulated: bool,
 }
 
 impl Last {
@@ -100,6 +102,7 @@ impl Last {
             own_alarms: report.own.alarms(),
             motion_known: report.own.quality.motion_known,
             frame_velocity_mps: report.own.track_frame_velocity_mps(),
+            simulated: false,
         }
     }
 }
@@ -112,6 +115,7 @@ pub struct Snapshot {
     /// The range drawn, NM, when the operator chose one.
     range_nm: Option<f64>,
     last: Option<Last>,
+    simulated: bool,
 }
 
 impl Snapshot {
@@ -123,7 +127,14 @@ impl Snapshot {
             symbol,
             range_nm: None,
             last: None,
+            simulated: false,
         }
+    }
+
+    /// With `simulated`, the picture is a simulation's (`demo`), titled `SIMULATION`.
+    pub fn with_simulated(mut self, simulated: bool) -> Self {
+        self.simulated = simulated;
+        self
     }
 
     /// Drawn to `range_nm` (NM, own ship to the edge) rather than the automatic scale.
@@ -135,7 +146,9 @@ impl Snapshot {
 
 impl ScanSink for Snapshot {
     fn scan(&mut self, scan: &SourceScan, report: &ScanReport) -> anyhow::Result<()> {
-        self.last = Some(Last::of(scan, report, self.symbol));
+        let mut last = Last::of(scan, report, self.symbol);
+        last.simulated = self.simulated;
+        self.last = Some(last);
         Ok(())
     }
 
@@ -386,7 +399,8 @@ fn caption(last: &Last, scale_nm: f64, vector_min: f32) -> String {
     // The rings at quarters of the range (a new user's trial read "range 24 NM" over four
     // rings and could not tell their spacing).
     format!(
-        "scan {}, range {scale_nm} NM, rings {} NM, north up, {vectors} vectors {vector_min} min",
+        "{}scan {}, range {scale_nm} NM, rings {} NM, north up, {vectors} vectors {vector_min} min",
+        if last.simulated { "SIMULATION, " } else { "" },
         last.scan,
         (scale_nm / 4.0 * 1000.0).round() / 1000.0
     )
@@ -530,6 +544,7 @@ mod tests {
             own_alarms: Vec::new(),
             motion_known: true,
             frame_velocity_mps: [0.0, 0.0],
+            simulated: false,
         }
     }
 
@@ -601,6 +616,11 @@ mod tests {
         // user's trial read "true vectors" on a capture with no fix).
         assert!(caption(&last, 0.5, 0.5).contains("true vectors 0.5 min"));
         assert!(caption(&last, 24.0, 6.0).contains("range 24 NM, rings 6 NM"));
+        let simulated = Last {
+            simulated: true,
+            ..with_plots(Vec::new())
+        };
+        assert!(caption(&simulated, 6.0, 3.0).starts_with("SIMULATION, scan 1,"));
         let unknown = Last {
             motion_known: false,
             ..last.clone()

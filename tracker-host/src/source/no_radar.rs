@@ -23,8 +23,13 @@ const INTERRUPT_POLL: Duration = Duration::from_millis(250);
 enum Clock {
     /// A recording's time, s since 1970: the next scan's and the last fix's.
     Recording { next_s: f64, end_s: f64 },
-    /// This computer's clock: the next scan is due at this instant.
-    Live { due: Instant },
+    /// This computer's clock, read once and run on the monotonic clock (a step of the
+    /// host's clock, NTP setting a Raspberry Pi's, neither stalls nor reverses the scans):
+    /// the next scan is due at this instant.
+    Live {
+        due: Instant,
+        clock: crate::utc::SteadyUtc,
+    },
 }
 
 /// Scans without plots, every [`PERIOD_S`]. See the module documentation.
@@ -33,6 +38,7 @@ pub struct NoRadarSource {
     clock: Clock,
     scan: u32,
     live_deadline: Option<Instant>,
+    utc: bool,
 }
 
 impl NoRadarSource {
@@ -46,7 +52,15 @@ impl NoRadarSource {
             },
             scan: 0,
             live_deadline: None,
+            utc: true,
         }
+    }
+
+    /// With `utc` false, the recording's times are made up (it has no time of its own, so
+    /// its fixes are put at the start of a day) and are not shown or sent as UTC.
+    pub fn with_utc(mut self, utc: bool) -> Self {
+        self.utc = utc;
+        self
     }
 
     /// Live: the first scan now, then every [`PERIOD_S`] on this computer's clock.
@@ -54,9 +68,11 @@ impl NoRadarSource {
         NoRadarSource {
             clock: Clock::Live {
                 due: Instant::now(),
+                clock: crate::utc::SteadyUtc::start(),
             },
             scan: 0,
             live_deadline: None,
+            utc: true,
         }
     }
 
@@ -88,7 +104,7 @@ impl PlotSource for NoRadarSource {
                 };
                 Ok(Some(self.scan_at(next_s)))
             }
-            Clock::Live { due } => {
+            Clock::Live { due, clock } => {
                 // Waits until the scan is due, but not past the caller's deadline (the
                 // display answers keys meanwhile) nor past Ctrl-C.
                 loop {
@@ -107,12 +123,20 @@ impl PlotSource for NoRadarSource {
                 // The next one a period on, or a period from now after a long pause (a
                 // suspended laptop does not make up the scans it slept through).
                 let period = Duration::from_secs_f64(PERIOD_S);
-                self.clock = Clock::Live {
-                    due: (due + period).max(Instant::now()),
+                let now = Instant::now();
+                let next = if due + period < now {
+                    now + period
+                } else {
+                    due + period
                 };
-                Ok(Some(self.scan_at(crate::utc::now_s())))
+                self.clock = Clock::Live { due: next, clock };
+                Ok(Some(self.scan_at(clock.now_s())))
             }
         }
+    }
+
+    fn time_is_utc(&self) -> bool {
+        self.utc
     }
 
     fn is_live(&self) -> bool {

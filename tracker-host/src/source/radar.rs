@@ -209,8 +209,12 @@ impl std::fmt::Display for RadarCounts {
         if self.range_disagreements > 0 {
             write!(
                 f,
-                "; the spokes' range disagreed with the radar's {} times: it may be misread (events)",
-                self.range_disagreements
+                "; the spokes' range disagreed with the radar's {}: it may be misread (events)",
+                if self.range_disagreements == 1 {
+                    "once".to_string()
+                } else {
+                    format!("{} times", self.range_disagreements)
+                }
             )?;
         }
         if self.yaw_measured + self.yaw_unmatched > 0 {
@@ -444,7 +448,9 @@ impl RadarPlotSource {
         c.spoke_range_m = self.scan_range_m;
         c.range_settings_m = stats.navico_range_settings_m.clone();
         // A Garmin gives the range chosen in every spoke: the last.
-        if let (true, Some(m)) = (c.range_settings_m.is_empty(), stats.garmin.selected_range_m) {
+        if let (true, Some(m @ 1..)) =
+            (c.range_settings_m.is_empty(), stats.garmin.selected_range_m)
+        {
             c.range_settings_m.push(m as f32);
         }
         c.range_disagreements = stats.range_disagreements;
