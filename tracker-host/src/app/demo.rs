@@ -93,14 +93,7 @@ pub fn start(client: Client, o: &DemoOptions) -> anyhow::Result<Run> {
     let truth = match &o.own_ship.nmea_in {
         Some(InSpec::File(path)) => {
             let track = RecordedTrack::read(path, &o.own_ship.nmea)?;
-            if track.set_apart > 0 {
-                eprintln!(
-                    "{}: {} position fix(es) set apart, more than a day from the stretch of the recording that holds the most (a stray sentence of another date, or another voyage); the run follows that stretch's {} fixes",
-                    path.display(),
-                    track.set_apart,
-                    track.fixes.len()
-                );
-            }
+            track.tell_set_apart(path);
             let origin = o.own_ship.origin.unwrap_or(track.first_position());
             own_ship.origin = Some(origin);
             own_ship.nmea.provisional_day = crate::own_ship::clock::day_of_s(track.start_s());

@@ -122,14 +122,7 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             let source = match &o.own_ship.nmea_in {
                 Some(InSpec::File(path)) => {
                     let track = RecordedTrack::read(path, &o.own_ship.nmea)?;
-                    if track.set_apart > 0 {
-                        eprintln!(
-                            "{}: {} position fix(es) set apart, more than a day from the stretch of the recording that holds the most (a stray sentence of another date, or another voyage); the run follows that stretch's {} fixes",
-                            path.display(),
-                            track.set_apart,
-                            track.fixes.len()
-                        );
-                    }
+                    track.tell_set_apart(path);
                     let (start_s, end_s) = track.window_s();
                     let first_fix = track.first_position();
                     origin_known = true;

@@ -122,6 +122,19 @@ impl RecordedTrack {
         })
     }
 
+    /// Says on standard error, when fixes were set apart, how many and what the run
+    /// follows (`path`: the recording's).
+    pub fn tell_set_apart(&self, path: &Path) {
+        if self.set_apart > 0 {
+            eprintln!(
+                "{}: {} position fix(es) set apart, more than a day from the stretch of the recording that holds the most (a stray sentence of another date, or another voyage); the run follows that stretch's {} fixes",
+                path.display(),
+                self.set_apart,
+                self.fixes.len()
+            );
+        }
+    }
+
     /// The first fix's time, s since 1970.
     pub fn start_s(&self) -> f64 {
         self.fixes[0].0
