@@ -119,7 +119,7 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
             }
             // The scans follow a recording's own time, from its first fix to its last (the
             // frame about its first fix), or this computer's clock for a live source.
-            let source = match &o.own_ship.nmea_in {
+            let (source, origin) = match &o.own_ship.nmea_in {
                 Some(InSpec::File(path)) => {
                     let track = RecordedTrack::read(path, &o.own_ship.nmea)?;
                     track.tell_set_apart(path);
@@ -139,7 +139,7 @@ pub fn start(client: Client, o: &TrackOptions) -> anyhow::Result<Run> {
                     "track without a radar or plots takes own ship and AIS from --nmea-in"
                 ),
             };
-            (Box::new(source.0), source.1, PLOT_SIGMA_M)
+            (Box::new(source), origin, PLOT_SIGMA_M)
         }
         TrackInput::Radar(radar) => {
             // A capture's own frame is around its first fix, wherever on earth it was made;

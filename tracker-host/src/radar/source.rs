@@ -168,10 +168,7 @@ impl RangeSetting {
             },
             range_scale_in_metres(range_m)
         );
-        if told {
-            eprintln!("{event}");
-        }
-        events.push(event);
+        tell(events, told, event);
     }
 
     /// Holds the range of a rotation's first spoke, taken at `time_s`, against the range
@@ -207,11 +204,17 @@ impl RangeSetting {
             crate::utc::date_time_label(time_s),
             range_scale_in_metres(setting_m)
         );
-        if told {
-            eprintln!("{event}");
-        }
-        events.push(event);
+        tell(events, told, event);
     }
+}
+
+/// Logs `event`, and with `told` (a live radar without the display) says it on standard
+/// error as it happens.
+fn tell(events: &mut crate::event_log::EventLog, told: bool, event: String) {
+    if told {
+        eprintln!("{event}");
+    }
+    events.push(event);
 }
 
 /// Spokes from a capture file or the radar, one at a time. See the module documentation.
@@ -395,10 +398,7 @@ impl SpokeSource {
                         .map_or("?".to_string(), |a| a.to_string()),
                     d.time_s - self.time_s
                 );
-                if told {
-                    eprintln!("{change}");
-                }
-                self.events.push(change);
+                tell(&mut self.events, told, change);
                 self.radar_address = None;
                 // The new radar's range scale is its own, from its next report.
                 self.range_setting.now_m = None;
@@ -508,11 +508,6 @@ impl SpokeSource {
         }
     }
 
-    /// The range the radar last reported as chosen, m (a Navico's state report).
-    pub fn range_setting_m(&self) -> Option<f32> {
-        self.range_setting.now_m
-    }
-
     /// Everything counted so far.
     pub fn stats(&self) -> RadarStats {
         let (capture, live) = match &self.input {
@@ -542,8 +537,9 @@ impl SpokeSource {
 /// A range scale as a navigator names it: `0.5 NM` (a whole number of eighths of a mile,
 /// to the metre), else `100 m`.
 pub fn range_scale_label(range_m: f32) -> String {
-    let eighths = (f64::from(range_m) / 1852.0 * 8.0).round();
-    if eighths >= 1.0 && (eighths * 1852.0 / 8.0 - f64::from(range_m)).abs() < 1.0 {
+    let nm = f64::from(tracker_core::geo::METRES_PER_NM);
+    let eighths = (f64::from(range_m) / nm * 8.0).round();
+    if eighths >= 1.0 && (eighths * nm / 8.0 - f64::from(range_m)).abs() < 1.0 {
         format!("{} NM", eighths / 8.0)
     } else {
         format!("{range_m:.0} m")

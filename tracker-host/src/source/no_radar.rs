@@ -45,15 +45,10 @@ impl NoRadarSource {
     /// Over a recording whose fixes run from `start_s` to `end_s` (s since 1970): scans
     /// from `start_s`, the last at or past `end_s`.
     pub fn over_recording(start_s: f64, end_s: f64) -> Self {
-        NoRadarSource {
-            clock: Clock::Recording {
-                next_s: start_s,
-                end_s,
-            },
-            scan: 0,
-            live_deadline: None,
-            utc: true,
-        }
+        Self::on(Clock::Recording {
+            next_s: start_s,
+            end_s,
+        })
     }
 
     /// With `utc` false, the recording's times are made up (it has no time of its own, so
@@ -65,11 +60,15 @@ impl NoRadarSource {
 
     /// Live: the first scan now, then every [`PERIOD_S`] on this computer's clock.
     pub fn live() -> Self {
+        Self::on(Clock::Live {
+            due: Instant::now(),
+            clock: crate::utc::SteadyUtc::start(),
+        })
+    }
+
+    fn on(clock: Clock) -> Self {
         NoRadarSource {
-            clock: Clock::Live {
-                due: Instant::now(),
-                clock: crate::utc::SteadyUtc::start(),
-            },
+            clock,
             scan: 0,
             live_deadline: None,
             utc: true,
