@@ -116,14 +116,36 @@ def load_tracks(path):
     return by_t, ever
 
 
-def load_plots(path):
+def on_link_grid(own_m, rng, brg):
+    """The plot in the local frame as our tracker holds it: `geo::polar_to_local_f64` (own
+    ship, range and bearing as the f32 the file prints, worked in f64, rounded to f32 once),
+    then rounded to the link's 0.1 m grid (`tracker_core::icd::fixed`: tenths in f32,
+    halves away from zero) and read back as f32 tenths."""
+    f32 = np.float32
+    r, b = float(f32(rng)), float(f32(brg))
+    out = []
+    for own, trig in ((own_m[0], math.sin), (own_m[1], math.cos)):
+        x = f32(float(f32(own)) + r * trig(b))
+        tenths = x * f32(10.0)
+        steps = math.copysign(math.floor(abs(float(tenths)) + 0.5), float(tenths))
+        out.append(float(f32(steps) / f32(10.0)))
+    return out
+
+
+def load_plots(path, unrounded=False):
     """Per scan: list of (east, north, range_m, bearing_rad): the plot in the local frame
-    and as the radar measured it."""
+    and as the radar measured it. The local position is the one our tracker associates
+    (on the link's 0.1 m grid, computed in f32) unless `unrounded` (f64, as the first
+    comparisons gave Stone Soup)."""
     by_t = defaultdict(list)
     for r in read_csv(path):
         rng, brg = float(r["range_m"]), math.radians(float(r["bearing_deg"]))
-        e = float(r["own_east_m"]) + rng * math.sin(brg)
-        n = float(r["own_north_m"]) + rng * math.cos(brg)
+        own = (float(r["own_east_m"]), float(r["own_north_m"]))
+        if unrounded:
+            e = own[0] + rng * math.sin(brg)
+            n = own[1] + rng * math.cos(brg)
+        else:
+            e, n = on_link_grid(own, rng, brg)
         by_t[int(r["scan"])].append((e, n, rng, brg))
     return by_t
 
@@ -441,6 +463,9 @@ def main():
                     help="give Stone Soup each plot's own polar accuracy (the simulator's range "
                          "and bearing sigmas) in place of our 40 m a side: an experiment, not "
                          "our models (docs/tracking.md)")
+    ap.add_argument("--unrounded", action="store_true",
+                    help="give Stone Soup the plots in f64 off the link's 0.1 m grid, as the "
+                         "comparisons before 2026-12-07's evening did (ours see them on it)")
     ap.add_argument("--q", type=float, default=Q_M2_S3,
                     help="Stone Soup's process noise, m^2/s^3 (ours: 0.05)")
     args = ap.parse_args()
@@ -449,9 +474,11 @@ def main():
     second = args.second
     # An experiment's files beside the comparison's, not over them.
     variant = args.deleter + ("-polar" if args.polar else "") + \
+        ("-unrounded" if args.unrounded else "") + \
         (f"-q{args.q:g}" if args.q != Q_M2_S3 else "")
     results = {"stonesoup_version": stonesoup.__version__, "measure": args.measure,
-               "deleter": args.deleter, "second": second, "polar": args.polar, "q": args.q,
+               "deleter": args.deleter, "second": second, "polar": args.polar,
+               "unrounded": args.unrounded, "q": args.q,
                "tracker": os.path.abspath(args.tracker), "runs": []}
     for scenario in args.scenarios:
         for seed in args.seeds:
@@ -487,11 +514,16 @@ def main():
                     "gospa_max_abs_diff_per_scan_m": float(d_gospa.max()),
                     "scans": len(times), "own_scans": len(js["ospa_per_scan_m"]),
                 }
-            plots = load_plots(ref["plots"])
+            plots = load_plots(ref["plots"], args.unrounded)
             ss_by_t, ss_n, ss_time = run_stonesoup(
                 times, plots, os.path.join(base, f"stonesoup-{variant}-tracks.csv"),
                 args.measure, args.deleter, args.polar, args.q)
             s = score(truth, ss_by_t)
+            # Our tracks come back over the link on its 0.1 m grid; Stone Soup's put on the
+            # same grid tell what of a millimetre's difference that grid is.
+            on_grid = {k: [(t, round(e, 1), round(n, 1)) for t, e, n in v]
+                       for k, v in ss_by_t.items()}
+            run["stonesoup_on_report_grid_ospa_mean_m"] = score(truth, on_grid)["ospa_mean_m"]
             run["stonesoup"] = {"ospa_mean_m": s["ospa_mean_m"],
                                 "gospa_mean_m": s["gospa_mean_m"],
                                 "untracked_target_scans": s["untracked_target_scans"],
@@ -548,6 +580,20 @@ def markdown(results):
             cells.append(" / ".join(f.format(float(np.mean(tot[(scenario, a, k)])))
                                     for a in names))
         lines.append(f"| **{scenario}** | mean | " + " | ".join(cells) + " |")
+    lines += [
+        "",
+        f"OSPA mean to a tenth of a millimetre, m: ours {second} / Stone Soup / Stone Soup's "
+        "tracks on our tracks' 0.1 m report grid:",
+        "",
+        "| scenario | seed | OSPA mean, m |",
+        "|---|---|---|",
+    ]
+    for run in results["runs"]:
+        if "stonesoup_on_report_grid_ospa_mean_m" in run:
+            lines.append(
+                f"| {run['scenario']} | {run['seed']} "
+                f"| {run[second]['ospa_mean_m']:.4f} / {run['stonesoup']['ospa_mean_m']:.4f} / "
+                f"{run['stonesoup_on_report_grid_ospa_mean_m']:.4f} |")
     lines += [
         "",
         "Cross-check against our tracker's own scores (its summary JSON):",

@@ -522,7 +522,7 @@ impl Session {
             .plots
             .iter()
             .map(|p| {
-                position_on_grid(geo::polar_to_local(
+                position_on_grid(geo::polar_to_local_f64(
                     own.position_m,
                     p.range_m,
                     p.bearing_rad,

@@ -22,7 +22,7 @@ pub const DETECTION_GATE_M: f32 = 150.0;
 pub fn plot_points(own_m: [f32; 2], plots: &[Plot]) -> Vec<[f32; 2]> {
     plots
         .iter()
-        .map(|p| geo::polar_to_local(own_m, p.range_m, p.bearing_rad))
+        .map(|p| geo::polar_to_local_f64(own_m, p.range_m, p.bearing_rad))
         .collect()
 }
 
