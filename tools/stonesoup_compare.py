@@ -582,8 +582,8 @@ def markdown(results):
         lines.append(f"| **{scenario}** | mean | " + " | ".join(cells) + " |")
     lines += [
         "",
-        f"OSPA mean to a tenth of a millimetre, m: ours {second} / Stone Soup / Stone Soup's "
-        "tracks on our tracks' 0.1 m report grid:",
+        f"OSPA mean to a tenth of a millimetre, m: ours two-stage / ours {second} / Stone Soup / "
+        "Stone Soup's tracks on our tracks' 0.1 m report grid:",
         "",
         "| scenario | seed | OSPA mean, m |",
         "|---|---|---|",
@@ -592,7 +592,8 @@ def markdown(results):
         if "stonesoup_on_report_grid_ospa_mean_m" in run:
             lines.append(
                 f"| {run['scenario']} | {run['seed']} "
-                f"| {run[second]['ospa_mean_m']:.4f} / {run['stonesoup']['ospa_mean_m']:.4f} / "
+                f"| {run['two-stage']['ospa_mean_m']:.4f} / {run[second]['ospa_mean_m']:.4f} / "
+                f"{run['stonesoup']['ospa_mean_m']:.4f} / "
                 f"{run['stonesoup_on_report_grid_ospa_mean_m']:.4f} |")
     lines += [
         "",

@@ -203,8 +203,28 @@ fn ais_alone_without_a_radar_takes_every_sentence_of_a_recording() {
             (scans as f64 - 1.0) * 2.5 >= span_s - 2.5,
             "{file}: {scans} scans for {span_s} s"
         );
-        // The plain table's header says own ship has its fix, and no radar target shows.
+        // The plain table's header says own ship has its fix, and no radar target shows:
+        // every scan lists the AIS targets (as many rows as the header counts), no radar
+        // table; the summary says there was no radar.
         assert!(stdout.contains(" fix  AIS "), "{file}: {stdout}");
         assert_eq!(s["targets_seen"].as_u64(), Some(0), "{file}");
+        assert_eq!(s["without_radar"], serde_json::json!(true), "{file}");
+        assert!(!stdout.contains(" TGT STATUS"), "{file}");
+        assert!(!stdout.contains("targets tracked"), "{file}");
+        assert!(stdout.contains("  no radar  "), "{file}");
+        let last = stdout.rsplit("\nscan ").next().unwrap();
+        let heard: usize = last
+            .lines()
+            .next()
+            .and_then(|h| h.rsplit("AIS ").next())
+            .and_then(|n| n.trim().parse().ok())
+            .unwrap();
+        let listed = last
+            .lines()
+            .skip_while(|l| !l.starts_with("AIS MMSI"))
+            .skip(1)
+            .take_while(|l| l.as_bytes().first().is_some_and(u8::is_ascii_digit))
+            .count();
+        assert_eq!(listed, heard, "{file}: {last}");
     }
 }

@@ -403,6 +403,8 @@ fn next_scan(sim: &mut tracker_core::sim::Scenario, out: &mut tracker_core::sim:
 
 /// A plots part as the host makes it: to the local frame (own ship at the origin), on the
 /// wire's grid, packed into `packed`. Its own frame: the positions are dead once packed.
+/// The host places plots with the sine in f64 (`geo::polar_to_local_f64`); this simulated
+/// host side keeps the MCU's table sine, as it is not the device's work being counted.
 #[inline(never)]
 fn pack_plots<'b>(
     head: tracker_core::icd::PlotBatch<'static>,

@@ -361,6 +361,7 @@ impl Run {
             association: self.session.config().association.name().to_string(),
             command: Vec::new(),
             scans: self.scans,
+            without_radar: !self.plots.has_radar(),
             targets_seen: self.targets_seen,
             target_scans_in_echo: self.target_scans_in_echo,
             scores: self.summary(),
@@ -449,6 +450,9 @@ pub struct RunReport {
     pub command: Vec<String>,
     /// Scans tracked.
     pub scans: u64,
+    /// The run had no radar (`track --nmea-in` alone: AIS targets only).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub without_radar: bool,
     /// Targets shown over the run (tracks that were confirmed), each counted once.
     pub targets_seen: u64,
     /// Target-scans not drawn because the track's target was hidden in a plot another
@@ -500,6 +504,9 @@ impl RunReport {
         );
         match &self.scores {
             Some(scores) => s += &scores.report(),
+            None if self.without_radar => {
+                s += &format!("scans: {} (no radar: AIS targets only)", self.scans)
+            }
             None => {
                 s += &format!(
                     "scans: {}, {} targets shown over the run (no truth to score against)",

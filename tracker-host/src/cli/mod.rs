@@ -676,7 +676,12 @@ fn track_to_end(
         } else {
             PlainMode::Progress { every: 24 }
         };
-        tracking.add_sink(Box::new(Plain::new(mode, limits).with_simulated(simulated)));
+        // The AIS table first is `track --nmea-in` alone: no radar.
+        tracking.add_sink(Box::new(
+            Plain::new(mode, limits)
+                .with_simulated(simulated)
+                .with_radar(!ais_first),
+        ));
         if let Err(e) = tracking.run_to_end(args.speedup(), |_| {}) {
             let _ = tracking.finish();
             return Err(e);

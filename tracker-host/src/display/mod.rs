@@ -2002,20 +2002,7 @@ pub(crate) mod tests {
     #[test]
     fn the_ais_table_lists_its_targets_in_alarm_first() {
         let mut view = one_associated_ship(eleventh_scan(), true);
-        let template = view.ais[0].clone();
-        let ship = |mmsi: u32, range_nm: f32, cpa_nm: f32| {
-            let mut a = template.clone();
-            a.mmsi = mmsi;
-            a.label = format!("S{mmsi}");
-            a.range_m = range_nm * METRES_PER_NM;
-            a.active = true;
-            a.cpa = Some(tracker_core::geo::Cpa {
-                cpa_m: cpa_nm * METRES_PER_NM,
-                tcpa_s: 180.0,
-            });
-            a.rel_speed_mps = Some(5.0);
-            a
-        };
+        let ship = |mmsi, range_nm, cpa_nm| ais_ship(&view.ais[0], mmsi, range_nm, cpa_nm);
         view.ais = vec![ship(1, 1.0, 5.0), ship(2, 4.0, 0.1), ship(3, 2.0, 4.0)];
         view.paired.clear();
         let state = DisplayState::new("inproc".into());
@@ -2028,6 +2015,27 @@ pub(crate) mod tests {
         // Scrolled past the first: the rest, in that order.
         let rest = ais_table::rows(&view, &state, 1, 1, 10);
         assert_eq!(rest[0].cells[1], "S1");
+    }
+
+    /// An activated AIS target `S{mmsi}` like `template`, `range_nm` off, closing to
+    /// `cpa_nm` in 3 minutes.
+    pub(crate) fn ais_ship(
+        template: &crate::ais::AisTargetData,
+        mmsi: u32,
+        range_nm: f32,
+        cpa_nm: f32,
+    ) -> crate::ais::AisTargetData {
+        let mut a = template.clone();
+        a.mmsi = mmsi;
+        a.label = format!("S{mmsi}");
+        a.range_m = range_nm * METRES_PER_NM;
+        a.active = true;
+        a.cpa = Some(tracker_core::geo::Cpa {
+            cpa_m: cpa_nm * METRES_PER_NM,
+            tcpa_s: 180.0,
+        });
+        a.rel_speed_mps = Some(5.0);
+        a
     }
 
     /// The demo's eleventh scan: targets confirmed, with courses and speeds.

@@ -97,6 +97,11 @@ pub trait PlotSource {
     /// The antenna period, s, when the source knows it (for pacing a run in real time).
     fn scan_period_s(&self) -> Option<f64>;
 
+    /// False for a source of no radar at all (AIS alone: its scans carry no plots, ever).
+    fn has_radar(&self) -> bool {
+        true
+    }
+
     /// Scans still to come, when the source knows (for progress and the display).
     fn scans_left(&self) -> Option<u64>;
 

@@ -89,6 +89,10 @@ impl NoRadarSource {
 }
 
 impl PlotSource for NoRadarSource {
+    fn has_radar(&self) -> bool {
+        false
+    }
+
     fn next_scan(&mut self) -> anyhow::Result<Option<SourceScan>> {
         match self.clock {
             Clock::Recording { next_s, end_s } => {
