@@ -341,6 +341,11 @@ impl Run {
         self.plots.scans_left()
     }
 
+    /// False when the run has no radar (`track --nmea-in` alone: AIS targets only).
+    pub fn has_radar(&self) -> bool {
+        self.plots.has_radar()
+    }
+
     /// The end-of-run report.
     pub fn report(&self, link: &str) -> RunReport {
         let mut times: Vec<Duration> = self.session.host_times().to_vec();
@@ -361,7 +366,7 @@ impl Run {
             association: self.session.config().association.name().to_string(),
             command: Vec::new(),
             scans: self.scans,
-            without_radar: !self.plots.has_radar(),
+            without_radar: !self.has_radar(),
             targets_seen: self.targets_seen,
             target_scans_in_echo: self.target_scans_in_echo,
             scores: self.summary(),

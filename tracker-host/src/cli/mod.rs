@@ -452,7 +452,7 @@ where
             crate::app::interrupt::install().context("installing the Ctrl-C handler")?;
             let (client, link) = cli.connect()?;
             let tracking = demo::start(client, &options)?;
-            track_to_end(&link, tracking, run, &command, (true, false))
+            track_to_end(&link, tracking, run, &command, true)
         }
         Command::Track {
             plots,
@@ -502,7 +502,6 @@ where
             .flatten()
             .collect();
             run.check_outputs(None, &read)?;
-            let no_radar = input == track::TrackInput::NoRadar;
             let options = track::TrackOptions {
                 input,
                 filter: run.filter,
@@ -516,7 +515,7 @@ where
             crate::app::interrupt::install().context("installing the Ctrl-C handler")?;
             let (client, link) = cli.connect()?;
             let tracking = track::start(client, &options)?;
-            track_to_end(&link, tracking, run, &command, (false, no_radar))
+            track_to_end(&link, tracking, run, &command, false)
         }
         Command::LinkCheck { frames, seed } => {
             let (mut client, _) = cli.connect()?;
@@ -643,17 +642,18 @@ fn exit(ok: bool) -> ExitCode {
 }
 
 /// Runs a wired tracking run to its end: the radar display in a terminal (titled as a
-/// simulation's with `simulated`; with `ais_first`, the AIS target table shown first, as
-/// without a radar), else the plain table (`--plain`) or progress lines; then the summary,
+/// simulation's with `simulated`; without a radar, the AIS target table shown first), else
+/// the plain table (`--plain`) or progress lines; then the summary,
 /// and the JSON summary if asked.
 fn track_to_end(
     link: &LinkSpec,
     mut tracking: Run,
     args: &RunArgs,
     command: &[String],
-    (simulated, ais_first): (bool, bool),
+    simulated: bool,
 ) -> anyhow::Result<ExitCode> {
     let limits = tracking.session().config().alarms;
+    let radar = tracking.has_radar();
     let link = link.to_string();
     // Ctrl-C ends the run after the scan in hand, with its summary; twice, at once (the
     // handler is installed before the run is wired).
@@ -663,7 +663,7 @@ fn track_to_end(
         state.limits = limits;
         state.associated = args.associated_symbol.into();
         state.simulated = simulated;
-        state.ais_table = ais_first;
+        state.ais_table = !radar;
         let ran = crate::display::run_tui(&mut tracking, &mut state, args.speedup());
         // Finished whatever happened: plotters are told the targets are gone, recordings
         // flushed.
@@ -676,11 +676,10 @@ fn track_to_end(
         } else {
             PlainMode::Progress { every: 24 }
         };
-        // The AIS table first is `track --nmea-in` alone: no radar.
         tracking.add_sink(Box::new(
             Plain::new(mode, limits)
                 .with_simulated(simulated)
-                .with_radar(!ais_first),
+                .with_radar(radar),
         ));
         if let Err(e) = tracking.run_to_end(args.speedup(), |_| {}) {
             let _ = tracking.finish();

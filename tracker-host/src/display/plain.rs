@@ -107,25 +107,24 @@ impl Plain {
     /// The target table; with AIS heard, its AIS column and the CPA/TCPA alarms of the AIS
     /// targets no radar target is paired with (as on the radar display).
     fn table(&self, r: &ScanReport) -> String {
-        // The targets and those being acquired (tentative tracks with a second plot, no
-        // number yet: `--`), nearest first: every one the header counts.
-        let mut rows: Vec<TargetData> = r.targets.iter().chain(&r.acquiring).cloned().collect();
-        rows.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
         // Without a radar (`track --nmea-in` alone) no empty radar table every scan: the
         // AIS table is the picture.
-        if r.ais.is_empty() {
-            return if self.radar {
-                table_with_ais(&rows, &self.limits, None)
-            } else {
-                "no AIS target heard yet\n".to_string()
-            };
-        }
-        let column = |track: u16| crate::display::ais_column(r, track);
         let mut s = if self.radar {
-            table_with_ais(&rows, &self.limits, Some(&column))
+            // The targets and those being acquired (tentative tracks with a second plot, no
+            // number yet: `--`), nearest first: every one the header counts.
+            let mut rows: Vec<TargetData> = r.targets.iter().chain(&r.acquiring).cloned().collect();
+            rows.sort_by(|a, b| a.range_m.total_cmp(&b.range_m));
+            let column = |track: u16| crate::display::ais_column(r, track);
+            let column: Option<&dyn Fn(u16) -> String> = (!r.ais.is_empty()).then_some(&column);
+            table_with_ais(&rows, &self.limits, column)
+        } else if r.ais.is_empty() {
+            "no AIS target heard yet\n".to_string()
         } else {
             String::new()
         };
+        if r.ais.is_empty() {
+            return s;
+        }
         s += &self.ais_table(r);
         // The soonest closest approach first, as on the radar display.
         let mut alarms: Vec<_> = crate::display::ais_alarms(r, &self.limits)
