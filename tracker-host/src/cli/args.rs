@@ -162,7 +162,8 @@ pub struct RunArgs {
     /// (`HDM`, `HDG`) when neither the sentence nor an `RMC` gives one.
     #[arg(long, value_name = "DEG", allow_hyphen_values = true, value_parser = magnetic_variation)]
     pub magnetic_variation: Option<f64>,
-    /// Take own ship (and AIS) from NMEA 0183 (GGA/RMC, VTG, HDT, VHW; AIVDM/AIVDO)
+    /// Take own ship (and AIS) from NMEA 0183 (RMC/GGA/GLL, VTG/VBW, HDT/THS/HDG/HDM,
+    /// VHW, ZDA; AIVDM/AIVDO)
     /// through the dead-reckoning filter: `file:PATH` (a recording, replayed scan by scan),
     /// `udp:PORT`, `tcp:HOST:PORT`, `serial:DEVICE@BAUD`. Live sources may be given more
     /// than once (the GNSS and gyro on one port, the AIS transponder on another): their

@@ -482,7 +482,7 @@ where
                     track::TrackInput::Radar(o)
                 }
                 (None, None) if run.nmea_in.is_empty() => anyhow::bail!(
-                    "track: --radar (a radar), --plots (recorded plots), or --nmea-in alone (own ship and AIS targets, no radar)"
+                    "track needs one of --radar (a radar), --plots (recorded plots), or --nmea-in alone (own ship and AIS targets, no radar)"
                 ),
                 (None, None) if heading_deg.is_some() || plot_sigma_m.is_some() => anyhow::bail!(
                     "--heading-deg and --plot-sigma-m are for a radar (track --radar); --nmea-in alone has no radar"

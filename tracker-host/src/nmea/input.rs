@@ -414,7 +414,36 @@ pub fn open_recording(path: &std::path::Path) -> anyhow::Result<std::fs::File> {
             path.display()
         );
     }
-    std::fs::File::open(path).map_err(|e| anyhow::anyhow!("opening {}: {e}", path.display()))
+    let mut file = std::fs::File::open(path)
+        .map_err(|e| anyhow::anyhow!("opening {}: {e}", path.display()))?;
+    if let Some(what) = not_text(&mut file) {
+        anyhow::bail!(
+            "{} is {what}, not an NMEA 0183 recording (text, one sentence a line): a radar \
+             capture is given with --radar pcap:PATH, and the NMEA in it is read as own \
+             ship's",
+            path.display()
+        );
+    }
+    Ok(file)
+}
+
+/// What a recording that is not text begins as (a pcap, pcapng or gzip file given to
+/// `--nmea-in`: its lines counted as malformed made an error about AIS); `None` for
+/// anything else. The file is left at its start.
+fn not_text(file: &mut std::fs::File) -> Option<&'static str> {
+    use std::io::{Read as _, Seek as _};
+    let mut magic = [0u8; 4];
+    let n = file.read(&mut magic).ok()?;
+    file.seek(std::io::SeekFrom::Start(0)).ok()?;
+    match (n, magic) {
+        (4, [0xd4, 0xc3, 0xb2, 0xa1] | [0xa1, 0xb2, 0xc3, 0xd4])
+        | (4, [0x4d, 0x3c, 0xb2, 0xa1] | [0xa1, 0xb2, 0x3c, 0x4d]) => Some("a pcap packet capture"),
+        (4, [0x0a, 0x0d, 0x0d, 0x0a]) => Some("a pcapng packet capture"),
+        (2.., [0x1f, 0x8b, ..]) => {
+            Some("gzip-compressed (a packet capture, or a log to gunzip first)")
+        }
+        _ => None,
+    }
 }
 
 fn open_serial(device: &str, baud: u32) -> serialport::Result<Box<dyn serialport::SerialPort>> {
@@ -490,6 +519,42 @@ mod tests {
             let e = NmeaIn::open(&InSpec::File(fifo.clone())).err().unwrap();
             assert!(e.to_string().contains("serial:DEVICE@BAUD"), "{e}");
             let _ = std::fs::remove_file(&fifo);
+        }
+    }
+
+    /// A packet capture or a gzip file given to `--nmea-in` is refused in words that name
+    /// `--radar pcap:`; a text file whatever its lines opens, and is read from its start.
+    #[test]
+    fn a_packet_capture_is_not_an_nmea_recording() {
+        let dir = tempfile::tempdir().unwrap();
+        let cases: [(&[u8], Option<&str>); 5] = [
+            (
+                &[0xd4, 0xc3, 0xb2, 0xa1, 2, 0],
+                Some("a pcap packet capture"),
+            ),
+            (
+                &[0x0a, 0x0d, 0x0d, 0x0a, 0x1c],
+                Some("a pcapng packet capture"),
+            ),
+            (&[0x1f, 0x8b, 8, 0], Some("gzip-compressed")),
+            (b"$GPRMC,", None),
+            (b"", None),
+        ];
+        for (k, (bytes, refused)) in cases.into_iter().enumerate() {
+            let path = dir.path().join(format!("f{k}"));
+            std::fs::write(&path, bytes).unwrap();
+            match (open_recording(&path), refused) {
+                (Err(e), Some(what)) => {
+                    let e = e.to_string();
+                    assert!(e.contains(what) && e.contains("--radar pcap:"), "{e}");
+                }
+                (Ok(mut f), None) => {
+                    let mut back = Vec::new();
+                    std::io::Read::read_to_end(&mut f, &mut back).unwrap();
+                    assert_eq!(back, bytes);
+                }
+                (got, _) => panic!("case {k}: {:?}", got.map(|_| ())),
+            }
         }
     }
 

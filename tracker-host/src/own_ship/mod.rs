@@ -325,13 +325,22 @@ const RECORDED_AIS_WINDOW_S: f64 = nav::MAX_DEAD_RECKONING_S;
 const FIRST_TIME_LOOK_AHEAD_LINES: usize = 8192;
 
 /// The time of the first timed sentence among the next [`FIRST_TIME_LOOK_AHEAD_LINES`]
-/// lines of `file`, s; `None` when there is none within them. The lines looked at stay
+/// lines of `file` (one its next timed neighbour is back before skipped), s; `None` when
+/// there is none within them. The lines looked at stay
 /// buffered in `file` until read (about 80 bytes each).
 fn first_time_ahead(file: &mut crate::nmea::input::FileLines, nav: &OwnShipNav) -> Option<f64> {
-    (0..FIRST_TIME_LOOK_AHEAD_LINES)
+    let mut times = (0..FIRST_TIME_LOOK_AHEAD_LINES)
         .map_while(|i| file.peek(i).map(|l| nav.time_of(l)))
         .flatten()
-        .next()
+        .peekable();
+    // A time the next timed sentence is back before by over a second is out of sequence
+    // (a corrupt time with a valid checksum, as the replay refuses it), not the first.
+    while let Some(t) = times.next() {
+        if times.peek().is_none_or(|next| *next >= t - 1.0) {
+            return Some(t);
+        }
+    }
+    None
 }
 
 /// A recording's lines counted past the run's last scan, at most (a count this large reads
@@ -548,13 +557,28 @@ impl NmeaOwnShip {
                         continue;
                     }
                 }
+                // A sentence without a time before any timed one is taken at the
+                // recording's first time, or, in a recording with none, at the scan's (at
+                // the start of its day it made a log of GLL without times, read with its
+                // capture, a position lost 566 min before the first scan; a year's
+                // headings of another voyage's log were held over a capture).
+                let untimed = self.nav.newest_s().is_none().then(|| {
+                    self.first_time_s
+                        .get_or_insert_with(|| first_time_ahead(file, &self.nav))
+                        .unwrap_or(time_s)
+                });
+                // The transponder's own report (AIVDO) is an own-ship sensor at the time
+                // the recording heard it, the newest timed sentence's, not the scan's: at
+                // the scan's it stood 12 s after the GNSS's first fixes read for the same
+                // scan, and the talker choice took the GNSS as silent.
+                let recorded_s = self.nav.newest_s().or(untimed).unwrap_or(time_s);
                 take(
                     &mut self.nav,
                     &mut self.ais,
                     &mut self.heard,
                     &line,
-                    (time_s, time_s),
-                    None,
+                    (time_s, recorded_s),
+                    untimed,
                 );
             }
         }
@@ -611,7 +635,7 @@ impl NmeaOwnShip {
         if ended && self.nav.newest_s().is_none() && !self.untimed_told {
             self.untimed_told = true;
             self.clock_events.push(
-                "the recording has no usable time (no RMC, GGA, GLL or ZDA with a valid one): its sentences were taken as they came, at once, not in step with the scans".to_string(),
+                "the recording has no usable time (no RMC, GGA, GLL or ZDA with a valid one): its sentences were taken as they came, at the first scan's time, not in step with the scans".to_string(),
             );
         }
     }
@@ -1018,6 +1042,152 @@ mod tests {
                 .count();
             assert_eq!(told, usize::from(!timed), "{:?}", own.events());
         }
+    }
+
+    /// A recording's lines without a time before its first timed one are of that time,
+    /// and in a recording with no time at all of the first scan's. A log of another
+    /// voyage, its headings first and its fixes a year after the scans, gives own ship no
+    /// heading at the scans (they were held all run, their age negative, and turned a
+    /// head-up radar's picture); a log of `GLL` without times and headings gives a fix at
+    /// the first scans (it was taken at midnight, lost hours before the first scan).
+    #[test]
+    fn untimed_lines_are_of_the_recordings_first_time_or_else_the_scans() {
+        use std::io::Write as _;
+        let origin = Origin::default();
+        let t0 = 1_767_225_600.0 + 10.0 * 3600.0;
+        let year = 365.0 * clock::DAY_S;
+        let hdt = crate::nmea::sentence::sentence("HEHDT,232.5,T");
+        let mut file = tempfile::NamedTempFile::new().unwrap();
+        for _ in 0..5 {
+            file.write_all(hdt.as_bytes()).unwrap();
+        }
+        for k in 0..5 {
+            for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t0 + year + f64::from(k)) {
+                file.write_all(l.as_bytes()).unwrap();
+            }
+        }
+        file.flush().unwrap();
+        let spec = InSpec::File(file.path().to_path_buf());
+        // As `track` reads it: its times before its first date on that date.
+        let o = NmeaOptions {
+            provisional_day: clock::day_of_s(t0 + year),
+            ..NmeaOptions::default()
+        };
+        let mut own = NmeaOwnShip::open(&spec, origin, &o).unwrap();
+        for scan in 0..4 {
+            let got = own
+                .own_ship(&scan_at(scan, t0 + 2.5 * f64::from(scan)))
+                .unwrap();
+            assert!(
+                got.heading_rad.is_none() && got.quality.no_fix_yet,
+                "scan {scan}: {got:?}"
+            );
+        }
+        assert_eq!(
+            events_with(&own, "no time within").len(),
+            1,
+            "{:?}",
+            own.events()
+        );
+
+        // No time at all: GLL without one, and headings.
+        let mut file = tempfile::NamedTempFile::new().unwrap();
+        let gll = crate::nmea::sentence::sentence("GPGLL,5040.0000,N,00100.0000,W,,A,A");
+        for _ in 0..5 {
+            file.write_all(hdt.as_bytes()).unwrap();
+            file.write_all(gll.as_bytes()).unwrap();
+        }
+        file.flush().unwrap();
+        let spec = InSpec::File(file.path().to_path_buf());
+        let o = NmeaOptions {
+            provisional_day: clock::day_of_s(t0),
+            ..NmeaOptions::default()
+        };
+        let mut own = NmeaOwnShip::open(&spec, origin, &o).unwrap();
+        for scan in 0..3 {
+            let got = own
+                .own_ship(&scan_at(scan, t0 + 2.5 * f64::from(scan)))
+                .unwrap();
+            assert!(
+                !got.quality.no_fix_yet && got.quality.dead_reckoning_s.is_none(),
+                "scan {scan}: {got:?}"
+            );
+            let hdg = got.heading_rad.map(f32::to_degrees);
+            assert!(
+                hdg.is_some_and(|h| (h - 232.5).abs() < 0.01),
+                "scan {scan}: {got:?}"
+            );
+        }
+    }
+
+    /// Own ship's AIS transponder's report (`AIVDO`) in a recording is a sensor at the
+    /// recording's time (the timed sentence's before it), not at the scan it is read for:
+    /// read 12 s after the recording's start, it stood 12 s after the GNSS's fixes read
+    /// with it, and the GNSS was told silent, then another voyage's.
+    #[test]
+    fn a_recorded_aivdo_is_at_the_recordings_time() {
+        use std::io::Write as _;
+        let origin = Origin::default();
+        let t0 = 1_767_225_600.0 + 10.0 * 3600.0;
+        let vdo = {
+            use aivdm::message::PositionReportClassA;
+            let msg = aivdm::AisMessage::PositionReportClassA(PositionReportClassA {
+                message_type: 1,
+                repeat_indicator: 0,
+                mmsi: aivdm::Mmsi::from_raw(235_000_001),
+                navigation_status: aivdm::NavigationStatus::UnderWayUsingEngine,
+                rate_of_turn: aivdm::RateOfTurn::from_raw(-128),
+                sog: aivdm::Sog::from_raw(58),
+                position_accuracy: false,
+                longitude: aivdm::Longitude::from_raw(-600_000),
+                latitude: aivdm::Latitude::from_raw(30_400_000),
+                cog: aivdm::Cog::from_raw(0),
+                heading: aivdm::Heading::from_raw(511),
+                timestamp: aivdm::Timestamp::Second(0),
+                maneuver_indicator: aivdm::ManeuverIndicator::NotAvailable,
+                raim: false,
+                radio_status: 0,
+            });
+            let mut buf = [0u8; 64];
+            let (payload, fill) = aivdm::encode_payload(&msg, &mut buf).unwrap();
+            let body = format!(
+                "AIVDO,1,1,,,{},{fill}",
+                std::str::from_utf8(payload).unwrap()
+            );
+            format!("!{body}*{:02X}\r\n", crate::nmea::checksum(&body))
+        };
+        let mut file = tempfile::NamedTempFile::new().unwrap();
+        for k in 0..30 {
+            let at = t0 + f64::from(k);
+            for l in own_ship_sentences([0.0, 3.0 * f64::from(k)], [0.0, 3.0], &origin, at) {
+                file.write_all(l.as_bytes()).unwrap();
+            }
+            if k % 3 == 0 {
+                file.write_all(vdo.as_bytes()).unwrap();
+            }
+        }
+        file.flush().unwrap();
+        let spec = InSpec::File(file.path().to_path_buf());
+        let o = NmeaOptions {
+            provisional_day: clock::day_of_s(t0),
+            ..NmeaOptions::default()
+        };
+        let mut own = NmeaOwnShip::open(&spec, origin, &o).unwrap();
+        for scan in 0..6 {
+            let got = own
+                .own_ship(&scan_at(scan, t0 + 12.0 + 2.5 * f64::from(scan)))
+                .unwrap();
+            assert_eq!(got.quality.dead_reckoning_s, None, "scan {scan}: {got:?}");
+        }
+        assert!(own.nav.counts().used > 0);
+        let told = |text: &str| events_with(&own, text);
+        assert!(
+            told("silent").is_empty()
+                && told("not taken").is_empty()
+                && told("now talker AI").is_empty(),
+            "{:?}",
+            own.events()
+        );
     }
 
     /// A run past its recording's end (`--duration` longer) is told once why own ship

@@ -43,6 +43,12 @@ pub const FIX_GAP_S: f64 = 2.0;
 /// A heading silent this long (after one was received) is an alarm, s.
 pub const HEADING_LOST_S: f64 = 10.0;
 
+/// A reading timed this far after the time own ship is asked for is not of that time: it
+/// gives own ship nothing (no heading, no position), s. A recording of another voyage,
+/// played with a capture a year before it, had its untimed headings held for the whole
+/// capture, their age negative, and turned a head-up radar's picture by them.
+pub const AHEAD_OF_TIME_S: f64 = 10.0;
+
 /// Own ship's motion over ground is known once the filter's velocity standard deviation
 /// per axis has come down to this, m/s (about 2 kn; 0.3 m/s on a steady GNSS feed): a
 /// filter started on a position alone holds a velocity of zero with a σ of 3 m/s, which
@@ -788,6 +794,9 @@ impl OwnShipNav {
     /// heard.
     fn heading_only_at(&self, time_s: f64) -> Option<OwnShip> {
         let age = time_s - self.last_heading_s?;
+        if age < -AHEAD_OF_TIME_S {
+            return None;
+        }
         let mut own = OwnShip::unknown();
         own.heading_rad = self
             .heading_deg
@@ -810,6 +819,10 @@ impl OwnShipNav {
         let d = self.drkf.as_ref()?;
         let dt = time_s - self.time_s;
         let since_fix = self.last_position_s.map_or(f64::INFINITY, |t| time_s - t);
+        // A filter whose fixes are of a later time knows nothing of this one.
+        if since_fix < -AHEAD_OF_TIME_S {
+            return None;
+        }
         // Past the last sentence own ship goes straight on at its velocity over ground then,
         // as a navigator dead-reckons with no sensor: the filter's own prediction would fly
         // on its acceleration (a/β more speed: gpsd-rst39's turning vehicle, last seen at
@@ -831,7 +844,10 @@ impl OwnShipNav {
         if !(p.iter().chain(v.iter()).all(|x| x.is_finite())) {
             return None;
         }
-        let heading_age = self.last_heading_s.map(|t| time_s - t);
+        let heading_age = self
+            .last_heading_s
+            .map(|t| time_s - t)
+            .filter(|a| *a >= -AHEAD_OF_TIME_S);
         Some(OwnShip {
             position_m: [p[0] as f32, p[1] as f32],
             velocity_mps: [v[0] as f32, v[1] as f32],
