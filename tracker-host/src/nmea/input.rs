@@ -527,11 +527,12 @@ mod tests {
     #[test]
     fn a_packet_capture_is_not_an_nmea_recording() {
         let dir = tempfile::tempdir().unwrap();
-        let cases: [(&[u8], Option<&str>); 5] = [
-            (
-                &[0xd4, 0xc3, 0xb2, 0xa1, 2, 0],
-                Some("a pcap packet capture"),
-            ),
+        let pcap = Some("a pcap packet capture");
+        let cases: [(&[u8], Option<&str>); 8] = [
+            (&[0xd4, 0xc3, 0xb2, 0xa1, 2, 0], pcap),
+            (&[0xa1, 0xb2, 0xc3, 0xd4, 0, 2], pcap),
+            (&[0x4d, 0x3c, 0xb2, 0xa1], pcap),
+            (&[0xa1, 0xb2, 0x3c, 0x4d], pcap),
             (
                 &[0x0a, 0x0d, 0x0d, 0x0a, 0x1c],
                 Some("a pcapng packet capture"),

@@ -330,13 +330,16 @@ const FIRST_TIME_LOOK_AHEAD_LINES: usize = 8192;
 /// buffered in `file` until read (about 80 bytes each).
 fn first_time_ahead(file: &mut crate::nmea::input::FileLines, nav: &OwnShipNav) -> Option<f64> {
     let mut times = (0..FIRST_TIME_LOOK_AHEAD_LINES)
-        .map_while(|i| file.peek(i).map(|l| nav.time_of(l)))
+        .map_while(|i| file.peek(i).map(|l| nav.time_in_window_of(l)))
         .flatten()
         .peekable();
     // A time the next timed sentence is back before by over a second is out of sequence
-    // (a corrupt time with a valid checksum, as the replay refuses it), not the first.
+    // (a corrupt time with a valid checksum, as the replay refuses it), not the first; by
+    // half a day or more it is midnight (undated times read on one day, 23:59:59 then
+    // 00:00:00).
     while let Some(t) = times.next() {
-        if times.peek().is_none_or(|next| *next >= t - 1.0) {
+        let back_s = times.peek().map_or(0.0, |next| t - *next);
+        if !(1.0..clock::DAY_S / 2.0).contains(&back_s) {
             return Some(t);
         }
     }
@@ -408,6 +411,7 @@ impl NmeaOwnShip {
 
     /// As [`NmeaOwnShip::open`], on a source opened already.
     pub fn of(input: NmeaIn, origin: Origin, o: &NmeaOptions) -> Self {
+        let replayed = matches!(input, NmeaIn::File(_));
         NmeaOwnShip {
             input,
             more: Vec::new(),
@@ -417,7 +421,8 @@ impl NmeaOwnShip {
                 o.variation_deg,
                 Selector::new(o.priority.clone()),
             )
-            .within(o.recording_window_s),
+            .within(o.recording_window_s)
+            .replayed(replayed),
             ais: crate::ais::AisDecoder::new(),
             heard: Vec::new(),
             offset_s: None,
@@ -1044,6 +1049,19 @@ mod tests {
         }
     }
 
+    /// `file`'s lines replayed as `track` reads a recording, its times before its first
+    /// date on the day of `day_of_s` (s since 1970).
+    fn replayed(file: &mut tempfile::NamedTempFile, day_of_s: f64) -> NmeaOwnShip {
+        use std::io::Write as _;
+        file.flush().unwrap();
+        let spec = InSpec::File(file.path().to_path_buf());
+        let o = NmeaOptions {
+            provisional_day: clock::day_of_s(day_of_s),
+            ..NmeaOptions::default()
+        };
+        NmeaOwnShip::open(&spec, Origin::default(), &o).unwrap()
+    }
+
     /// A recording's lines without a time before its first timed one are of that time,
     /// and in a recording with no time at all of the first scan's. A log of another
     /// voyage, its headings first and its fixes a year after the scans, gives own ship no
@@ -1057,23 +1075,19 @@ mod tests {
         let t0 = 1_767_225_600.0 + 10.0 * 3600.0;
         let year = 365.0 * clock::DAY_S;
         let hdt = crate::nmea::sentence::sentence("HEHDT,232.5,T");
+        let gll = crate::nmea::sentence::sentence("GPGLL,5040.0000,N,00100.0000,W,,A,A");
         let mut file = tempfile::NamedTempFile::new().unwrap();
         for _ in 0..5 {
             file.write_all(hdt.as_bytes()).unwrap();
+            file.write_all(gll.as_bytes()).unwrap();
         }
         for k in 0..5 {
             for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &origin, t0 + year + f64::from(k)) {
                 file.write_all(l.as_bytes()).unwrap();
             }
         }
-        file.flush().unwrap();
-        let spec = InSpec::File(file.path().to_path_buf());
         // As `track` reads it: its times before its first date on that date.
-        let o = NmeaOptions {
-            provisional_day: clock::day_of_s(t0 + year),
-            ..NmeaOptions::default()
-        };
-        let mut own = NmeaOwnShip::open(&spec, origin, &o).unwrap();
+        let mut own = replayed(&mut file, t0 + year);
         for scan in 0..4 {
             let got = own
                 .own_ship(&scan_at(scan, t0 + 2.5 * f64::from(scan)))
@@ -1092,18 +1106,11 @@ mod tests {
 
         // No time at all: GLL without one, and headings.
         let mut file = tempfile::NamedTempFile::new().unwrap();
-        let gll = crate::nmea::sentence::sentence("GPGLL,5040.0000,N,00100.0000,W,,A,A");
         for _ in 0..5 {
             file.write_all(hdt.as_bytes()).unwrap();
             file.write_all(gll.as_bytes()).unwrap();
         }
-        file.flush().unwrap();
-        let spec = InSpec::File(file.path().to_path_buf());
-        let o = NmeaOptions {
-            provisional_day: clock::day_of_s(t0),
-            ..NmeaOptions::default()
-        };
-        let mut own = NmeaOwnShip::open(&spec, origin, &o).unwrap();
+        let mut own = replayed(&mut file, t0);
         for scan in 0..3 {
             let got = own
                 .own_ship(&scan_at(scan, t0 + 2.5 * f64::from(scan)))
@@ -1116,6 +1123,45 @@ mod tests {
             assert!(
                 hdg.is_some_and(|h| (h - 232.5).abs() < 0.01),
                 "scan {scan}: {got:?}"
+            );
+        }
+    }
+
+    /// A recording's first time is its first timed sentence's, but for one its next timed
+    /// neighbour is back before by over a second (a corrupt time), and not for midnight
+    /// between undated times read on one day (23:59:59, then 00:00:00).
+    #[test]
+    fn a_recordings_first_time_skips_a_corrupt_one_not_midnight() {
+        use std::io::Write as _;
+        let day0: i32 = 20_454;
+        let day_s = f64::from(day0) * clock::DAY_S;
+        let gga = |hhmmss: &str| {
+            crate::nmea::sentence::sentence(&format!(
+                "GPGGA,{hhmmss},5040.0000,N,00100.0000,W,1,08,1.0,10.0,M,47.0,M,,"
+            ))
+        };
+        let hdt = crate::nmea::sentence::sentence("HEHDT,010.0,T");
+        for (times, first_s) in [
+            (["235959", "000000", "000001"], day_s + 86_399.0),
+            (["110000", "100000", "100001"], day_s + 36_000.0),
+            (["100000", "100000", "100001"], day_s + 36_000.0),
+        ] {
+            let mut file = tempfile::NamedTempFile::new().unwrap();
+            file.write_all(hdt.as_bytes()).unwrap();
+            for t in times {
+                file.write_all(gga(t).as_bytes()).unwrap();
+            }
+            file.flush().unwrap();
+            let nav = OwnShipNav::new(Origin::default(), i64::from(day0), None);
+            let NmeaIn::File(mut lines) =
+                NmeaIn::open(&InSpec::File(file.path().to_path_buf())).unwrap()
+            else {
+                panic!("a file");
+            };
+            assert_eq!(
+                first_time_ahead(&mut lines, &nav),
+                Some(first_s),
+                "{times:?}"
             );
         }
     }
@@ -1166,13 +1212,7 @@ mod tests {
                 file.write_all(vdo.as_bytes()).unwrap();
             }
         }
-        file.flush().unwrap();
-        let spec = InSpec::File(file.path().to_path_buf());
-        let o = NmeaOptions {
-            provisional_day: clock::day_of_s(t0),
-            ..NmeaOptions::default()
-        };
-        let mut own = NmeaOwnShip::open(&spec, origin, &o).unwrap();
+        let mut own = replayed(&mut file, t0);
         for scan in 0..6 {
             let got = own
                 .own_ship(&scan_at(scan, t0 + 12.0 + 2.5 * f64::from(scan)))

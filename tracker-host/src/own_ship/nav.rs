@@ -263,6 +263,9 @@ pub struct OwnShipNav {
     /// ([`OwnShipNav::feed_heard`]) before any timed sentence: the arrival clock may not be
     /// the bridge's.
     heard_before_clock_s: Option<f64>,
+    /// The lines "heard" are a recording's, their times given by the replay (its first time
+    /// looked for ahead, or the scan's), not a live arrival's: told so on a restart.
+    replayed: bool,
     /// Velocity over ground from before the first position.
     velocity: Option<[f64; 2]>,
     variation_deg: Option<f64>,
@@ -304,6 +307,7 @@ impl OwnShipNav {
             untimed_from_s: provisional_day as f64 * clock::DAY_S,
             motion_measured: false,
             heard_before_clock_s: None,
+            replayed: false,
             velocity: None,
             variation_deg: None,
             operator_variation_deg: variation_deg,
@@ -324,6 +328,13 @@ impl OwnShipNav {
     /// and last fix, s since 1970); `None` refuses none.
     pub fn within(mut self, window_s: Option<(f64, f64)>) -> Self {
         self.window_s = window_s;
+        self
+    }
+
+    /// Lines fed with a time of their own ([`OwnShipNav::feed_heard`]) are a recording's,
+    /// timed by its replay: a restart on its first time is told in those words.
+    pub fn replayed(mut self, replayed: bool) -> Self {
+        self.replayed = replayed;
         self
     }
 
@@ -382,6 +393,22 @@ impl OwnShipNav {
         match decode(&s, line) {
             Decoded::Readings(stamp, _) | Decoded::Time(stamp) => self.clock.peek(&stamp),
             _ => None,
+        }
+    }
+
+    /// [`OwnShipNav::time_of`], but `None` for a dated sentence far outside the recording's
+    /// track ([`OwnShipNav::within`]), which the filter refuses: not the recording's time.
+    pub fn time_in_window_of(&self, line: &str) -> Option<f64> {
+        let t = self.time_of(line)?;
+        let gap = super::recording::MAX_FIX_GAP_S;
+        let dated = || {
+            matches!(sentence::parse(line), Ok(Line::Sentence(s))
+                if matches!(decode(&s, line),
+                    Decoded::Readings(stamp, _) | Decoded::Time(stamp) if stamp.day.is_some()))
+        };
+        match self.window_s {
+            Some((first, last)) if (t < first - gap || t > last + gap) && dated() => None,
+            _ => Some(t),
         }
     }
 
@@ -466,10 +493,14 @@ impl OwnShipNav {
                     && self.heard_before_clock_s.is_some()
                     && !(-behind_s..=clock::MAX_JUMP_S).contains(&ahead_s)
                 {
-                    self.events.push(format!(
-                        "own-ship filter restarted: the bridge's UTC is {} the time the sentences before it were heard",
-                        crate::utc::offset_label(ahead_s)
-                    ));
+                    let offset = crate::utc::offset_label(ahead_s);
+                    let why = if self.replayed {
+                        format!("the recording's first time is {offset} the time its untimed sentences before it were taken at (its first time looked for ahead, or the scan's)")
+                    } else {
+                        format!("the bridge's UTC is {offset} the time the sentences before it were heard")
+                    };
+                    self.events
+                        .push(format!("own-ship filter restarted: {why}"));
                     self.restart_at(t);
                 }
                 t
@@ -546,7 +577,9 @@ impl OwnShipNav {
             return;
         }
         // Timed by when it was heard: with GNSS silent the clock stands still, and readings
-        // stamped with its time would be flown on from there as if old.
+        // stamped with its time would be flown on from there as if old. (A recording's
+        // replay gives the newest timed sentence's time: the lines after its GNSS stops are
+        // read at one scan anyway.)
         let now = self.heard_time(heard_s);
         if self.clock.newest_s().is_none() {
             // Taken at its arrival before any timed sentence, as an untimed line heard.
@@ -1107,6 +1140,31 @@ mod tests {
         let own = nav.own_ship_at(t + 5.0).unwrap();
         assert_eq!(own.quality.dead_reckoning_s, None, "{own:?}");
         assert!((own.velocity_mps[1] - 3.0).abs() < 0.1, "{own:?}");
+    }
+
+    /// A heading timed after the time own ship is asked for is not of that time: own ship
+    /// at its fix, without it; a fix timed after it gives no own ship at all.
+    #[test]
+    fn a_reading_timed_after_the_time_asked_for_gives_nothing() {
+        let mut nav = OwnShipNav::new(Origin::default(), DAY0, None);
+        let t = T0 + 10.0 * 3600.0;
+        for l in own_ship_sentences([0.0, 0.0], [0.0, 3.0], &Origin::default(), t) {
+            nav.feed(&l);
+        }
+        assert!(nav.own_ship_at(t + 1.0).unwrap().heading_rad.is_some());
+        let hdt = crate::nmea::sentence::sentence("HEHDT,232.5,T");
+        nav.feed_heard(&hdt, t + 100.0);
+        let own = nav.own_ship_at(t + 1.0).unwrap();
+        assert!(
+            own.heading_rad.is_none() && !own.quality.heading_lost,
+            "{own:?}"
+        );
+        assert!(own.quality.dead_reckoning_s.is_none(), "{own:?}");
+        assert!(nav.own_ship_at(t + 100.0).unwrap().heading_rad.is_some());
+        assert!(
+            nav.own_ship_at(t - 60.0).is_none(),
+            "its fix is a minute later"
+        );
     }
 
     /// Own ship's `AIVDO` heard before any timed sentence starts the filter on its arrival
