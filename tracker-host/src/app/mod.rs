@@ -175,7 +175,7 @@ pub fn with_live_origin(o: &OwnShipOptions) -> anyhow::Result<OwnShipOptions> {
         None => {
             let d = Origin::default();
             eprintln!(
-                "no fix in {} s: the origin is {:.5}, {:.5}; far from own ship the radar's plots are refused (an own-ship alarm says so): give --origin",
+                "no fix in {} s: the origin is {:.5}, {:.5}; give --origin LAT,LON near own ship (far from it a radar's plots are refused, an own-ship alarm says so, and a demo's ships sail about it)",
                 wait.as_secs(),
                 d.lat_deg,
                 d.lon_deg

@@ -397,6 +397,16 @@ where
             if run.fixed_position {
                 anyhow::bail!("--fixed-position is for a radar that does not move (track --radar): the demo's own ship moves on its own track");
             }
+            // A live source's sentences come in real time: the simulation run faster went
+            // back in time every few scans and ended early (a new user's trial).
+            if run.speedup.is_some()
+                && run
+                    .nmea_in
+                    .first()
+                    .is_some_and(|s| !matches!(s, crate::nmea::InSpec::File(_)))
+            {
+                anyhow::bail!("--speedup is for a recording or the simulation alone: with a live --nmea-in the demo runs in real time, as its sentences come");
+            }
             if let Some(d) = duration {
                 if !(d.is_finite() && *d > 0.0) {
                     anyhow::bail!("--duration {d}: must be a positive number of seconds");
@@ -745,6 +755,9 @@ mod tests {
         let e = Cli::try_parse_from(radar).unwrap_err().to_string();
         assert!(e.contains("--origin"), "{e}");
         assert!(Cli::try_parse_from([&radar[..], &["--origin", "50.8,-1.3"]].concat()).is_ok());
+        let live = ["t", "demo", "--nmea-in", "udp:10110", "--speedup", "10"];
+        let e = super::run(live).unwrap_err().to_string();
+        assert!(e.contains("--speedup is for a recording"), "{e}");
         for args in [
             &["t", "demo", "--fixed-position", "--origin", "50.8,-1.3"][..],
             &[

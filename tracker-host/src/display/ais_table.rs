@@ -61,10 +61,17 @@ pub fn rows(
     first: usize,
     at_most: usize,
 ) -> Vec<AisRow> {
+    // Without own ship's position (no fix yet, none given) a range and bearing would be
+    // measured from the frame's origin, wherever own ship is (a new user's trial: AIS
+    // targets 256 NM off, sorted "nearest"): not shown, and the table in MMSI order.
+    let placed = !view.own.quality.no_fix_yet;
     let mut targets: Vec<(f32, AisRow)> = view
         .ais
         .iter()
-        .map(|a| (a.range_m, row(view, state, a, places)))
+        .map(|a| {
+            let key = if placed { a.range_m } else { a.mmsi as f32 };
+            (key, row(view, state, a, places))
+        })
         .collect();
     // In alarm first (true before false), then nearest.
     targets.sort_by(|(ra, a), (rb, b)| b.dangerous.cmp(&a.dangerous).then(ra.total_cmp(rb)));
@@ -117,8 +124,16 @@ fn row(view: &ScanReport, state: &DisplayState, a: &AisTargetData, places: usize
         cells: [
             crate::ais::mmsi_text(a.mmsi),
             name,
-            format!("{:.2}", a.range_m / METRES_PER_NM),
-            angle(a.bearing_rad.to_degrees()),
+            if view.own.quality.no_fix_yet {
+                "---".to_string()
+            } else {
+                format!("{:.2}", a.range_m / METRES_PER_NM)
+            },
+            if view.own.quality.no_fix_yet {
+                "---".to_string()
+            } else {
+                angle(a.bearing_rad.to_degrees())
+            },
             cog,
             sog,
             cpa,

@@ -283,6 +283,25 @@ mod tests {
             assert_eq!(l.chars().count(), width, "{l:?}");
         }
 
+        // Without own ship's position (no fix yet): no range or bearing (they would be from
+        // the frame's origin), and in MMSI order after the alarms, not "nearest".
+        let mut unplaced = view.clone();
+        unplaced.own.quality.no_fix_yet = true;
+        unplaced.ais[0].range_m = 20.0 * 1852.0;
+        let text = plain.table(&unplaced);
+        let rows: Vec<&str> = text
+            .lines()
+            .skip(1)
+            .take_while(|l| l.starts_with("211"))
+            .collect();
+        let order: Vec<&str> = rows.iter().map(|l| &l[..9]).collect();
+        assert_eq!(order, ["211000002", "211000001", "211000003"], "{text}");
+        assert!(
+            rows.iter()
+                .all(|l| !l.contains("20.00") && l.matches("---").count() >= 2),
+            "{text}"
+        );
+
         // A note until AIS is heard, and a header without the radar's counts.
         view.ais.clear();
         assert_eq!(plain.table(&view), "no AIS target heard yet\n");
