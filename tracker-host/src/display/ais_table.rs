@@ -65,15 +65,20 @@ pub fn rows(
     // measured from the frame's origin, wherever own ship is (a new user's trial: AIS
     // targets 256 NM off, sorted "nearest"): not shown, and the table in MMSI order.
     let placed = !view.own.quality.no_fix_yet;
-    let mut targets: Vec<(f32, AisRow)> = view
+    // (An MMSI's nine digits are exact in f64, not in f32.)
+    let mut targets: Vec<(f64, AisRow)> = view
         .ais
         .iter()
         .map(|a| {
-            let key = if placed { a.range_m } else { a.mmsi as f32 };
+            let key = if placed {
+                f64::from(a.range_m)
+            } else {
+                f64::from(a.mmsi)
+            };
             (key, row(view, state, a, places))
         })
         .collect();
-    // In alarm first (true before false), then nearest.
+    // In alarm first (true before false), then nearest (or by MMSI).
     targets.sort_by(|(ra, a), (rb, b)| b.dangerous.cmp(&a.dangerous).then(ra.total_cmp(rb)));
     targets
         .into_iter()

@@ -288,6 +288,9 @@ mod tests {
         let mut unplaced = view.clone();
         unplaced.own.quality.no_fix_yet = true;
         unplaced.ais[0].range_m = 20.0 * 1852.0;
+        // In the table's order before: 211000003 before 211000001 (MMSIs 2 apart: the same
+        // in f32).
+        unplaced.ais.swap(0, 2);
         let text = plain.table(&unplaced);
         let rows: Vec<&str> = text
             .lines()
